@@ -266,5 +266,36 @@ TEST_F(EmpiricalGpu, RunsThroughTheRegistryWithPresetsAndAo) {
   EXPECT_THROW(t->prepare(s, gpu::testing::context()), ParameterError);
 }
 
+// Random lighting moves the light each frame along randomLightDirection(seed, frame): frame k
+// equals a still render with the light set to that direction (1e-6, float shading), and two
+// consecutive frames differ.
+TEST_F(EmpiricalGpu, RandomLightingMovesTheLightEachFrame) {
+  TempDir dir;
+  scene::Scene s = testScene(
+      writeObj(geometry::makeIcosphere(2, 1.0), dir.path() / "s.obj"), 24);
+  auto moving = technique();
+  moving->setParameter("random_lighting", true);
+  moving->setParameter("random_seed", 11);
+  moving->prepare(s, gpu::testing::context());
+  std::vector<techniques::Frame> frames;
+  for (int k = 0; k < 3; ++k) frames.push_back(moving->render({}));
+  ASSERT_FALSE(frames[2].notes.empty());
+  EXPECT_NE(frames[2].notes.back().find("frame 2"), std::string::npos) << frames[2].notes.back();
+  double change = 0.0;
+  for (size_t i = 0; i < frames[1].rgb.size(); ++i)
+    change = std::max(change, double(std::abs(frames[1].rgb[i] - frames[2].rgb[i])));
+  EXPECT_GT(change, 1e-3);
+
+  auto still = technique();
+  for (int k : {0, 2}) {
+    s.lights[0].emitter = reference::DirectionalLight{randomLightDirection(11, k), 1.0};
+    still->prepare(s, gpu::testing::context());
+    const techniques::Frame expected = still->render({});
+    ASSERT_EQ(expected.rgb.size(), frames[size_t(k)].rgb.size());
+    for (size_t i = 0; i < expected.rgb.size(); ++i)
+      ASSERT_NEAR(frames[size_t(k)].rgb[i], expected.rgb[i], 1e-6) << "frame " << k << " value " << i;
+  }
+}
+
 }  // namespace
 }  // namespace translucent::empirical

@@ -164,5 +164,31 @@ TEST(EmpiricalShading, SurveyPresetsFollowTable4_3) {
   EXPECT_THROW(surveyPreset(10), ParameterError);
 }
 
+// Random lighting: unit directions, the same path for the same seed, a different one for another
+// seed, small steps between frames (no flicker) and, over a long run, every azimuth quadrant and
+// elevations near the stated ±64° limits (|y| = 0.9 at the extremes).
+TEST(EmpiricalShading, RandomLightingFollowsASmoothPathOverTheSphere) {
+  double maxStep = 0.0, minY = 1.0, maxY = -1.0;
+  int quadrants[4] = {0, 0, 0, 0};
+  glm::dvec3 previous = randomLightDirection(7, 0);
+  for (long long f = 0; f < 4000; ++f) {
+    const glm::dvec3 d = randomLightDirection(7, f);
+    ASSERT_NEAR(glm::length(d), 1.0, 1e-12) << "frame " << f;
+    EXPECT_EQ(d, randomLightDirection(7, f));
+    maxStep = std::max(maxStep, glm::length(d - previous));
+    previous = d;
+    minY = std::min(minY, d.y);
+    maxY = std::max(maxY, d.y);
+    quadrants[(d.x >= 0 ? 0 : 1) + (d.z >= 0 ? 0 : 2)]++;
+  }
+  // Per frame |Δφ| sin θ <= ω1 <= 0.06 and |Δθ| <= 0.9 ω2 <= 0.054, so a step (chord) is at most
+  // sqrt(0.06² + 0.054²) ≈ 0.081 (plus a second-order term).
+  EXPECT_LT(maxStep, 0.12);
+  EXPECT_GT(maxY, 0.89);
+  EXPECT_LT(minY, -0.89);
+  for (int q = 0; q < 4; ++q) EXPECT_GT(quadrants[q], 200) << "quadrant " << q;
+  EXPECT_GT(glm::length(randomLightDirection(8, 100) - randomLightDirection(7, 100)), 1e-3);
+}
+
 }  // namespace
 }  // namespace translucent::empirical

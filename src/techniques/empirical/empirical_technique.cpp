@@ -65,6 +65,11 @@ std::vector<ParameterInfo> parameterInfos() {
       ParameterInfo::integer("ao_rays", 320, 1, 100000, "ambient occlusion rays per vertex"),
       ParameterInfo::boolean("ao_cosine", false,
                              "cosine-weighted ambient occlusion rays (seed: uniform)"),
+      ParameterInfo::boolean("random_lighting", false,
+                             "move every light along a smooth random path, one step per frame "
+                             "(seed A.1.1, Random Lighting)"),
+      ParameterInfo::integer("random_seed", 1, 0, 1000000,
+                             "seed of the random lighting path (light i uses seed + i)"),
   };
 }
 
@@ -112,6 +117,7 @@ struct EmpiricalTechnique::Impl {
   gpu::Framebuffer frontFbo, backFbo;
   std::optional<gpu::PassTimer> timer;
   std::vector<std::string> notes;
+  long long randomFrame = 0;  // frames rendered with random lighting on
 
   void buildPrograms() {
     if (frontProgram) return;
@@ -317,18 +323,32 @@ struct EmpiricalTechnique::Impl {
       p.set("CameraForward", glm::vec3(glm::normalize(s.camera.look_at - s.camera.position)));
       p.set("Orthographic", s.camera.projection == reference::Camera::Projection::Orthographic);
       int count = 0;
+      const bool randomLighting = params.getBool("random_lighting");
       for (const scene::Light& l : s.lights) {  // directional or point: checked in prepare()
         const glm::vec3 colour(float(l.color[0]), float(l.color[1]), float(l.color[2]));
         const auto* d = std::get_if<reference::DirectionalLight>(&l.emitter);
         const auto* pt = std::get_if<reference::PointLight>(&l.emitter);
-        p.set(fmt::format("LightIsPoint[{}]", count), pt != nullptr);
-        p.set(fmt::format("LightDirection[{}]", count),
-              glm::vec3(d != nullptr ? glm::normalize(d->direction) : pt->position));
+        // Exactly one of d, pt is set (checked in prepare()).
+        const bool point = pt != nullptr;
+        glm::dvec3 towards = point ? pt->position : glm::normalize(std::get<0>(l.emitter).direction);
+        if (randomLighting) {
+          // A directional light turns; a point light keeps its distance from the mesh centre.
+          const glm::dvec3 dir = randomLightDirection(
+              static_cast<unsigned long long>(params.getInt("random_seed") + count), randomFrame);
+          towards = point ? center + glm::length(towards - center) * dir : dir;
+          frame.notes.push_back(fmt::format("random lighting, frame {}: light {} {} ({:.4f}, "
+                                            "{:.4f}, {:.4f})", randomFrame, count,
+                                            point ? "at" : "towards", towards.x, towards.y,
+                                            towards.z));
+        }
+        p.set(fmt::format("LightIsPoint[{}]", count), point);
+        p.set(fmt::format("LightDirection[{}]", count), glm::vec3(towards));
         p.set(fmt::format("LightValue[{}]", count),
               colour * static_cast<float>(d != nullptr ? d->irradiance : pt->intensity));
         ++count;
       }
       p.set("LightCount", count);
+      if (randomLighting) ++randomFrame;
       p.set("Ia", glm::vec3(static_cast<float>(params.getFloat("ambient_light"))));
       p.set("Kd", glm::vec3(params.getFloat("kd_red"), params.getFloat("kd_green"),
                             params.getFloat("kd_blue")));

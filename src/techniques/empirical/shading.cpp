@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
+#include <random>
 
 #include <glm/geometric.hpp>
 
@@ -105,6 +107,22 @@ std::vector<std::string> surveyPresetNames() {
   std::vector<std::string> names;
   for (int i = 1; i <= kSurveyPresetCount; ++i) names.push_back(fmt::format("survey{}", i));
   return names;
+}
+
+glm::dvec3 randomLightDirection(unsigned long long seed, long long frame) {
+  // std::mt19937_64 and uniform draws by hand (uniform_real_distribution is not specified
+  // bit-exactly across standard libraries; the canonical 53-bit mapping is).
+  std::mt19937_64 rng(seed);
+  auto uniform = [&rng] { return double(rng() >> 11) * 0x1.0p-53; };
+  const double phi0 = 2.0 * std::numbers::pi * uniform();
+  const double phi1 = 2.0 * std::numbers::pi * uniform();
+  const double w1 = 0.02 + 0.04 * uniform();
+  const double w2 = 0.02 + 0.04 * uniform();
+  const double f = double(frame);
+  const double phi = phi0 + w1 * f;
+  const double cosTheta = 0.9 * std::sin(w2 * f + phi1);
+  const double sinTheta = std::sqrt(1.0 - cosTheta * cosTheta);
+  return {sinTheta * std::cos(phi), cosTheta, sinTheta * std::sin(phi)};
 }
 
 }  // namespace translucent::empirical

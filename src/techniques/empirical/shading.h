@@ -13,6 +13,8 @@
 //   shade             glColor = a·ka·Kd·Ia + wd·Kd·Id·(N·L) + ws·ks·Is·(N·H)^n
 //                               + wb·(1 - t)^r·(Kd + Kb)                         (Eq. 3.6)
 //   surveyPreset      the nine configurations of the seed's survey (Table 4.3)
+//   randomLightDirection  the seed UI's "Random Lighting" mode (appendix A.1.1): a light that
+//                     wanders over the whole sphere of directions, one step per frame
 //
 // Units: depths and thickness in scene units before normalisation; colours are linear RGB,
 // dimensionless (the shader is empirical: no radiometric meaning).
@@ -98,5 +100,14 @@ constexpr int kSurveyPresetCount = 9;
 SurveyPreset surveyPreset(int image);  // ParameterError for an image outside 1 .. 9
 // Names "survey1" .. "survey9" (the technique's `preset` choices).
 std::vector<std::string> surveyPresetNames();
+
+// "Random Lighting" (seed appendix A.1.1: the light position "moved randomly across the scene"
+// in real time). The seed does not say how; jumping to an unrelated direction every frame flickers, so
+// the light follows a smooth random path instead: azimuth φ = φ0 + ω1·frame and
+// cos θ = 0.9·sin(ω2·frame + φ1) (θ from +y), with φ0, φ1 and ω1, ω2 ∈ [0.02, 0.06] rad per
+// frame drawn from `seed`. The path covers every azimuth and elevations up to ±64° from the
+// horizon, so the light passes in front of and behind the object. Unit length; the same
+// (seed, frame) always gives the same direction.
+glm::dvec3 randomLightDirection(unsigned long long seed, long long frame);
 
 }  // namespace translucent::empirical
