@@ -1,0 +1,160 @@
+#include "material/material_worker.h"
+
+#include <fmt/format.h>
+
+#include <QtCore/QMetaObject>
+
+#include <algorithm>
+#include <cctype>
+#include <sstream>
+
+#include "core/explorer_state.h"
+#include "gpu/context.h"
+#include "gpu/program.h"
+
+namespace translucent::explorer {
+namespace {
+
+// A driver log can span many lines; the line naming a .bssrdf line is the one to show (as the
+// CLI does).
+std::string bssrdfLine(const std::string& message) {
+  std::istringstream in(message);
+  std::string line;
+  while (std::getline(in, line))
+    if (line.find(".bssrdf:") != std::string::npos) return line;
+  return message;
+}
+
+}  // namespace
+
+bool isBssrdfPath(const std::string& entry) {
+  std::string lower = entry;
+  for (auto& ch : lower) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  return lower.size() > 7 && lower.ends_with(".bssrdf");
+}
+
+MaterialGl::MaterialGl() = default;
+
+MaterialGl::~MaterialGl() {
+  models_.clear();  // GL objects go before their context
+  context_.reset();
+}
+
+void MaterialGl::ensureContext() {
+  if (context_) return;
+  try {
+    context_ = std::make_unique<gpu::Context>();
+  } catch (const gpu::ContextError& e) {
+    throw ParameterError(fmt::format(
+        ".bssrdf models need an OpenGL 4.5 core context (their shaders run on the GPU), and "
+        "none could be created: {}",
+        e.what()));
+  }
+}
+
+gpu::BssrdfEvaluator* MaterialGl::find(const std::string& path) {
+  auto it = models_.find(path);
+  return it == models_.end() ? nullptr : it->second.get();
+}
+
+gpu::BssrdfEvaluator& MaterialGl::load(const std::string& path) {
+  if (auto* e = find(path)) return *e;
+  ensureContext();
+  std::unique_ptr<gpu::BssrdfEvaluator> e;
+  try {
+    e = std::make_unique<gpu::BssrdfEvaluator>(path);
+  } catch (const bssrdf::BssrdfFileError& err) {
+    throw ParameterError(err.what());
+  } catch (const gpu::GlError& err) {
+    throw ParameterError(bssrdfLine(err.what()));
+  }
+  if (!e->file().attributes.radial)
+    throw ParameterError(fmt::format(
+        "{}: not a radial BSSRDF (line 1 lacks `radial`): the explorer plots and renders R(r)",
+        path));
+  auto& ref = *e;
+  models_[path] = std::move(e);
+  return ref;
+}
+
+void MaterialGl::reload(const std::string& path) {
+  auto* e = find(path);
+  if (e == nullptr) {
+    load(path);
+    return;
+  }
+  if (!e->reload()) throw ParameterError(bssrdfLine(e->lastError()));
+}
+
+void MaterialGl::unload(const std::string& path) { models_.erase(path); }
+
+MaterialWorker& MaterialWorker::of(ExplorerState& state) {
+  if (auto* w = state.findChild<MaterialWorker*>(QStringLiteral("material_worker"),
+                                                 Qt::FindDirectChildrenOnly))
+    return *w;
+  return *new MaterialWorker(&state);
+}
+
+MaterialWorker::MaterialWorker(QObject* parent) : QObject(parent) {
+  setObjectName(QStringLiteral("material_worker"));
+  thread_ = std::thread([this] { loop(); });
+}
+
+MaterialWorker::~MaterialWorker() {
+  {
+    std::lock_guard lock(mutex_);
+    quit_ = true;
+    jobs_.clear();
+  }
+  wake_.notify_all();
+  thread_.join();
+}
+
+void MaterialWorker::loop() {
+  MaterialGl gl;
+  for (;;) {
+    std::function<void(MaterialGl&)> job;
+    {
+      std::unique_lock lock(mutex_);
+      wake_.wait(lock, [&] { return quit_ || !jobs_.empty(); });
+      if (quit_) return;
+      job = std::move(jobs_.front());
+      jobs_.pop_front();
+    }
+    job(gl);
+  }
+}
+
+void MaterialWorker::post(QObject* owner, Job job, std::function<void(const QString&)> on_error) {
+  QPointer<QObject> guard(owner);
+  auto run = [this, guard, job = std::move(job), on_error = std::move(on_error)](MaterialGl& gl) {
+    Continuation next;
+    QString error;
+    try {
+      next = job(gl);
+    } catch (const std::exception& e) {
+      error = QString::fromStdString(e.what());
+      if (error.isEmpty()) error = QStringLiteral("unknown error");
+    }
+    // Back on the GUI thread through the worker (which outlives its thread), then only if the
+    // owner is still alive (QPointer is read on the GUI thread, where owners are deleted).
+    QMetaObject::invokeMethod(
+        this,
+        [guard, next = std::move(next), error, on_error] {
+          if (!guard) return;
+          if (!error.isEmpty()) {
+            if (on_error) on_error(error);
+          } else if (next) {
+            next();
+          }
+        },
+        Qt::QueuedConnection);
+  };
+  {
+    std::lock_guard lock(mutex_);
+    jobs_.push_back(std::move(run));
+  }
+  wake_.notify_one();
+}
+
+}  // namespace translucent::explorer

@@ -1,0 +1,333 @@
+#include "material/pencil_plot_dock.h"
+
+#include <fmt/format.h>
+
+#include <QtCharts/QChart>
+#include <QtCharts/QChartView>
+#include <QtCore/QFileInfo>
+#include <QtCore/QMetaObject>
+#include <QtCore/QSignalBlocker>
+#include <QtWidgets/QCheckBox>
+#include <QtWidgets/QComboBox>
+#include <QtWidgets/QDoubleSpinBox>
+#include <QtWidgets/QGridLayout>
+#include <QtWidgets/QLabel>
+#include <QtWidgets/QVBoxLayout>
+
+#include <algorithm>
+#include <map>
+
+#include "bssrdf/registry.h"
+#include "core/explorer_state.h"
+#include "gpu/bssrdf_profiles.h"
+#include "material/material_worker.h"
+#include "plot/profile_plot.h"
+
+namespace translucent::explorer {
+namespace {
+
+using analysis::Channel;
+using analysis::Curve;
+
+QString q(const std::string& s) { return QString::fromStdString(s); }
+
+// Unit of r in scene units: coefficients are per mm and one scene unit spans `scale` mm
+// (seed 3.6.1); the CLI's profile command labels its axis the same way.
+std::string lengthUnit(double scale) {
+  if (scale == 1.0) return "mm";
+  if (scale == 10.0) return "cm";
+  if (scale == 1000.0) return "m";
+  return fmt::format("{:g} mm", scale);
+}
+
+bool sameMedium(const Medium& a, const Medium& b) {
+  return a.sigma_a == b.sigma_a && a.sigma_s == b.sigma_s && a.g == b.g && a.eta == b.eta &&
+         a.scale == b.scale;
+}
+
+// Label of a model's curves: a registered name, or a .bssrdf file's stem (as `translucent
+// profile` labels it), with ".bssrdf" where the stem is also a registered name.
+std::string curveLabel(const std::string& entry) {
+  if (!isBssrdfPath(entry)) return entry;
+  std::string stem = QFileInfo(q(entry)).completeBaseName().toStdString();
+  const auto names = bssrdf::modelNames();
+  if (std::find(names.begin(), names.end(), stem) != names.end()) stem += ".bssrdf";
+  return stem;
+}
+
+}  // namespace
+
+PencilPlotDock::PencilPlotDock(ExplorerState& state, QWidget* parent)
+    : QDockWidget(tr("Pencil plot"), parent),
+      state_(state),
+      worker_(MaterialWorker::of(state)),
+      generation_(std::make_shared<std::atomic<uint64_t>>(0)) {
+  setObjectName(QStringLiteral("pencil_plot"));
+  auto* body = new QWidget;
+  auto* layout = new QVBoxLayout(body);
+  auto* controls = new QGridLayout;
+  yScale_ = new QComboBox;
+  yScale_->setObjectName(QStringLiteral("y_scale"));
+  yScale_->addItem(tr("linear"), static_cast<int>(plot::YScale::Linear));
+  yScale_->addItem(tr("log"), static_cast<int>(plot::YScale::Log));
+  yScale_->addItem(tr("square root"), static_cast<int>(plot::YScale::Sqrt));
+  yScale_->setCurrentIndex(1);
+  channel_ = new QComboBox;
+  channel_->setObjectName(QStringLiteral("channel"));
+  channel_->addItem(tr("red"), static_cast<int>(Channel::Red));
+  channel_->addItem(tr("green"), static_cast<int>(Channel::Green));
+  channel_->addItem(tr("blue"), static_cast<int>(Channel::Blue));
+  channel_->addItem(tr("luminance"), static_cast<int>(Channel::Luminance));
+  channel_->setCurrentIndex(3);
+  solo_ = new QComboBox;
+  solo_->setObjectName(QStringLiteral("solo"));
+  solo_->setToolTip(tr("Show one model's three channels"));
+  timesR_ = new QCheckBox(tr("r·R(r)"));
+  timesR_->setObjectName(QStringLiteral("times_r"));
+  reference_ = new QCheckBox(tr("Reference"));
+  reference_->setObjectName(QStringLiteral("reference"));
+  reference_->setChecked(true);
+  reference_->setToolTip(tr("Path-traced pencil beam on a semi-infinite slab, ±1 standard error"));
+  photons_ = new QDoubleSpinBox;
+  photons_->setObjectName(QStringLiteral("photons"));
+  photons_->setDecimals(0);
+  photons_->setRange(1e4, 1e9);
+  photons_->setSingleStep(1e5);
+  photons_->setValue(1e6);
+  photons_->setToolTip(tr("Reference photons per channel (refined in passes of doubling counts)"));
+  status_ = new QLabel;
+  status_->setObjectName(QStringLiteral("reference_status"));
+  controls->addWidget(new QLabel(tr("y")), 0, 0);
+  controls->addWidget(yScale_, 0, 1);
+  controls->addWidget(new QLabel(tr("channel")), 0, 2);
+  controls->addWidget(channel_, 0, 3);
+  controls->addWidget(timesR_, 0, 4);
+  controls->addWidget(new QLabel(tr("solo")), 1, 0);
+  controls->addWidget(solo_, 1, 1);
+  controls->addWidget(reference_, 1, 2);
+  controls->addWidget(photons_, 1, 3);
+  controls->addWidget(status_, 1, 4);
+  layout->addLayout(controls);
+  view_ = new QChartView;
+  view_->setRenderHint(QPainter::Antialiasing);
+  view_->setMinimumSize(320, 220);
+  layout->addWidget(view_, 1);
+  setWidget(body);
+
+  auto refillSolo = [this] {
+    const QString current = solo_->currentData().toString();
+    const QSignalBlocker block(solo_);
+    solo_->clear();
+    solo_->addItem(tr("(all models)"), QString());
+    for (const auto& m : state_.plotModels()) solo_->addItem(q(curveLabel(m)), q(m));
+    solo_->setCurrentIndex(std::max(0, solo_->findData(current)));
+  };
+  refillSolo();
+  auto onMaterial = [this] {
+    stopReference();
+    requestModels();
+  };
+  connect(&state_, &ExplorerState::materialChanged, this, onMaterial);
+  connect(&state_, &ExplorerState::plotModelsChanged, this, refillSolo);
+  connect(&worker_, &MaterialWorker::bssrdfChanged, this, onMaterial);
+  connect(solo_, &QComboBox::currentIndexChanged, this, onMaterial);
+  connect(channel_, &QComboBox::currentIndexChanged, this, [this] { requestModels(); });
+  connect(timesR_, &QCheckBox::toggled, this, [this] { requestModels(); });
+  connect(yScale_, &QComboBox::currentIndexChanged, this, [this] { redraw(); });
+  connect(reference_, &QCheckBox::toggled, this, [this](bool on) {
+    if (on)
+      restartReference();
+    else
+      stopReference();
+    redraw();
+  });
+  connect(photons_, &QDoubleSpinBox::editingFinished, this, [this] {
+    if (ref_active_ && ref_budget_ == static_cast<uint64_t>(photons_->value())) return;
+    restartReference();
+  });
+  requestModels();
+}
+
+PencilPlotDock::~PencilPlotDock() {
+  stopReference();
+  for (auto& r : ref_threads_) r.thread.join();
+}
+
+QChart* PencilPlotDock::chart() const { return view_->chart(); }
+
+std::vector<Channel> PencilPlotDock::channels() const {
+  if (!solo().empty()) return {Channel::Red, Channel::Green, Channel::Blue};
+  return {static_cast<Channel>(channel_->currentData().toInt())};
+}
+
+std::string PencilPlotDock::solo() const { return solo_->currentData().toString().toStdString(); }
+
+void PencilPlotDock::requestModels() {
+  since_change_.restart();
+  const uint64_t gen = ++*generation_;
+  std::vector<std::string> models =
+      solo().empty() ? state_.plotModels() : std::vector<std::string>{solo()};
+  std::vector<std::pair<std::string, Medium>> work;
+  for (const auto& m : models) work.emplace_back(m, state_.mediumFor(m));
+  const auto chans = channels();
+  const bool timesR = timesR_->isChecked();
+  auto latest = generation_;
+  worker_.post(
+      this,
+      [this, gen, latest, work, chans, timesR](MaterialGl& gl) -> MaterialWorker::Continuation {
+        if (latest->load() != gen) return {};  // a newer request is queued: skip this one
+        // The range: the largest 95% radius over models and channels (the CLI's default).
+        double rMax = 0.0;
+        std::vector<std::string> errors;
+        std::vector<std::pair<std::string, Medium>> ok;
+        for (const auto& [m, medium] : work) {
+          try {
+            if (isBssrdfPath(m)) {
+              const Rgb r95 = gpu::bssrdfRadiusForFraction(gl.load(m), medium, 0.95).radius;
+              rMax = std::max({rMax, r95[0], r95[1], r95[2]});
+            } else {
+              rMax = std::max(rMax, analysis::defaultRadius({m}, medium));
+            }
+            ok.emplace_back(m, medium);
+          } catch (const std::exception& e) {
+            errors.push_back(fmt::format("pencil plot: {}: {}", m, e.what()));
+          }
+        }
+        std::vector<Curve> curves;
+        if (rMax > 0.0 && std::isfinite(rMax)) {
+          const analysis::CurveOptions opts{rMax, 200, timesR};
+          for (const auto& [m, medium] : ok) {
+            try {
+              auto c = isBssrdfPath(m)
+                           ? gpu::bssrdfCurves(gl.load(m), curveLabel(m), medium, chans,
+                                               analysis::radiusGrid(rMax, opts.points), timesR)
+                           : analysis::profileCurves({m}, medium, chans, opts);
+              curves.insert(curves.end(), c.begin(), c.end());
+            } catch (const std::exception& e) {
+              errors.push_back(fmt::format("pencil plot: {}: {}", m, e.what()));
+            }
+          }
+        } else if (!ok.empty()) {
+          errors.push_back(fmt::format(
+              "pencil plot: no finite plot range (the 95% radius is {}); does the medium absorb?",
+              rMax));
+        }
+        return [this, gen, rMax, curves = std::move(curves), errors] {
+          if (gen != generation_->load()) return;
+          for (const auto& e : errors) state_.error(q(e));
+          curves_ = curves;
+          r_max_ = rMax;
+          redraw();
+          latency_ms_ = static_cast<double>(since_change_.nsecsElapsed()) * 1e-6;
+          emit modelCurvesUpdated();
+          // The reference follows the range and the medium; start it when it does not match.
+          const Medium& m = solo().empty() ? state_.medium() : state_.mediumFor(solo());
+          const bool current = ref_active_ && ref_r_max_ == r_max_ && sameMedium(ref_medium_, m);
+          if (reference_->isChecked() && r_max_ > 0.0 && !current)
+            restartReference();
+        };
+      },
+      [this](const QString& why) { state_.error(QStringLiteral("pencil plot: %1").arg(why)); });
+}
+
+void PencilPlotDock::stopReference() {
+  for (auto& r : ref_threads_) r.stop->store(true);
+  ++ref_runs_;  // passes of stopped runs arriving later are ignored
+  ref_.reset();
+  ref_photons_ = 0;
+  ref_active_ = false;
+  status_->setText(tr("reference stopped"));
+}
+
+void PencilPlotDock::restartReference() {
+  stopReference();
+  // Threads that were stopped earlier have ended (or end within ~0.1 s); joining those that are
+  // still winding down would block the interface, so they are joined later.
+  std::erase_if(ref_threads_, [](RefRun& r) {
+    if (!r.thread.joinable()) return true;
+    if (!*r.done) return false;
+    r.thread.join();
+    return true;
+  });
+  if (!reference_->isChecked() || !(r_max_ > 0.0)) return;
+  const Medium medium = solo().empty() ? state_.medium() : state_.mediumFor(solo());
+  analysis::PencilReferenceOptions o;
+  o.r_max = r_max_;
+  o.bins = 100;
+  o.photons = static_cast<uint64_t>(photons_->value());
+  o.first_pass = std::min<uint64_t>(16'384, o.photons);
+  o.seed = 1;
+  // Leave a core to the interface and the model curves.
+  o.threads = std::max(1, static_cast<int>(std::thread::hardware_concurrency()) - 1);
+  ref_r_max_ = r_max_;
+  ref_medium_ = medium;
+  ref_budget_ = o.photons;
+  ref_active_ = true;
+  const int run = ref_runs_;
+  RefRun r{{}, std::make_shared<std::atomic<bool>>(false), std::make_shared<std::atomic<bool>>(false)};
+  auto stop = r.stop;
+  auto done = r.done;
+  status_->setText(tr("reference: starting"));
+  // The thread posts to `this`; the destructor stops and joins every thread before the dock goes.
+  r.thread = std::thread([this, medium, o, run, stop, done] {
+    try {
+      analysis::tracePencilReference(
+          medium, Channel::Luminance, o,
+          [&](const analysis::PencilReferencePass& p) {
+            if (stop->load()) return;
+            QMetaObject::invokeMethod(
+                this,
+                [this, p, run] {
+                  if (run != ref_runs_) return;
+                  ref_ = p;
+                  ref_photons_ = p.photons;
+                  status_->setText(tr("reference: %1 photons/channel%2")
+                                       .arg(static_cast<double>(p.photons), 0, 'g', 3)
+                                       .arg(p.last ? tr(" (done)") : QString()));
+                  redraw();
+                  emit referenceUpdated();
+                },
+                Qt::QueuedConnection);
+          },
+          stop.get());
+    } catch (const std::exception& e) {
+      const QString why = q(e.what());
+      QMetaObject::invokeMethod(
+          this,
+          [this, why, run] {
+            if (run != ref_runs_) return;
+            status_->setText(tr("no reference"));
+            state_.warning(QStringLiteral("pencil plot: %1").arg(why));
+          },
+          Qt::QueuedConnection);
+    }
+    done->store(true);
+  });
+  ref_threads_.push_back(std::move(r));
+}
+
+std::vector<Curve> PencilPlotDock::referenceCurves() const {
+  std::vector<Curve> out;
+  if (!ref_ || ref_r_max_ != r_max_) return out;
+  const auto& res = ref_->results;
+  for (Channel ch : channels())
+    out.push_back(analysis::pencilReferenceCurve({&res[0], &res[1], &res[2]}, ch,
+                                                 timesR_->isChecked()));
+  return out;
+}
+
+void PencilPlotDock::redraw() {
+  std::vector<Curve> shown = curves_;
+  if (reference_->isChecked())
+    for (auto& c : referenceCurves()) shown.push_back(std::move(c));
+  plot::PlotOptions po;
+  po.y_scale = static_cast<plot::YScale>(yScale_->currentData().toInt());
+  po.times_r = timesR_->isChecked();
+  const std::string s = solo();
+  po.length_unit = lengthUnit((s.empty() ? state_.medium() : state_.mediumFor(s)).scale);
+  QChart* old = view_->chart();
+  view_->setChart(plot::makeProfileChart(shown, po).release());
+  delete old;
+}
+
+}  // namespace translucent::explorer
