@@ -59,6 +59,13 @@ gpu::BssrdfEvaluator* MaterialGl::find(const std::string& path) {
 
 gpu::BssrdfEvaluator& MaterialGl::load(const std::string& path) {
   if (auto* e = find(path)) return *e;
+  // Parse first (no GL needed): a malformed file is reported by file:line even where no context
+  // can be made.
+  try {
+    (void)bssrdf::loadBssrdf(path);
+  } catch (const bssrdf::BssrdfFileError& err) {
+    throw ParameterError(err.what());
+  }
   ensureContext();
   std::unique_ptr<gpu::BssrdfEvaluator> e;
   try {

@@ -181,6 +181,7 @@ void PencilPlotDock::requestModels() {
         std::vector<std::string> errors;
         std::vector<std::pair<std::string, Medium>> ok;
         for (const auto& [m, medium] : work) {
+          if (latest->load() != gen) return {};
           try {
             if (isBssrdfPath(m)) {
               const Rgb r95 = gpu::bssrdfRadiusForFraction(gl.load(m), medium, 0.95).radius;
