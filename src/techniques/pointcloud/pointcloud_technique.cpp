@@ -15,6 +15,7 @@
 #include "analysis/image_io.h"
 #include "bssrdf/registry.h"
 #include "gpu/bssrdf_kernels.h"
+#include "gpu/bssrdf_profiles.h"
 #include "gpu/compute.h"
 #include "gpu/pass_timer.h"
 #include "techniques/pointcloud/environment.h"
@@ -361,48 +362,25 @@ struct PointCloudTechnique::Impl {
         tables[c].rd = prof[c]->Rd();
       }
     } else {
-      // Find the radius from the GPU profile on a long grid: 2π∫ R r dr up to the fraction.
-      double longest = 0.0;
-      for (int c = 0; c < 3; ++c) {
-        const ScalarMedium m = s.medium.channel(c);
-        const double tr = m.sigmaTr();
-        longest = std::max(longest, tr > 0.0 ? 60.0 / tr : 1000.0 * m.reducedMeanFreePath());
+      // The radius and Rd from the file's own GPU values (gpu/bssrdf_profiles.h: Gauss-Legendre
+      // panels on a log grid), then R on the table grid, evaluated by the same kernel.
+      const gpu::BssrdfEnergy energy =
+          gpu::bssrdfRadiusForFraction(*evaluator, s.medium, kTableFraction);
+      for (size_t c = 0; c < 3; ++c) {
+        rMax = std::max(rMax, energy.radius[c]);
+        tables[c].rd = energy.rd[c];
       }
-      const size_t probe = 16384;
-      std::vector<float> radii(probe);
-      for (size_t i = 0; i < probe; ++i) radii[i] = float(longest * (double(i) + 0.5) / double(probe));
-      const auto r = evaluator->profile(radii);
-      const double dr = longest / double(probe);
-      for (int c = 0; c < 3; ++c) {
-        double total = 0.0;
-        for (size_t i = 0; i < probe; ++i) total += double(r[i][size_t(c)]) * double(radii[i]) * dr;
-        double acc = 0.0, at = longest;
-        for (size_t i = 0; i < probe; ++i) {
-          acc += double(r[i][size_t(c)]) * double(radii[i]) * dr;
-          if (acc >= kTableFraction * total) {
-            at = (double(i) + 1.0) * dr;
-            break;
-          }
-        }
-        if (!(total > 0.0) || !std::isfinite(total))
-          throw ParameterError(fmt::format("{}: the {} channel's profile integrates to {}: expected "
-                                           "a positive, finite diffuse reflectance",
-                                           evaluator->file().path, kChannelNames[c], 2.0 * std::numbers::pi * total));
-        rMax = std::max(rMax, at);
-        tables[size_t(c)].rd = 2.0 * std::numbers::pi * total;
-      }
-      std::vector<float> grid(n);
-      for (size_t i = 0; i < n; ++i) grid[i] = float(rMax * double(i) / double(n - 1));
-      grid[0] = float(0.25 * rMax / double(n - 1));  // R may diverge at r = 0 (as tabulate does)
-      const auto g = evaluator->profile(grid);
+      std::vector<double> grid(n);
+      for (size_t i = 0; i < n; ++i) grid[i] = rMax * double(i) / double(n - 1);
+      const std::vector<Rgb> g = gpu::bssrdfProfile(*evaluator, s.medium, grid);
+      // R may diverge at r = 0: entry 0 then holds R a quarter step out (as bssrdf::tabulate).
+      const std::vector<Rgb> quarter =
+          gpu::bssrdfProfile(*evaluator, s.medium, {0.25 * rMax / double(n - 1)});
       for (size_t c = 0; c < 3; ++c) {
         values[c].resize(n);
         for (size_t i = 0; i < n; ++i) values[c][i] = g[i][c];
+        if (!std::isfinite(values[c][0])) values[c][0] = quarter[0][c];
       }
-      // Entry 0 holds R a quarter step out only where R(0) is not finite.
-      const auto at0 = evaluator->profile(std::vector<float>{0.0f});
-      for (size_t c = 0; c < 3; ++c)
-        if (std::isfinite(at0[0][c])) values[c][0] = at0[0][c];
     }
     std::vector<glm::vec4> gpuTable(n);
     for (size_t c = 0; c < 3; ++c) {
