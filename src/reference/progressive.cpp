@@ -1,0 +1,29 @@
+#include "reference/progressive.h"
+
+#include <algorithm>
+#include <limits>
+
+#include "optics/medium.h"  // ParameterError
+
+namespace translucent::reference {
+
+std::vector<uint64_t> doublingPasses(uint64_t first, uint64_t budget, uint64_t granularity) {
+  if (first == 0) throw ParameterError("progressive passes: first pass is 0: expected >= 1");
+  if (budget == 0) throw ParameterError("progressive passes: budget is 0: expected >= 1");
+  if (granularity == 0)
+    throw ParameterError("progressive passes: granularity is 0: expected >= 1");
+  auto roundUp = [&](uint64_t n) { return (n + granularity - 1) / granularity * granularity; };
+  const uint64_t total = roundUp(budget);
+  std::vector<uint64_t> passes;
+  uint64_t done = 0, next = roundUp(first);
+  while (done < total) {
+    const uint64_t n = std::min(next, total - done);
+    passes.push_back(n);
+    done += n;
+    // Doubling stops growing where it would overflow; the budget ends the loop long before.
+    next = next > std::numeric_limits<uint64_t>::max() / 2 ? next : 2 * next;
+  }
+  return passes;
+}
+
+}  // namespace translucent::reference
