@@ -231,6 +231,87 @@ class MaterialDocksTest : public QObject {
     QVERIFY(linePoints(f.plot.chart(), "dipole") != before);
   }
 
+  // A user's .bssrdf file (a copy of the shipped normalized diffusion): its curve joins the plot
+  // and equals the C++ model's, its declared parameter gets a widget that changes the curve, a
+  // GLSL error and a failed reload are reported by file:line and the last good version stays.
+  void bssrdfFilesLoadReloadAndFail() {
+    Fixture f(false);
+    QSignalSpy curves(&f.plot, &PencilPlotDock::modelCurvesUpdated);
+    QVERIFY(f.waitCurves(curves));
+    QTemporaryDir dir;
+    const QString nd = dir.filePath("nd.bssrdf");
+    const QString source = qEnvironmentVariable("TRANSLUCENT_SOURCE_DIR", TRANSLUCENT_SOURCE) +
+                           "/data/bssrdf/normalized-diffusion.bssrdf";
+    QVERIFY(QFile::copy(source, nd));
+    QSignalSpy loaded(&f.params, &ParametersDock::bssrdfLoaded);
+    f.params.loadBssrdf(nd);
+    QVERIFY(loaded.wait(60000));
+    QVERIFY2(loaded.at(0).at(1).toBool(), qPrintable(f.console.lines.back().second));
+    QCOMPARE(f.state.plotModels().size(), size_t{3});
+    while (curves.wait(500)) {}
+
+    // The GPU curve against the C++ model on the same grid: the file is written for single
+    // precision (~1e-6 relative), 1e-5 leaves room for float radii and the luminance sum.
+    const auto cpp = analysis::profileCurves({"normalized-diffusion"}, f.state.medium(),
+                                             {analysis::Channel::Luminance},
+                                             {f.plot.radiusMax(), 200, false})[0];
+    auto pts = linePoints(f.plot.chart(), "nd");
+    QCOMPARE(pts.size(), size_t{200});
+    size_t i = 0;
+    for (const auto& [r, v] : pts) {
+      QVERIFY2(std::abs(v - cpp.value[i]) <= 1e-5 * cpp.value[i],
+               qPrintable(QString("r=%1: %2 vs %3").arg(r).arg(v).arg(cpp.value[i])));
+      ++i;
+    }
+
+    // The generated widget of `float Multiplier 0.0 10.0 1.0`: 2 doubles the curve.
+    auto* multiplier = f.params.findChild<ValueSlider*>("Multiplier");
+    QVERIFY(multiplier != nullptr);
+    QCOMPARE(multiplier->value(), 1.0);
+    curves.clear();
+    multiplier->field()->setText("2");
+    emit multiplier->field()->editingFinished();
+    QVERIFY(curves.wait(20000));
+    while (curves.wait(500)) {}
+    const auto doubled = linePoints(f.plot.chart(), "nd");
+    for (const auto& [r, v] : pts) QVERIFY(std::abs(doubled.at(r) - 2.0 * v) <= 1e-6 * v);
+    // Out of [0, 10]: refused, naming the file and line of the declaration.
+    multiplier->field()->setText("11");
+    emit multiplier->field()->editingFinished();
+    QVERIFY(f.console.hasError("nd.bssrdf:23"));
+
+    // A GLSL error: reported as file:line of the .bssrdf (line 4), nothing loaded.
+    const QString glsl = dir.filePath("glslbad.bssrdf");
+    {
+      QFile file(glsl);
+      QVERIFY(file.open(QIODevice::WriteOnly));
+      file.write("analytic radial\n::begin shader\nvec3 Bssrdf(vec3 Xi, vec3 Wi, vec3 Xo, vec3 Wo) {\n"
+                 "  return undefinedThing;\n}\n::end shader\n");
+    }
+    loaded.clear();
+    f.params.loadBssrdf(glsl);
+    QVERIFY(loaded.wait(60000));
+    QCOMPARE(loaded.at(0).at(1).toBool(), false);
+    QVERIFY2(f.console.hasError("glslbad.bssrdf:4"), qPrintable(f.console.lines.back().second));
+
+    // A broken edit of the loaded file: the reload fails with file:line, the old version stays.
+    {
+      QFile file(nd);
+      QVERIFY(file.open(QIODevice::WriteOnly | QIODevice::Truncate));
+      file.write("analytic radial\n::begin parameters\nfloat Multiplier 0.0\n::end parameters\n");
+    }
+    QSignalSpy reloaded(&f.params, &ParametersDock::bssrdfReloaded);
+    f.params.reloadBssrdf(nd);
+    QVERIFY(reloaded.wait(20000));
+    QCOMPARE(reloaded.at(0).at(1).toBool(), false);
+    QVERIFY(f.console.hasError("nd.bssrdf:3"));
+    curves.clear();
+    f.state.setMedium(preset("Skin2").medium(), "Skin2");
+    QVERIFY(curves.wait(20000));
+    while (curves.wait(500)) {}
+    QCOMPARE(linePoints(f.plot.chart(), "nd").size(), size_t{200});
+  }
+
   void badNumbersAreRefusedAndTheMediumStays() {
     Fixture f(false);
     const Medium before = f.state.medium();
