@@ -176,34 +176,56 @@ void PencilPlotDock::requestModels() {
       this,
       [this, gen, latest, work, chans, timesR](MaterialGl& gl) -> MaterialWorker::Continuation {
         if (latest->load() != gen) return {};  // a newer request is queued: skip this one
-        // The range: the largest 95% radius over models and channels (the CLI's default).
+        // The range: the largest 95% radius over models and channels (the CLI's default). A
+        // registered model's three profiles are built once and serve both the range and the
+        // values (building is the costly part: ~60 ms for photon-beam), which are computed as
+        // analysis::profileCurves computes them (the test holds them equal).
         double rMax = 0.0;
         std::vector<std::string> errors;
-        std::vector<std::pair<std::string, Medium>> ok;
+        struct Ready {
+          std::string model;
+          Medium medium;
+          bssrdf::RgbProfiles profiles;  // registered models only
+        };
+        std::vector<Ready> ok;
         for (const auto& [m, medium] : work) {
           if (latest->load() != gen) return {};
           try {
             if (isBssrdfPath(m)) {
               const Rgb r95 = gpu::bssrdfRadiusForFraction(gl.load(m), medium, 0.95).radius;
               rMax = std::max({rMax, r95[0], r95[1], r95[2]});
+              ok.push_back({m, medium, {}});
             } else {
-              rMax = std::max(rMax, analysis::defaultRadius({m}, medium));
+              auto ps = bssrdf::profiles(bssrdf::model(m), medium);
+              for (const auto& p : ps) rMax = std::max(rMax, p->radiusForFraction(0.95));
+              ok.push_back({m, medium, std::move(ps)});
             }
-            ok.emplace_back(m, medium);
           } catch (const std::exception& e) {
             errors.push_back(fmt::format("pencil plot: {}: {}", m, e.what()));
           }
         }
         std::vector<Curve> curves;
         if (rMax > 0.0 && std::isfinite(rMax)) {
-          const analysis::CurveOptions opts{rMax, 200, timesR};
-          for (const auto& [m, medium] : ok) {
+          const auto grid = analysis::radiusGrid(rMax, 200);
+          for (const auto& [m, medium, ps] : ok) {
             try {
-              auto c = isBssrdfPath(m)
-                           ? gpu::bssrdfCurves(gl.load(m), curveLabel(m), medium, chans,
-                                               analysis::radiusGrid(rMax, opts.points), timesR)
-                           : analysis::profileCurves({m}, medium, chans, opts);
-              curves.insert(curves.end(), c.begin(), c.end());
+              if (isBssrdfPath(m)) {
+                auto c = gpu::bssrdfCurves(gl.load(m), curveLabel(m), medium, chans, grid, timesR);
+                curves.insert(curves.end(), c.begin(), c.end());
+                continue;
+              }
+              for (Channel ch : chans) {
+                Curve c{m, analysis::channelName(ch), grid, {}, {}};
+                c.value.reserve(grid.size());
+                for (double r : grid) {
+                  const Rgb v{ps[0]->R(r), ps[1]->R(r), ps[2]->R(r)};
+                  double y = ch == Channel::Luminance ? analysis::luminance(v)
+                                                      : v[static_cast<size_t>(ch)];
+                  if (timesR) y *= r;
+                  c.value.push_back(y);
+                }
+                curves.push_back(std::move(c));
+              }
             } catch (const std::exception& e) {
               errors.push_back(fmt::format("pencil plot: {}: {}", m, e.what()));
             }
