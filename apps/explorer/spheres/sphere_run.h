@@ -1,0 +1,76 @@
+// One background computation of the lit sphere widgets (seed 3.6.2): either the path-traced
+// reference (reference::SpherePathTracer) or a model's sphere integration
+// (reference::SphereIntegrator), refined by doubling passes (reference::runProgressive) on a
+// thread of its own, and cancellable at any time.
+//
+// The run never touches Qt or the ExplorerState: it works on copies of its inputs and reports
+// through callbacks that it calls on its own thread. The dock turns them into queued calls to
+// the GUI thread. Destroying a run requests a stop and joins its thread; the estimators poll the
+// stop flag about ten times a second and drop the block in hand, so that returns within about a
+// tenth of a second plus one block (1024 photons per channel, or one image row of samples).
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <thread>
+
+#include "optics/medium.h"
+#include "reference/mc_image.h"
+#include "reference/sphere.h"
+
+namespace translucent::bssrdf {
+class Model;
+}
+
+namespace translucent::explorer {
+
+struct SphereRunConfig {
+  reference::SphereScene scene;
+  Medium medium;
+  // nullptr: path-trace the sphere; otherwise integrate this model (registered models live for
+  // the whole program, so the pointer stays valid).
+  const bssrdf::Model* model = nullptr;
+  uint64_t first = 1;   // first pass: photons per channel (tracer) or samples per pixel
+  uint64_t budget = 1;  // all passes together
+  uint64_t seed = 1;
+  int threads = 0;      // 0: all hardware threads
+};
+
+// The images after a complete pass.
+struct SphereSnapshot {
+  int pass = 0;           // index of the pass just completed
+  int passes = 0;         // passes in the schedule
+  uint64_t done = 0;      // photons per channel or samples per pixel so far
+  uint64_t budget = 0;    // the schedule's total
+  double seconds = 0.0;   // since the run started (including setup)
+  reference::McImage exitance, radiance;
+};
+
+struct SphereRunCallbacks {
+  // All called on the run's thread; `finished` is the last call the run makes.
+  std::function<void(std::shared_ptr<const SphereSnapshot>)> pass;
+  std::function<void(double fraction)> progress;  // of the whole budget, in [0, 1]
+  std::function<void(bool stopped, const std::string& error)> finished;
+};
+
+class SphereRun {
+ public:
+  SphereRun(SphereRunConfig config, SphereRunCallbacks callbacks);  // starts the thread
+  ~SphereRun();                                                     // stops and joins
+  SphereRun(const SphereRun&) = delete;
+  SphereRun& operator=(const SphereRun&) = delete;
+
+  void requestStop() { stop_ = true; }
+
+ private:
+  void run();
+  SphereRunConfig config_;
+  SphereRunCallbacks callbacks_;
+  std::atomic<bool> stop_{false};
+  std::thread thread_;
+};
+
+}  // namespace translucent::explorer
