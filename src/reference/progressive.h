@@ -8,8 +8,8 @@
 // the image after pass k is the estimate from all the samples of passes 0..k.
 //
 // Pass sizes double (first, 2 first, 4 first, ...) so that the first image comes quickly and the
-// number of refreshes grows only logarithmically with the budget; the last pass is cut so that the
-// passes add up to the budget. With a granularity (the path tracers' kBlockPhotons) every pass is
+// number of refreshes grows only logarithmically with the budget, up to an optional cap; the last
+// pass is cut so that the passes add up to the budget. With a granularity (the path tracers' kBlockPhotons) every pass is
 // a whole number of blocks, and K passes of the schedule then give bit for bit the images of one
 // pass of the whole budget (sphere.h); the integrator draws fresh streams per pass, so its result
 // depends on the schedule (but, as always, not on the thread count).
@@ -30,10 +30,13 @@
 
 namespace translucent::reference {
 
-// Pass sizes: first, 2 first, 4 first, ..., each rounded up to a multiple of `granularity`, the
-// last one cut so that they sum to the budget rounded up to a multiple of `granularity`. Throws
-// ParameterError for a zero first pass, budget or granularity.
-std::vector<uint64_t> doublingPasses(uint64_t first, uint64_t budget, uint64_t granularity = 1);
+// Pass sizes: first, 2 first, 4 first, ..., each rounded up to a multiple of `granularity` and
+// growing no further than `cap` (0: no cap; rounded up to a multiple of `granularity`), so that
+// refreshes keep coming at a steady pace once the images are good; the last pass is cut so that
+// they sum to the budget rounded up to a multiple of `granularity`. Throws ParameterError for a
+// zero first pass, budget or granularity, or a cap below the first pass.
+std::vector<uint64_t> doublingPasses(uint64_t first, uint64_t budget, uint64_t granularity = 1,
+                                     uint64_t cap = 0);
 
 struct ProgressiveResult {
   int passes = 0;          // complete passes

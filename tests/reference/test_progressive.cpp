@@ -60,6 +60,11 @@ TEST(DoublingPasses, DoublesAndAddsUpToTheBudget) {
     }
   }
   EXPECT_EQ(doublingPasses(50, 10), std::vector<uint64_t>{10});
+  // A cap stops the growth; passes still add up to the budget.
+  EXPECT_EQ(doublingPasses(1, 30, 1, 5), (std::vector<uint64_t>{1, 2, 4, 5, 5, 5, 5, 3}));
+  EXPECT_EQ(doublingPasses(2, 20, 1, 6), (std::vector<uint64_t>{2, 4, 6, 6, 2}));
+  EXPECT_EQ(doublingPasses(1024, 5000, 1024, 2000), (std::vector<uint64_t>{1024, 2048, 2048}));
+  EXPECT_THROW(doublingPasses(4, 10, 1, 3), ParameterError);
   EXPECT_THROW(doublingPasses(0, 10), ParameterError);
   EXPECT_THROW(doublingPasses(1, 0), ParameterError);
   EXPECT_THROW(doublingPasses(1, 10, 0), ParameterError);

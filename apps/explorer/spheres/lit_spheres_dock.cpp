@@ -82,6 +82,10 @@ constexpr int kSeed = 1;  // the CLI's default --seed
 // The path tracer's first pass: a few blocks, so that the first image comes within a fraction of
 // a second at the default material (25 mm marble sphere: about 5·10^4 photons/s per thread).
 constexpr uint64_t kFirstPhotons = 8 * reference::kBlockPhotons;
+// Passes double up to these sizes, then stay: a refresh every second or two at the default
+// material (about 10^5 photons/s and 2·10^5 samples/s at 128² on two cores).
+constexpr uint64_t kCapPhotons = 128 * reference::kBlockPhotons;
+constexpr uint64_t kCapSamples = 16;
 
 QImage toneMapped(const std::vector<float>& rgb, int w, int h, double exposure, double gamma) {
   QImage img(w, h, QImage::Format_RGB888);
@@ -473,9 +477,11 @@ void LitSpheresDock::restart(Pane p, bool force) {
       c.model = &bssrdf::model(model);
       c.first = 1;
       c.budget = sample_budget_;
+      c.cap = kCapSamples;
     } else {
       c.first = kFirstPhotons;
       c.budget = photon_budget_;
+      c.cap = kCapPhotons;
     }
   } catch (const bssrdf::UnknownModelError& e) {
     d.stale = d.snapshot != nullptr;

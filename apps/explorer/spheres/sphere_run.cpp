@@ -31,7 +31,7 @@ void SphereRun::run() {
     // The path tracer's passes are whole blocks, so the progressive images equal one run of
     // the same photons (progressive.h).
     const uint64_t granularity = config_.model ? 1 : reference::kBlockPhotons;
-    const auto passes = reference::doublingPasses(config_.first, config_.budget, granularity);
+    const auto passes = reference::doublingPasses(config_.first, config_.budget, granularity, config_.cap);
     uint64_t total = 0;
     for (uint64_t n : passes) total += n;
     auto progress = [&](int pass, uint64_t done, const reference::TraceProgress& p) {

@@ -35,6 +35,7 @@ struct SphereRunConfig {
   const bssrdf::Model* model = nullptr;
   uint64_t first = 1;   // first pass: photons per channel (tracer) or samples per pixel
   uint64_t budget = 1;  // all passes together
+  uint64_t cap = 0;     // largest pass (0: none): keeps refreshes coming
   uint64_t seed = 1;
   int threads = 0;      // 0: all hardware threads
 };
