@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <memory>
 
+#include "analysis/pencil_reference.h"
 #include "analysis/profile_curves.h"
 #include "bssrdf_models.h"
 #include "bssrdf/registry.h"
@@ -98,24 +99,10 @@ analysis::Curve referenceCurve(const Medium& medium, analysis::Channel ch, doubl
     bar.end();
     if (results[c].partial) fmt::print(stderr, "profile: reference stopped early, partial\n");
   }
-  analysis::Curve curve{"reference", analysis::channelName(ch), {}, {}, {}};
-  const auto& any = results[needed[0] ? 0 : needed[1] ? 1 : 2].radial;
-  curve.r = any.r;
-  static constexpr double kLum[3] = {0.2126, 0.7152, 0.0722};
-  for (size_t i = 0; i < curve.r.size(); ++i) {
-    double v = 0.0, var = 0.0;
-    for (size_t c = 0; c < 3; ++c) {
-      if (!needed[c]) continue;
-      const double w = (ch == analysis::Channel::Luminance ? kLum[c] : 1.0) /
-                       (1.0 - results[c].specular_reflectance.value);
-      v += w * results[c].radial.rd[i];
-      var += w * w * results[c].radial.rd_stderr[i] * results[c].radial.rd_stderr[i];
-    }
-    const double k = a.times_r ? curve.r[i] : 1.0;
-    curve.value.push_back(k * v);
-    curve.stderr_.push_back(k * std::sqrt(var));
-  }
-  return curve;
+  return analysis::pencilReferenceCurve({needed[0] ? &results[0] : nullptr,
+                                        needed[1] ? &results[1] : nullptr,
+                                        needed[2] ? &results[2] : nullptr},
+                                       ch, a.times_r);
 }
 
 void runProfile(const ProfileArgs& a) {

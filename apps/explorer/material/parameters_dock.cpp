@@ -297,6 +297,13 @@ void ParametersDock::refresh() {
   }
   refreshModels();
   updating_ = false;
+  // A scene whose model is a .bssrdf file (loaded from JSON): load it once, so that its
+  // parameters get widgets and it joins the plot.
+  const std::string& sceneModel = state_.scene().model;
+  if (isBssrdfPath(sceneModel) && !attempted_.count(sceneModel)) {
+    attempted_.insert(sceneModel);
+    loadBssrdf(QString::fromStdString(sceneModel));
+  }
   updateReflectance();
 }
 
@@ -384,7 +391,9 @@ void ParametersDock::onScalar() {
   m.g = g_->value();
   m.eta = eta_->value();
   m.scale = scale_->value();
-  apply(m, target().empty() ? state_.scene().preset : "");
+  // Custom from here: a scene's preset keeps σs' and rederives σs from g (Medium::fromReduced),
+  // which is not what moving g here does.
+  apply(m);
 }
 
 void ParametersDock::onRdLd() {
@@ -437,6 +446,7 @@ void ParametersDock::onModeChanged(int index) {
 
 void ParametersDock::loadBssrdf(const QString& qpath) {
   const std::string path = QFileInfo(qpath).absoluteFilePath().toStdString();
+  attempted_.insert(path);
   worker_.post(
       this,
       [this, path](MaterialGl& gl) -> MaterialWorker::Continuation {

@@ -21,6 +21,7 @@
 
 #include <map>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -102,6 +103,7 @@ class ParametersDock : public QDockWidget {
   QVBoxLayout* filesLayout_;
   QFileSystemWatcher* watcher_;
   std::vector<std::string> files_;
+  std::set<std::string> attempted_;  // files loaded or tried (the scene's model loads once)
   std::map<std::string, QGroupBox*> fileBoxes_;
   Rgb swatch_{};
   uint64_t rdRequest_ = 0;  // latest asynchronous Rd request (older answers are ignored)
