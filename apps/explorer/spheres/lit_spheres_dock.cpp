@@ -65,6 +65,7 @@ struct LitSpheresDock::PaneData {
   std::unique_ptr<SphereRun> run;  // the current run (null when none is running)
   int generation = 0;
   std::string key;  // the current run's inputs: a material change with the same key is no restart
+  std::string model;  // the model of the current run (integration)
   bool stale = false;  // the last restart failed: the images are of the previous material
   std::shared_ptr<const SphereSnapshot> snapshot;  // the last complete pass shown
   int snapshot_generation = 0;
@@ -307,7 +308,10 @@ void LitSpheresDock::setSideBySide(bool sideBySide) {
                         difference_pane_};
   while (tabs_->count() > 0) tabs_->removeTab(0);  // the pages stay alive
   if (sideBySide) {
-    for (QWidget* w : widgets) side_->layout()->addWidget(w);
+    for (QWidget* w : widgets) {
+      side_->layout()->addWidget(w);
+      w->show();  // the tab widget hid the pages that were not current
+    }
     views_->setCurrentWidget(side_);
   } else {
     tabs_->addTab(widgets[0], tr("Path traced"));
@@ -315,7 +319,6 @@ void LitSpheresDock::setSideBySide(bool sideBySide) {
     tabs_->addTab(widgets[2], tr("Difference"));
     views_->setCurrentWidget(tabs_);
   }
-  for (QWidget* w : widgets) w->show();
 }
 
 std::vector<float> LitSpheresDock::linearImage(Pane p) const {
@@ -400,7 +403,7 @@ void LitSpheresDock::updateComparison() {
     return;
   }
   const auto& c = *comparison_;
-  const QString model = QString::fromStdString(state_.scene().model);
+  const QString model = QString::fromStdString(pane(Pane::Integrated).model);
   summary_label_->setText(
       tr("%1 against the path-traced reference (%2 pixels): relative RMSE %3% = Monte Carlo noise "
          "%4% ⊕ systematic %5%; mean ratio %6%7")
@@ -498,6 +501,7 @@ void LitSpheresDock::restart(Pane p, bool force) {
     return;
   }
   std::string k = key(c, model);
+  if (p == Pane::Integrated && k != d.key) d.model = model;
   if (!force && k == d.key) {
     // Back to the inputs of the images shown (after a failed change): they are current again.
     if (d.stale) {

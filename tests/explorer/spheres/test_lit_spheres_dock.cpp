@@ -223,6 +223,10 @@ class TestLitSpheresDock : public QObject {
     }
     dock.setSideBySide(false);
     QVERIFY(!dock.sideBySide());
+    // Tabs again: one page shown at a time (the first), the others hidden under it.
+    QVERIFY(dock.findChild<QWidget*>("path_traced_pane")->isVisible());
+    QVERIFY(!dock.findChild<QWidget*>("integration_pane")->isVisible());
+    QVERIFY(!dock.findChild<QWidget*>("difference_pane")->isVisible());
   }
 
   void destroyingTheDockMidComputationReturnsPromptly() {
