@@ -1,0 +1,224 @@
+#include "app/main_window.h"
+
+#include <QtCore/QCoreApplication>
+#include <QtCore/QDir>
+#include <QtCore/QFileInfo>
+#include <QtCore/QSettings>
+#include <QtGui/QClipboard>
+#include <QtGui/QCloseEvent>
+#include <QtGui/QGuiApplication>
+#include <QtGui/QKeySequence>
+#include <QtWidgets/QFileDialog>
+#include <QtWidgets/QLabel>
+#include <QtWidgets/QMenuBar>
+#include <QtWidgets/QStatusBar>
+
+#include <exception>
+
+#include "app/command_line.h"
+#include "app/console_dock.h"
+#include "app/viewport_dock.h"
+#include "core/explorer_state.h"
+
+#ifdef TRANSLUCENT_EXPLORER_HAS_MATERIAL
+#include "material/parameters_dock.h"
+#include "material/pencil_plot_dock.h"
+#endif
+#ifdef TRANSLUCENT_EXPLORER_HAS_SPHERES
+#include "spheres/lit_spheres_dock.h"
+#endif
+
+namespace translucent::explorer {
+namespace {
+
+std::filesystem::path absolutePath(const std::filesystem::path& p) {
+  if (p.empty() || p.is_absolute() || p == "checker") return p;
+  return std::filesystem::absolute(p);
+}
+
+QSettings layoutSettings() {
+  return QSettings(QStringLiteral("translucent"), QStringLiteral("explorer"));
+}
+
+}  // namespace
+
+QString cliProgram() {
+  const QString local = QCoreApplication::applicationDirPath() + QStringLiteral("/translucent");
+  return QFileInfo(local).isExecutable() ? local : QStringLiteral("translucent");
+}
+
+MainWindow::MainWindow(ExplorerState& state, MainWindowOptions options, QWidget* parent)
+    : QMainWindow(parent), state_(state), options_(options) {
+  setObjectName(QStringLiteral("explorer_main_window"));
+  setWindowTitle(QStringLiteral("Translucent Explorer"));
+  setDockNestingEnabled(true);
+  setDockOptions(QMainWindow::AnimatedDocks | QMainWindow::AllowNestedDocks |
+                 QMainWindow::AllowTabbedDocks);
+  // Every view is a dock; a hidden central widget lets them share the whole window.
+  auto* centre = new QWidget;
+  centre->hide();
+  setCentralWidget(centre);
+
+  console_ = new ConsoleDock(state_, this);  // first: it shows what the others report
+  viewport_ = new ViewportDock(state_, this);
+  addDockWidget(Qt::LeftDockWidgetArea, viewport_);
+  addDockWidget(Qt::BottomDockWidgetArea, console_);
+  QList<QDockWidget*> docks = {viewport_, console_};
+#ifdef TRANSLUCENT_EXPLORER_HAS_MATERIAL
+  auto* parameters = new ParametersDock(state_, this);
+  auto* plot = new PencilPlotDock(state_, this);
+  addDockWidget(Qt::RightDockWidgetArea, parameters);
+  addDockWidget(Qt::RightDockWidgetArea, plot);
+  docks << parameters << plot;
+#endif
+#ifdef TRANSLUCENT_EXPLORER_HAS_SPHERES
+  auto* spheres = new LitSpheresDock(state_, this);
+  addDockWidget(Qt::RightDockWidgetArea, spheres);
+  docks << spheres;
+#endif
+  resize(1600, 1000);
+  default_state_ = saveState();
+
+  // File menu.
+  QMenu* file = menuBar()->addMenu(QStringLiteral("&File"));
+  file->addAction(QStringLiteral("&Open scene…"), QKeySequence::Open, this, [this] {
+    const QString f = QFileDialog::getOpenFileName(this, QStringLiteral("Open scene"), QString(),
+                                                   QStringLiteral("Scenes (*.json)"));
+    if (!f.isEmpty()) openScene(f);
+  });
+  file->addAction(QStringLiteral("&Save scene…"), QKeySequence::Save, this, [this] {
+    const QString f = QFileDialog::getSaveFileName(this, QStringLiteral("Save scene"), QString(),
+                                                   QStringLiteral("Scenes (*.json)"));
+    if (!f.isEmpty()) saveScene(f);
+  });
+  file->addAction(QStringLiteral("Load &mesh…"), this, [this] {
+    const QString f = QFileDialog::getOpenFileName(this, QStringLiteral("Load mesh"), QString(),
+                                                   QStringLiteral("Meshes (*.obj *.ply *.off);;All files (*)"));
+    if (!f.isEmpty()) viewport_->loadMesh(f);
+  });
+  file->addAction(QStringLiteral("&Copy command line"), this, [this] {
+    const QString cmd = commandLineForView();
+    if (cmd.isEmpty()) return;
+    QGuiApplication::clipboard()->setText(cmd);
+    state_.info(QStringLiteral("copied to the clipboard: %1").arg(cmd));
+  });
+  file->addSeparator();
+  file->addAction(QStringLiteral("&Quit"), QKeySequence::Quit, this, &QWidget::close);
+
+  // View menu: one toggle per dock.
+  QMenu* view = menuBar()->addMenu(QStringLiteral("&View"));
+  for (QDockWidget* d : docks) view->addAction(d->toggleViewAction());
+  view->addSeparator();
+  view->addAction(QStringLiteral("&Reset layout"), this, &MainWindow::resetLayout);
+
+  fps_ = new QLabel;
+  fps_->setObjectName(QStringLiteral("status_fps"));
+  counts_ = new QLabel;
+  counts_->setObjectName(QStringLiteral("status_counts"));
+  statusBar()->addWidget(fps_, 1);
+  statusBar()->addPermanentWidget(counts_);
+  connect(viewport_, &ViewportDock::statsChanged, this, &MainWindow::updateStatus);
+  connect(&state_, &ExplorerState::sceneChanged, this, &MainWindow::updateStatus);
+  updateStatus();
+
+  if (options_.restore_layout) {
+    QSettings settings = layoutSettings();
+    restoreGeometry(settings.value(QStringLiteral("geometry")).toByteArray());
+    restoreState(settings.value(QStringLiteral("windowState")).toByteArray());
+  }
+}
+
+MainWindow::~MainWindow() = default;
+
+void MainWindow::resetLayout() {
+  restoreState(default_state_);
+  for (QDockWidget* d : findChildren<QDockWidget*>()) {
+    d->setFloating(false);
+    d->show();
+  }
+  resize(1600, 1000);
+}
+
+void MainWindow::closeEvent(QCloseEvent* e) {
+  if (options_.save_layout) {
+    QSettings settings = layoutSettings();
+    settings.setValue(QStringLiteral("geometry"), saveGeometry());
+    settings.setValue(QStringLiteral("windowState"), saveState());
+  }
+  QMainWindow::closeEvent(e);
+}
+
+void MainWindow::updateStatus() {
+  const FrameStats& s = viewport_->stats();
+  if (s.frames == 0) {
+    fps_->setText(viewport_->rendererReady() ? QStringLiteral("rendering…")
+                                             : QStringLiteral("starting the renderer…"));
+  } else {
+    fps_->setText(QStringLiteral("%1 fps  (min %2, max %3, average %4 over %5 frames)")
+                      .arg(s.current, 0, 'f', 2)
+                      .arg(s.min, 0, 'f', 2)
+                      .arg(s.max, 0, 'f', 2)
+                      .arg(s.average(), 0, 'f', 2)
+                      .arg(s.frames));
+  }
+  QString counts;
+  if (const auto f = viewport_->lastFrame(); f != nullptr && f->faces > 0)
+    counts = QStringLiteral("%1 faces, %2 vertices").arg(f->faces).arg(f->vertices);
+  const int points = viewport_->pointCount();
+  if (points >= 0) counts += QStringLiteral("%1%2 points").arg(counts.isEmpty() ? "" : ", ").arg(points);
+  counts_->setText(counts);
+}
+
+bool MainWindow::openScene(const QString& path) {
+  try {
+    scene::Scene s = scene::loadScene(path.toStdString());
+    state_.setScene(std::move(s));
+    state_.info(QStringLiteral("opened %1").arg(path));
+    return true;
+  } catch (const std::exception& e) {
+    state_.error(QStringLiteral("cannot open the scene: %1").arg(e.what()));
+    return false;
+  }
+}
+
+scene::Scene MainWindow::sceneForCli(const scene::Scene& scene, int width, int height) {
+  scene::Scene s = scene;
+  s.mesh_file = absolutePath(s.mesh_file);
+  if (s.model.ends_with(".bssrdf")) s.model = absolutePath(s.model).string();
+  for (auto& l : s.lights) {
+    if (auto* f = std::get_if<scene::FilteredDirectionalLight>(&l.emitter)) f->texture = absolutePath(f->texture);
+    if (auto* e = std::get_if<scene::EnvironmentLight>(&l.emitter)) e->file = absolutePath(e->file);
+  }
+  s.camera.width = width;
+  s.camera.height = height;
+  return s;
+}
+
+bool MainWindow::saveScene(const QString& path) {
+  try {
+    const QSize size = viewport_->renderSize();
+    scene::saveScene(sceneForCli(state_.scene(), size.width(), size.height()), path.toStdString());
+    state_.info(QStringLiteral("saved %1").arg(path));
+    return true;
+  } catch (const std::exception& e) {
+    state_.error(QStringLiteral("cannot save the scene: %1").arg(e.what()));
+    return false;
+  }
+}
+
+QString MainWindow::commandLineForView() {
+  // The command needs a file: the view goes to the temporary folder, never over a user's file.
+  const QString dir = QDir::tempPath() + QStringLiteral("/translucent-explorer");
+  QDir().mkpath(dir);
+  const QString file = QStringLiteral("%1/view-%2-%3.json")
+                           .arg(dir)
+                           .arg(QCoreApplication::applicationPid())
+                           .arg(++view_saves_);
+  if (!saveScene(file)) return {};
+  const QSize size = viewport_->renderSize();
+  return renderCommandLine(cliProgram(), file.toStdString(),
+                           QString::fromStdString(state_.scene().technique), size.width(),
+                           size.height(), QStringLiteral("view.exr"));
+}
+
+}  // namespace translucent::explorer
