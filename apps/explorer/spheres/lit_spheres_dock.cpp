@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <QtCore/QMetaObject>
+#include <QtCore/QTimer>
 #include <QtGui/QPainter>
 #include <QtWidgets/QCheckBox>
 #include <QtWidgets/QComboBox>
@@ -117,7 +118,12 @@ LitSpheresDock::LitSpheresDock(ExplorerState& state, QWidget* parent)
   pane(Pane::PathTraced).title = tr("Path traced");
   pane(Pane::Integrated).title = tr("Sphere integration");
   buildUi();
-  connect(&state_, &ExplorerState::materialChanged, this, &LitSpheresDock::materialChanged);
+  restart_timer_ = new QTimer(this);
+  restart_timer_->setSingleShot(true);
+  restart_timer_->setInterval(kRestartDelayMs);
+  connect(restart_timer_, &QTimer::timeout, this, &LitSpheresDock::restartForMaterial);
+  connect(&state_, &ExplorerState::materialChanged, restart_timer_,
+          static_cast<void (QTimer::*)()>(&QTimer::start));
   restart(Pane::PathTraced, true);
   restart(Pane::Integrated, true);
 }
@@ -459,7 +465,7 @@ void LitSpheresDock::setSampleBudget(uint64_t samples) {
   restart(Pane::Integrated, false);
 }
 
-void LitSpheresDock::materialChanged() {
+void LitSpheresDock::restartForMaterial() {
   restart(Pane::PathTraced, false);
   restart(Pane::Integrated, false);
 }

@@ -41,6 +41,7 @@ class QSlider;
 class QSpinBox;
 class QStackedWidget;
 class QTabWidget;
+class QTimer;
 
 namespace translucent::explorer {
 
@@ -67,7 +68,8 @@ class LitSpheresDock : public QDockWidget {
   double gamma() const { return gamma_; }
   bool sideBySide() const;
 
-  // Computation (each restarts what it affects).
+  // Computation (each restarts what it affects at once; material changes restart after
+  // kRestartDelayMs, so that a burst of them, a slider being dragged, starts one run).
   void setResolution(int pixels);             // square images, 8..1024
   void setPhotonBudget(uint64_t photons);     // path tracer: photons per channel, all passes
   void setSampleBudget(uint64_t samples);     // integration: samples per pixel, all passes
@@ -93,6 +95,7 @@ class LitSpheresDock : public QDockWidget {
   const std::optional<reference::ImageComparison>& comparison() const { return comparison_; }
   // Range of the difference colour map: ± this relative difference saturates.
   static constexpr float kDifferenceRange = 0.5f;
+  static constexpr int kRestartDelayMs = 40;
 
  signals:
   void passCompleted(translucent::explorer::LitSpheresDock::Pane pane, int pass);
@@ -103,7 +106,7 @@ class LitSpheresDock : public QDockWidget {
  private:
   struct PaneData;
   void buildUi();
-  void materialChanged();
+  void restartForMaterial();  // restarts the runs whose inputs changed
   // Starts (or restarts) a pane's run from the current state if its inputs changed (or `force`).
   void restart(Pane pane, bool force);
   void startRun(Pane pane, SphereRunConfig config, std::string key);
@@ -133,6 +136,7 @@ class LitSpheresDock : public QDockWidget {
   };
   std::vector<Retiring> retiring_;
   std::optional<reference::ImageComparison> comparison_;
+  QTimer* restart_timer_ = nullptr;  // coalesces bursts of material changes (a slider drag)
   QImage difference_image_;
 
   // Widgets.
