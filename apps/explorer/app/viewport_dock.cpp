@@ -467,7 +467,9 @@ void ViewportDock::request(bool full) {
   r.height = size.height();
   r.continuous = continuous_ || settingIsTrue(r.scene, "random_lighting");
   last_request_ = worker_->request(std::move(r));
-  if (full) last_full_request_ = last_request_;
+  // Only the newest request counts as the full-resolution view of the current state: a full
+  // frame of an older state arriving later is shown, but not as "full".
+  last_full_request_ = full ? last_request_ : 0;
 }
 
 void ViewportDock::onFrame(std::shared_ptr<const RenderedFrame> frame) {

@@ -1,0 +1,197 @@
+// The viewport under Xvfb on whatever OpenGL 4.5 the machine has (Mesa llvmpipe here): the first
+// image of the default scene, a technique switch, a broken mesh, the round trip through the CLI
+// and the tone map on screen. Settings are cut down (few points, coarse traversal, a 128x96
+// picture) so that llvmpipe renders a frame in about a second.
+#include <QtCore/QProcess>
+#include <QtCore/QTemporaryDir>
+#include <QtTest/QtTest>
+#include <QtWidgets/QMainWindow>
+
+#include <cmath>
+#include <fstream>
+
+#include "analysis/image_io.h"
+#include "app/console_dock.h"
+#include "app/main_window.h"
+#include "app/viewport_dock.h"
+#include "app/viewport_widget.h"
+#include "core/explorer_state.h"
+
+using namespace translucent;
+using namespace translucent::explorer;
+
+namespace {
+
+constexpr int kFrameTimeoutMs = 60000;
+
+// Mean luminance-like average of |a - b| over the mean of a (linear RGB, same size).
+double relativeMeanDifference(const std::vector<float>& a, const std::vector<float>& b) {
+  double diff = 0.0, ref = 0.0;
+  for (size_t i = 0; i < a.size(); ++i) {
+    diff += std::abs(double(a[i]) - double(b[i]));
+    ref += std::abs(double(a[i]));
+  }
+  return ref > 0.0 ? diff / ref : 0.0;
+}
+
+}  // namespace
+
+class Viewport : public QObject {
+  Q_OBJECT
+
+ private:
+  ExplorerState* state_ = nullptr;
+  QMainWindow* window_ = nullptr;
+  ViewportDock* dock_ = nullptr;
+  ConsoleDock* console_ = nullptr;
+  int full_frames_ = 0;
+  std::shared_ptr<const RenderedFrame> full_;
+  QTemporaryDir dir_;
+
+  // Waits for the next full-resolution frame of technique `technique` after the call.
+  std::shared_ptr<const RenderedFrame> nextFull(const std::string& technique) {
+    const int before = full_frames_;
+    const bool ok = QTest::qWaitFor(
+        [&] { return full_frames_ > before && full_ != nullptr && full_->technique == technique; },
+        kFrameTimeoutMs);
+    return ok ? full_ : nullptr;
+  }
+
+ private slots:
+  void initTestCase() {
+    QVERIFY(dir_.isValid());
+    state_ = new ExplorerState;
+    window_ = new QMainWindow;
+    console_ = new ConsoleDock(*state_, window_);
+    dock_ = new ViewportDock(*state_, window_);
+    window_->addDockWidget(Qt::TopDockWidgetArea, dock_);
+    window_->addDockWidget(Qt::BottomDockWidgetArea, console_);
+    dock_->view()->setFixedSize(128, 96);
+    dock_->fixRenderScale(1.0);
+    connect(dock_, &ViewportDock::frameShown, this,
+            [this](std::shared_ptr<const RenderedFrame> f, bool full) {
+              if (!full) return;
+              full_ = std::move(f);
+              ++full_frames_;
+            });
+    // Cheap point-cloud settings for llvmpipe.
+    state_->setTechniqueSetting("points", 4000.0);
+    state_->setTechniqueSetting("epsilon", 1.0);
+    state_->setTechniqueSetting("shadow_map_size", 512.0);
+    window_->show();
+    QVERIFY(QTest::qWaitForWindowExposed(window_));
+  }
+
+  void cleanupTestCase() {
+    delete window_;
+    delete state_;
+  }
+
+  void drawsANonEmptyImageOfTheDefaultScene() {
+    const auto f = nextFull("pointcloud");
+    QVERIFY2(f != nullptr, qPrintable(console_->text()));
+    QVERIFY(dock_->view()->displayReady());
+    QCOMPARE(f->frame.width, 128);
+    QCOMPARE(f->frame.height, 96);
+    QCOMPARE(f->faces, size_t(69666));  // the glmark2 bunny
+    // On screen: the bunny covers a good part of the picture (> 15% of the pixels brighter than
+    // the black background) and the picture is not flat (grey-level standard deviation > 10).
+    QApplication::processEvents();
+    const QImage img = dock_->view()->grabFramebuffer();
+    QCOMPARE(img.width(), 128);
+    int lit = 0;
+    double sum = 0.0, sum2 = 0.0;
+    for (int y = 0; y < img.height(); ++y)
+      for (int x = 0; x < img.width(); ++x) {
+        const int g = qGray(img.pixel(x, y));
+        lit += g > 8;
+        sum += g;
+        sum2 += double(g) * g;
+      }
+    const double n = double(img.width()) * img.height();
+    const double sd = std::sqrt(std::max(0.0, sum2 / n - (sum / n) * (sum / n)));
+    qInfo("lit pixels %d of %g, grey standard deviation %g", lit, n, sd);
+    QVERIFY2(lit > 0.15 * n, qPrintable(QStringLiteral("lit pixels %1 of %2").arg(lit).arg(n)));
+    QVERIFY2(sd > 10.0, qPrintable(QStringLiteral("grey standard deviation %1").arg(sd)));
+  }
+
+  void screenShowsTheFrameToneMapped() {
+    // The display shader's tone map against analysis::toneMap (the CLI's PNG) on the same linear
+    // frame, pixel by pixel (the picture is the frame's size): within one 8-bit level.
+    QVERIFY(full_ != nullptr);
+    const QImage img = dock_->view()->grabFramebuffer();
+    const auto& f = full_->frame;
+    const analysis::ToneMap tm{state_->scene().exposure, state_->scene().gamma};
+    int bad = 0;
+    for (int y = 0; y < f.height; ++y)
+      for (int x = 0; x < f.width; ++x) {
+        const QRgb p = img.pixel(x, y);
+        const float* v = &f.rgb[(size_t(y) * f.width + x) * 3];
+        const int ref[3] = {analysis::toneMap(v[0], tm), analysis::toneMap(v[1], tm),
+                            analysis::toneMap(v[2], tm)};
+        bad += std::abs(qRed(p) - ref[0]) > 1 || std::abs(qGreen(p) - ref[1]) > 1 ||
+               std::abs(qBlue(p) - ref[2]) > 1;
+      }
+    QVERIFY2(bad == 0, qPrintable(QStringLiteral("%1 pixels differ by more than one level").arg(bad)));
+  }
+
+  void savedSceneRendersTheSameThroughTheCli() {
+    QVERIFY(full_ != nullptr);
+    const auto f = full_;
+    const QString json = dir_.filePath(QStringLiteral("view.json"));
+    const QString exr = dir_.filePath(QStringLiteral("view.exr"));
+    scene::saveScene(MainWindow::sceneForCli(state_->scene(), f->frame.width, f->frame.height),
+                     json.toStdString());
+    QProcess cli;
+    cli.start(QStringLiteral(TRANSLUCENT_CLI), {QStringLiteral("render"), json, QStringLiteral("--exr"), exr});
+    QVERIFY(cli.waitForFinished(120000));
+    QVERIFY2(cli.exitCode() == 0, cli.readAllStandardError().constData());
+    const analysis::RgbImage img = analysis::readRgb(exr.toStdString());
+    QCOMPARE(img.width, f->frame.width);
+    QCOMPARE(img.height, f->frame.height);
+    // Same scene, same code, same kind of context: the linear frames agree to 0.1% (mean
+    // absolute difference over mean value; float summation order is the only freedom).
+    const double d = relativeMeanDifference(f->frame.rgb, img.rgb);
+    qInfo("viewport vs CLI: relative mean difference %g", d);
+    QVERIFY2(d < 1e-3, qPrintable(QStringLiteral("relative mean difference %1").arg(d)));
+  }
+
+  void switchingTechniqueChangesTheImage() {
+    QVERIFY(full_ != nullptr);
+    const auto before = full_;
+    state_->setTechnique("empirical");
+    state_->setTechniqueSetting("ao_rays", 16.0);
+    const auto after = nextFull("empirical");
+    QVERIFY2(after != nullptr, qPrintable(console_->text()));
+    QCOMPARE(after->frame.rgb.size(), before->frame.rgb.size());
+    // Different shading models of the same bunny: they differ by more than 20% of the mean.
+    const double d = relativeMeanDifference(before->frame.rgb, after->frame.rgb);
+    qInfo("pointcloud vs empirical: relative mean difference %g", d);
+    QVERIFY2(d > 0.2, qPrintable(QStringLiteral("relative mean difference %1").arg(d)));
+  }
+
+  void brokenMeshIsReportedAndTheLastGoodStateKeepsRendering() {
+    const std::string good = state_->scene().mesh_file.string();
+    const QString broken = dir_.filePath(QStringLiteral("broken.obj"));
+    {
+      std::ofstream out(broken.toStdString());
+      out << "v 0 0 0\nv 1 0 0\nf 1 2 7\n";  // index out of range
+    }
+    const int errors = console_->errorCount();
+    dock_->loadMesh(broken);
+    QVERIFY(QTest::qWaitFor([&] { return console_->errorCount() > errors; }, kFrameTimeoutMs));
+    QVERIFY2(console_->text().contains(QStringLiteral("broken.obj")), qPrintable(console_->text()));
+    // The scene went back to the good mesh, and the viewport still renders it.
+    QVERIFY(QTest::qWaitFor([&] { return state_->scene().mesh_file.string() == good; }, 5000));
+    dock_->requestFullFrame();
+    const auto f = nextFull("empirical");
+    QVERIFY(f != nullptr);
+    QCOMPARE(f->faces, size_t(69666));
+    double sum = 0.0;
+    for (float v : f->frame.rgb) sum += double(v);
+    QVERIFY(sum > 0.0);
+  }
+};
+
+QTEST_MAIN(Viewport)
+#include "test_viewport.moc"
