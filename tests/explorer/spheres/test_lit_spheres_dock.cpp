@@ -121,12 +121,16 @@ class TestLitSpheresDock : public QObject {
                         dock->status(Pane::Integrated).generation};
 
     // Two changes in a row (a slider being dragged) make one restart per pane, shortly after.
+    // The status is read when each run starts (a 32² integration pass takes a millisecond).
+    std::map<Pane, LitSpheresDock::PaneStatus> atStart;
+    connect(dock.get(), &LitSpheresDock::runStarted, this,
+            [&](Pane p) { atStart[p] = dock->status(p); });
     QSignalSpy started(dock.get(), &LitSpheresDock::runStarted);
     state.setMedium(presetMedium("Skin1", 25.0), "Skin1");
     state.setMedium(presetMedium("Ketchup", 25.0), "Ketchup");
     QTRY_COMPARE(started.count(), 2);
     for (Pane p : {Pane::PathTraced, Pane::Integrated}) {
-      const auto s = dock->status(p);
+      const auto s = atStart.at(p);
       QCOMPARE(s.generation, gen[static_cast<int>(p)] + 1);
       QCOMPARE(s.passes, 0);  // the pass counter starts again
       QVERIFY(s.running);
