@@ -14,6 +14,7 @@
 //
 // Meshes: `scripts/install-bench-data` puts them in $TRANSLUCENT_DATA (default
 // ~/.cache/translucent/data); a missing mesh skips its benchmark with a message saying so.
+// $TRANSLUCENT_BUNNY overrides the bunny's path (machines without glmark2-data).
 // Run: build/release/bin/bench_empirical
 #include <benchmark/benchmark.h>
 #include <fmt/format.h>
@@ -45,7 +46,10 @@ fs::path dataDir() {
 }
 
 fs::path meshPath(const std::string& which) {
-  if (which == "bunny") return scene::kDefaultBunny;
+  if (which == "bunny") {
+    const char* bunny = std::getenv("TRANSLUCENT_BUNNY");  // machines without glmark2-data
+    return bunny != nullptr && *bunny != '\0' ? fs::path(bunny) : fs::path(scene::kDefaultBunny);
+  }
   if (which == "cow") return dataDir() / "cgal" / "cow.off";
   if (which == "armadillo") return dataDir() / "cgal" / "armadillo.off";
   return dataDir() / "dragon" / "dragon_vrip_res2.ply";
