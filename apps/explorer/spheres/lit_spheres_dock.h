@@ -20,7 +20,6 @@
 // last images stay.
 #pragma once
 
-#include <QtCore/QPointer>
 #include <QtGui/QImage>
 #include <QtWidgets/QDockWidget>
 
