@@ -77,6 +77,9 @@ MainWindow::MainWindow(ExplorerState& state, MainWindowOptions options, QWidget*
   docks << spheres;
 #endif
   resize(1600, 1000);
+  // The picture gets most of the width; the console a few lines.
+  resizeDocks({viewport_}, {1000}, Qt::Horizontal);
+  resizeDocks({console_}, {130}, Qt::Vertical);
   default_state_ = saveState();
 
   // File menu.
