@@ -4,6 +4,7 @@
 #include <QtCore/QDir>
 #include <QtCore/QFileInfo>
 #include <QtCore/QSettings>
+#include <QtCore/QTimer>
 #include <QtGui/QClipboard>
 #include <QtGui/QCloseEvent>
 #include <QtGui/QGuiApplication>
@@ -20,13 +21,9 @@
 #include "app/viewport_dock.h"
 #include "core/explorer_state.h"
 
-#ifdef TRANSLUCENT_EXPLORER_HAS_MATERIAL
 #include "material/parameters_dock.h"
 #include "material/pencil_plot_dock.h"
-#endif
-#ifdef TRANSLUCENT_EXPLORER_HAS_SPHERES
 #include "spheres/lit_spheres_dock.h"
-#endif
 
 namespace translucent::explorer {
 namespace {
@@ -64,23 +61,16 @@ MainWindow::MainWindow(ExplorerState& state, MainWindowOptions options, QWidget*
   addDockWidget(Qt::LeftDockWidgetArea, viewport_);
   addDockWidget(Qt::BottomDockWidgetArea, console_);
   QList<QDockWidget*> docks = {viewport_, console_};
-#ifdef TRANSLUCENT_EXPLORER_HAS_MATERIAL
   auto* parameters = new ParametersDock(state_, this);
   auto* plot = new PencilPlotDock(state_, this);
   addDockWidget(Qt::RightDockWidgetArea, parameters);
   addDockWidget(Qt::RightDockWidgetArea, plot);
   docks << parameters << plot;
-#endif
-#ifdef TRANSLUCENT_EXPLORER_HAS_SPHERES
   auto* spheres = new LitSpheresDock(state_, this);
   addDockWidget(Qt::RightDockWidgetArea, spheres);
   docks << spheres;
-#endif
   resize(1600, 1000);
-  // The picture gets most of the width; the console a few lines.
-  resizeDocks({viewport_}, {1000}, Qt::Horizontal);
-  resizeDocks({console_}, {130}, Qt::Vertical);
-  default_state_ = saveState();
+  default_state_ = saveState();  // dock sizes: applyDefaultSizes() once the window is shown
 
   // File menu.
   QMenu* file = menuBar()->addMenu(QStringLiteral("&File"));
@@ -127,8 +117,22 @@ MainWindow::MainWindow(ExplorerState& state, MainWindowOptions options, QWidget*
   if (options_.restore_layout) {
     QSettings settings = layoutSettings();
     restoreGeometry(settings.value(QStringLiteral("geometry")).toByteArray());
-    restoreState(settings.value(QStringLiteral("windowState")).toByteArray());
+    sized_ = restoreState(settings.value(QStringLiteral("windowState")).toByteArray());
   }
+}
+
+// resizeDocks() has no effect before the window is laid out, so the default split (the picture
+// gets most of the width, the console a few lines) is applied on the first show.
+void MainWindow::applyDefaultSizes() {
+  resizeDocks({viewport_}, {width() * 3 / 5}, Qt::Horizontal);
+  resizeDocks({console_}, {130}, Qt::Vertical);
+}
+
+void MainWindow::showEvent(QShowEvent* e) {
+  QMainWindow::showEvent(e);
+  if (sized_) return;
+  sized_ = true;
+  QTimer::singleShot(0, this, &MainWindow::applyDefaultSizes);
 }
 
 MainWindow::~MainWindow() = default;
@@ -140,6 +144,7 @@ void MainWindow::resetLayout() {
     d->show();
   }
   resize(1600, 1000);
+  QTimer::singleShot(0, this, &MainWindow::applyDefaultSizes);
 }
 
 void MainWindow::closeEvent(QCloseEvent* e) {

@@ -49,6 +49,7 @@ class MainWindow : public QMainWindow {
 
  protected:
   void closeEvent(QCloseEvent* e) override;
+  void showEvent(QShowEvent* e) override;
 
  private:
   void updateStatus();
@@ -58,6 +59,8 @@ class MainWindow : public QMainWindow {
   ViewportDock* viewport_ = nullptr;
   ConsoleDock* console_ = nullptr;
   QByteArray default_state_;
+  bool sized_ = false;  // the default dock sizes were applied (or a saved layout restored)
+  void applyDefaultSizes();
   QLabel* fps_ = nullptr;
   QLabel* counts_ = nullptr;
   int view_saves_ = 0;
