@@ -68,6 +68,10 @@ MainWindow::MainWindow(ExplorerState& state, MainWindowOptions options, QWidget*
   docks << parameters << plot;
   auto* spheres = new LitSpheresDock(state_, this);
   addDockWidget(Qt::RightDockWidgetArea, spheres);
+  // The plot and the spheres share a tabbed dock by default: one column of docks beside the
+  // viewport leaves the picture room for a landscape view (the field of view is vertical).
+  tabifyDockWidget(plot, spheres);
+  plot->raise();
   docks << spheres;
   resize(1600, 1000);
   default_state_ = saveState();  // dock sizes: applyDefaultSizes() once the window is shown
@@ -124,7 +128,7 @@ MainWindow::MainWindow(ExplorerState& state, MainWindowOptions options, QWidget*
 // resizeDocks() has no effect before the window is laid out, so the default split (the picture
 // gets most of the width, the console a few lines) is applied on the first show.
 void MainWindow::applyDefaultSizes() {
-  resizeDocks({viewport_}, {width() * 3 / 5}, Qt::Horizontal);
+  resizeDocks({viewport_}, {width() * 2 / 3}, Qt::Horizontal);
   resizeDocks({console_}, {130}, Qt::Vertical);
 }
 

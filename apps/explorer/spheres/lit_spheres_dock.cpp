@@ -190,23 +190,25 @@ void LitSpheresDock::buildUi() {
   samples_box_->setValue(static_cast<int>(sample_budget_));
   samples_box_->setKeyboardTracking(false);
 
-  controls->addWidget(side_by_side_, 0, 0);
-  controls->addWidget(new QLabel(tr("Show"), root), 0, 1);
-  controls->addWidget(quantity_box_, 0, 2);
-  controls->addWidget(new QLabel(tr("Exposure"), root), 0, 3);
-  controls->addWidget(exposure_slider_, 0, 4);
-  controls->addWidget(exposure_value_, 0, 5);
-  controls->addWidget(new QLabel(tr("Gamma"), root), 0, 6);
-  controls->addWidget(gamma_slider_, 0, 7);
-  controls->addWidget(gamma_value_, 0, 8);
-  controls->addWidget(new QLabel(tr("Size"), root), 1, 1);
-  controls->addWidget(resolution_box_, 1, 2);
-  controls->addWidget(new QLabel(tr("Path tracer"), root), 1, 3);
-  controls->addWidget(photons_box_, 1, 4, 1, 2);
-  controls->addWidget(new QLabel(tr("Integration"), root), 1, 6);
-  controls->addWidget(samples_box_, 1, 7, 1, 2);
+  // Four short rows rather than two long ones: the dock shares a column with the plot, and its
+  // minimum width decides how much of the window the viewport gets.
+  controls->addWidget(side_by_side_, 0, 0, 1, 3);
+  controls->addWidget(new QLabel(tr("Show"), root), 0, 3);
+  controls->addWidget(quantity_box_, 0, 4, 1, 2);
+  controls->addWidget(new QLabel(tr("Exposure"), root), 1, 0);
+  controls->addWidget(exposure_slider_, 1, 1);
+  controls->addWidget(exposure_value_, 1, 2);
+  controls->addWidget(new QLabel(tr("Gamma"), root), 1, 3);
+  controls->addWidget(gamma_slider_, 1, 4);
+  controls->addWidget(gamma_value_, 1, 5);
+  controls->addWidget(new QLabel(tr("Size"), root), 2, 0);
+  controls->addWidget(resolution_box_, 2, 1, 1, 2);
+  controls->addWidget(new QLabel(tr("Path tracer"), root), 2, 3);
+  controls->addWidget(photons_box_, 2, 4, 1, 2);
+  controls->addWidget(new QLabel(tr("Integration"), root), 3, 0);
+  controls->addWidget(samples_box_, 3, 1, 1, 2);
+  controls->setColumnStretch(1, 1);
   controls->setColumnStretch(4, 1);
-  controls->setColumnStretch(7, 1);
   layout->addLayout(controls);
 
   auto makePane = [&](const QString& title, SphereImageView*& view, QProgressBar** progress,
