@@ -94,6 +94,10 @@ struct FrameRequest {
   // Batch rendering: finish the progressive work (e.g. all environment samples) in this frame,
   // so that it is converged; interactive use leaves it false and renders frame after frame.
   bool converge = false;
+  // False: the frame stays on the GPU (Frame::rgb and the layers are left empty, the passes are
+  // timed as usual). For benchmarks of the GPU work of back-to-back frames, as a viewer that
+  // draws from GPU memory would render them; reading images back stalls the pipeline.
+  bool readback = true;
 };
 
 // One rendered frame: linear RGB radiance [W/(unit² sr) per unit light flux], rows from the top.

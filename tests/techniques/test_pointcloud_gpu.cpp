@@ -129,6 +129,26 @@ TEST_F(PointCloudGpu, BssrdfFileTabulatedOnTheGpuMatchesTheCppTable) {
   EXPECT_LT(worst, 2e-3);
 }
 
+// readback = false leaves the frame on the GPU (no pixels) but times the same passes, and the
+// next frame read back is the one a read-back-only sequence gives (bit for bit: same work).
+TEST_F(PointCloudGpu, FramesWithoutReadBackTimeTheSamePasses) {
+  TempDir dir;
+  const auto obj = writeObj(geometry::makeIcosphere(2, 1.0), dir.path() / "sphere.obj");
+  scene::Scene s = testScene(obj, 16);
+  auto t = technique(2000);
+  t->prepare(s, gpu::testing::context());
+  const techniques::Frame full = t->render({});
+  techniques::FrameRequest gpuOnly;
+  gpuOnly.readback = false;
+  const techniques::Frame kept = t->render(gpuOnly);
+  EXPECT_TRUE(kept.rgb.empty());
+  EXPECT_TRUE(kept.layers.empty());
+  EXPECT_EQ(kept.width, 16);
+  ASSERT_EQ(kept.passes.size(), full.passes.size());
+  for (size_t i = 0; i < kept.passes.size(); ++i) EXPECT_EQ(kept.passes[i].name, full.passes[i].name);
+  EXPECT_EQ(t->render({}).rgb, full.rgb);
+}
+
 // ---- irradiance pass ------------------------------------------------------------------------
 
 // E_i for every point of a sphere (radial normals) under each light type, against the analytic

@@ -368,6 +368,10 @@ struct EmpiricalTechnique::Impl {
 
     frame.width = w;
     frame.height = h;
+    if (!request.readback) {
+      for (const auto& pass : timer->collect()) frame.passes.push_back({pass.name, pass.ms, pass.depth});
+      return frame;
+    }
     const std::vector<float> rgba = readRows(color, w, h);
     const std::vector<float> dbg = readRows(debug, w, h);
     const size_t pixels = size_t(w) * size_t(h);

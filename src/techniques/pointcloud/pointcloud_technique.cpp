@@ -691,6 +691,10 @@ struct PointCloudTechnique::Impl {
     // Read back.
     frame.width = width;
     frame.height = height;
+    if (!request.readback) {
+      for (const auto& pass : timer->collect()) frame.passes.push_back({pass.name, pass.ms, pass.depth});
+      return frame;
+    }
     const auto rad = gpu::download<glm::vec4>(radianceOut, pixels);
     const auto ex = gpu::download<glm::vec4>(exitanceOut, pixels);
     frame.rgb.resize(pixels * 3);
