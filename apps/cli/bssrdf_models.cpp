@@ -3,10 +3,9 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <cctype>
 #include <filesystem>
-#include <sstream>
 
+#include "bssrdf/bssrdf_file.h"
 #include "gpu/gl.h"
 #include "options.h"
 
@@ -33,21 +32,10 @@ double parseNumber(const std::string& text, const std::string& what) {
   return v;
 }
 
-// A driver log can span many lines; the first line naming a .bssrdf line is the one to show.
-std::string bssrdfLine(const std::string& message) {
-  std::istringstream in(message);
-  std::string line;
-  while (std::getline(in, line))
-    if (line.find(".bssrdf:") != std::string::npos) return line;
-  return message;
-}
-
 }  // namespace
 
 bool isBssrdfFile(const std::string& entry) {
-  std::string lower = entry;
-  for (auto& ch : lower) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
-  if (lower.size() > 7 && lower.ends_with(".bssrdf")) return true;
+  if (bssrdf::hasBssrdfExtension(entry)) return true;
   std::error_code ec;
   return std::filesystem::is_regular_file(entry, ec);
 }
@@ -71,7 +59,7 @@ std::unique_ptr<gpu::BssrdfEvaluator> loadBssrdfModel(const std::string& path,
   } catch (const bssrdf::BssrdfFileError& err) {
     throw ParameterError(err.what());
   } catch (const gpu::GlError& err) {
-    throw ParameterError(bssrdfLine(err.what()));
+    throw ParameterError(bssrdf::firstBssrdfLine(err.what()));
   }
   for (const auto& p : params) {
     const auto [name, value] = splitParam(p);

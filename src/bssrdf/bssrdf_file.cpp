@@ -321,4 +321,19 @@ std::vector<std::string_view> splitLines(std::string_view text) {
   return lines;
 }
 
+bool hasBssrdfExtension(std::string_view path) {
+  constexpr std::string_view ext = ".bssrdf";
+  if (path.size() <= ext.size()) return false;
+  const std::string_view tail = path.substr(path.size() - ext.size());
+  return std::equal(tail.begin(), tail.end(), ext.begin(), [](char a, char b) {
+    return std::tolower(static_cast<unsigned char>(a)) == b;
+  });
+}
+
+std::string firstBssrdfLine(const std::string& message) {
+  for (std::string_view line : splitLines(message))
+    if (line.find(".bssrdf:") != std::string_view::npos) return std::string(line);
+  return message;
+}
+
 }  // namespace translucent::bssrdf

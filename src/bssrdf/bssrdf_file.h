@@ -109,4 +109,12 @@ BssrdfFile loadBssrdf(const std::filesystem::path& path);
 // counts. The views point into `text`. (Shared with the GLSL include expander in src/gpu.)
 std::vector<std::string_view> splitLines(std::string_view text);
 
+// True when `path` names a .bssrdf file by its extension (any case, e.g. "Skin.BSSRDF"): how the
+// command line, scenes and the explorer tell a plug-in file from a registered model name.
+bool hasBssrdfExtension(std::string_view path);
+
+// The first line of `message` that names a .bssrdf line ("file.bssrdf:12: ..."), else the whole
+// message: a GLSL driver log can span many lines, and this is the one to show a user.
+std::string firstBssrdfLine(const std::string& message);
+
 }  // namespace translucent::bssrdf

@@ -214,5 +214,17 @@ TEST(BssrdfFile, MissingFileIsAClearError) {
   }
 }
 
+// How model entries are told apart, and which line of a multi-line driver log is shown.
+TEST(BssrdfFile, ExtensionAndFirstBssrdfLine) {
+  EXPECT_TRUE(hasBssrdfExtension("my.bssrdf"));
+  EXPECT_TRUE(hasBssrdfExtension("/a/b/Skin.BSSRDF"));
+  EXPECT_FALSE(hasBssrdfExtension(".bssrdf"));  // a name is needed
+  EXPECT_FALSE(hasBssrdfExtension("dipole"));
+  EXPECT_FALSE(hasBssrdfExtension("my.bssrdf.txt"));
+  EXPECT_EQ(firstBssrdfLine("linking failed\r\nwax.bssrdf:12: 'x' undeclared\nother.bssrdf:3: y"),
+            "wax.bssrdf:12: 'x' undeclared");
+  EXPECT_EQ(firstBssrdfLine("no file named here"), "no file named here");
+}
+
 }  // namespace
 }  // namespace translucent::bssrdf

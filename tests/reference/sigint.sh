@@ -4,7 +4,8 @@
 #
 # A background job of a non-interactive shell starts with SIGINT ignored, so the signal is sent
 # only once the program has installed its handler (SigCgt in /proc/<pid>/status), however slowly
-# it starts under load.
+# it starts under load. Until the exec, $pid is a copy of this shell, whose own SIGINT handler
+# shows in SigCgt too: the process must be translucent itself (comm) first.
 set -u
 exe=$1
 out=$2/pathtrace_sigint.json
@@ -16,6 +17,7 @@ caught=0
 for i in $(seq 1 600); do
   mask=$(awk '/^SigCgt:/ {print $2}' "/proc/$pid/status" 2>/dev/null)
   if [ -z "$mask" ]; then break; fi  # the program is gone
+  if [ "$(cat "/proc/$pid/comm" 2>/dev/null)" != "translucent" ]; then sleep 0.1; continue; fi
   low=${mask#????????}  # the low 32 bits (hex) fit the shell's arithmetic
   if [ $(( 0x$low & 2 )) -ne 0 ]; then caught=1; break; fi  # SIGINT (2) is bit 1
   sleep 0.1

@@ -10,10 +10,16 @@ rm -f "$exr" "$json"
   --exr "$exr" --json "$json" 2>/dev/null &
 pid=$!
 # Wait until the program has installed its SIGINT handler (bit 2 of SigCgt in /proc; SIGINT is
-# signal 2), so that a slow start under load does not turn the test into a plain kill.
+# signal 2), so that a slow start under load does not turn the test into a plain kill. Until the
+# exec, $pid is a copy of this shell, whose own SIGINT handler shows in SigCgt too; after the exec
+# a background job starts with SIGINT ignored, so a signal sent then would be lost and the run
+# would go on for 1e15 photons. Hence: the process must be translucent itself (comm) first.
 i=0
 while [ "$i" -lt 300 ]; do
-  caught=$(awk '/^SigCgt:/ {print $2}' "/proc/$pid/status" 2>/dev/null)
+  caught=""
+  if [ "$(cat "/proc/$pid/comm" 2>/dev/null)" = "translucent" ]; then
+    caught=$(awk '/^SigCgt:/ {print $2}' "/proc/$pid/status" 2>/dev/null)
+  fi
   last=${caught#"${caught%?}"}
   if [ -n "$last" ] && [ $((0x$last & 2)) -ne 0 ]; then break; fi
   sleep 0.1

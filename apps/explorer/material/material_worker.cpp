@@ -5,33 +5,15 @@
 #include <QtCore/QMetaObject>
 
 #include <algorithm>
-#include <cctype>
-#include <sstream>
 
+#include "bssrdf/bssrdf_file.h"
 #include "core/explorer_state.h"
 #include "gpu/context.h"
 #include "gpu/program.h"
 
 namespace translucent::explorer {
-namespace {
 
-// A driver log can span many lines; the line naming a .bssrdf line is the one to show (as the
-// CLI does).
-std::string bssrdfLine(const std::string& message) {
-  std::istringstream in(message);
-  std::string line;
-  while (std::getline(in, line))
-    if (line.find(".bssrdf:") != std::string::npos) return line;
-  return message;
-}
-
-}  // namespace
-
-bool isBssrdfPath(const std::string& entry) {
-  std::string lower = entry;
-  for (auto& ch : lower) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
-  return lower.size() > 7 && lower.ends_with(".bssrdf");
-}
+bool isBssrdfPath(const std::string& entry) { return bssrdf::hasBssrdfExtension(entry); }
 
 MaterialGl::MaterialGl() = default;
 
@@ -73,7 +55,7 @@ gpu::BssrdfEvaluator& MaterialGl::load(const std::string& path) {
   } catch (const bssrdf::BssrdfFileError& err) {
     throw ParameterError(err.what());
   } catch (const gpu::GlError& err) {
-    throw ParameterError(bssrdfLine(err.what()));
+    throw ParameterError(bssrdf::firstBssrdfLine(err.what()));
   }
   if (!e->file().attributes.radial)
     throw ParameterError(fmt::format(
@@ -90,7 +72,7 @@ void MaterialGl::reload(const std::string& path) {
     load(path);
     return;
   }
-  if (!e->reload()) throw ParameterError(bssrdfLine(e->lastError()));
+  if (!e->reload()) throw ParameterError(bssrdf::firstBssrdfLine(e->lastError()));
 }
 
 void MaterialGl::unload(const std::string& path) { models_.erase(path); }

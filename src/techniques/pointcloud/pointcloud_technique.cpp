@@ -13,6 +13,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "analysis/image_io.h"
+#include "bssrdf/bssrdf_file.h"
 #include "bssrdf/registry.h"
 #include "gpu/bssrdf_kernels.h"
 #include "gpu/bssrdf_profiles.h"
@@ -102,9 +103,7 @@ glm::vec3 toVec3(const Rgb& c) {
   return {static_cast<float>(c[0]), static_cast<float>(c[1]), static_cast<float>(c[2])};
 }
 
-bool isBssrdfFile(const std::string& model) {
-  return std::filesystem::path(model).extension() == ".bssrdf";
-}
+bool isBssrdfFile(const std::string& model) { return bssrdf::hasBssrdfExtension(model); }
 
 // A texture for the filtered directional light: a file, or a built-in 8x8 checker.
 gpu::Texture filterTexture(const std::filesystem::path& file) {
