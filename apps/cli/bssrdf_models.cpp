@@ -53,14 +53,7 @@ std::unique_ptr<gpu::Context> bssrdfContext(const std::string& what) {
 
 std::unique_ptr<gpu::BssrdfEvaluator> loadBssrdfModel(const std::string& path,
                                                       const std::vector<std::string>& params) {
-  std::unique_ptr<gpu::BssrdfEvaluator> e;
-  try {
-    e = std::make_unique<gpu::BssrdfEvaluator>(path);
-  } catch (const bssrdf::BssrdfFileError& err) {
-    throw ParameterError(err.what());
-  } catch (const gpu::GlError& err) {
-    throw ParameterError(bssrdf::firstBssrdfLine(err.what()));
-  }
+  std::unique_ptr<gpu::BssrdfEvaluator> e = gpu::openBssrdf(path);
   for (const auto& p : params) {
     const auto [name, value] = splitParam(p);
     const bssrdf::BssrdfParameter* decl = e->file().findParameter(name);

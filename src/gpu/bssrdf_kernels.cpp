@@ -221,4 +221,14 @@ bool BssrdfEvaluator::reload() {
   }
 }
 
+std::unique_ptr<BssrdfEvaluator> openBssrdf(const std::filesystem::path& path) {
+  try {
+    return std::make_unique<BssrdfEvaluator>(path);
+  } catch (const bssrdf::BssrdfFileError& err) {
+    throw ParameterError(err.what());
+  } catch (const GlError& err) {
+    throw ParameterError(bssrdf::firstBssrdfLine(err.what()));
+  }
+}
+
 }  // namespace translucent::gpu

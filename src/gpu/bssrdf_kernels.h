@@ -94,4 +94,9 @@ class BssrdfEvaluator {
   std::string last_error_;
 };
 
+// Loads and compiles a .bssrdf file for a user (a context must be current): parse and GLSL
+// errors become a ParameterError whose message is the first `file.bssrdf:LINE` line of the
+// diagnostic (a driver log can span many lines). The command line and the explorer use it.
+std::unique_ptr<BssrdfEvaluator> openBssrdf(const std::filesystem::path& path);
+
 }  // namespace translucent::gpu

@@ -49,14 +49,7 @@ gpu::BssrdfEvaluator& MaterialGl::load(const std::string& path) {
     throw ParameterError(err.what());
   }
   ensureContext();
-  std::unique_ptr<gpu::BssrdfEvaluator> e;
-  try {
-    e = std::make_unique<gpu::BssrdfEvaluator>(path);
-  } catch (const bssrdf::BssrdfFileError& err) {
-    throw ParameterError(err.what());
-  } catch (const gpu::GlError& err) {
-    throw ParameterError(bssrdf::firstBssrdfLine(err.what()));
-  }
+  std::unique_ptr<gpu::BssrdfEvaluator> e = gpu::openBssrdf(path);
   if (!e->file().attributes.radial)
     throw ParameterError(fmt::format(
         "{}: not a radial BSSRDF (line 1 lacks `radial`): the explorer plots and renders R(r)",
