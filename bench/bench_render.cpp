@@ -17,6 +17,7 @@
 #include <cstdlib>
 #include <map>
 #include <memory>
+#include <string>
 
 #include "gpu/context.h"
 #include "scene/scene.h"
@@ -44,6 +45,19 @@ void BM_PointCloudFrame(benchmark::State& state) {
   s.camera.height = height;
   auto t = std::make_unique<pointcloud::PointCloudTechnique>();
   t->setParameter("points", points);
+  // $TRANSLUCENT_BENCH_SETTINGS="name=value,name=value": technique settings for experiments
+  // (e.g. shadow_map_size=1024), checked like command-line options.
+  if (const char* env = std::getenv("TRANSLUCENT_BENCH_SETTINGS"); env != nullptr) {
+    std::string settings = env;
+    for (size_t start = 0; start < settings.size();) {
+      size_t end = settings.find(',', start);
+      if (end == std::string::npos) end = settings.size();
+      const std::string item = settings.substr(start, end - start);
+      const size_t eq = item.find('=');
+      if (eq != std::string::npos) t->setParameter(item.substr(0, eq), item.substr(eq + 1));
+      start = end + 1;
+    }
+  }
   t->prepare(s, gl);
   (void)t->render({64, 64});  // first use of every program and buffer, off the clock
 
