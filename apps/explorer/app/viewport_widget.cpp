@@ -28,6 +28,9 @@ ViewportWidget::ViewportWidget(ExplorerState& state, QWidget* parent)
 }
 
 ViewportWidget::~ViewportWidget() {
+  // ~QOpenGLWidget destroys the context and emits aboutToBeDestroyed when this object is no
+  // longer a ViewportWidget: the slot must not run then (UBSan: member call on a destroyed type).
+  disconnect(context_connection_);
   if (display_ != nullptr) {
     makeCurrent();
     releaseGl();
@@ -42,7 +45,8 @@ void ViewportWidget::initializeGL() {
   // out): release the old objects while the old context is still current.
   if (connected_context_ != context()) {
     connected_context_ = context();
-    connect(context(), &QOpenGLContext::aboutToBeDestroyed, this, [this] {
+    disconnect(context_connection_);
+    context_connection_ = connect(context(), &QOpenGLContext::aboutToBeDestroyed, this, [this] {
       makeCurrent();
       releaseGl();
       doneCurrent();

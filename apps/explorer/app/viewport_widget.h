@@ -63,6 +63,7 @@ class ViewportWidget : public QOpenGLWidget {
   bool upload_ = false;
   QString message_;
   const void* connected_context_ = nullptr;  // whose aboutToBeDestroyed we listen to
+  QMetaObject::Connection context_connection_;
   QPoint last_;
   Qt::MouseButton button_ = Qt::NoButton;
 };
