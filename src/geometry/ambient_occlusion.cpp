@@ -1,7 +1,6 @@
 // Per-vertex ambient occlusion by Embree ray casting (ambient_occlusion.h).
 #include "geometry/ambient_occlusion.h"
 
-#include <embree3/rtcore.h>
 #include <fmt/format.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -15,11 +14,15 @@
 #include <functional>
 #include <limits>
 #include <numbers>
+#include <optional>
+#include <stdexcept>
 #include <thread>
 
 #include <glm/geometric.hpp>
 
+#include "geometry/counter_rng.h"
 #include "geometry/point_cloud.h"  // meshHash, defaultCacheDirectory
+#include "geometry/ray_scene.h"
 
 namespace translucent::geometry {
 namespace fs = std::filesystem;
@@ -29,25 +32,6 @@ namespace {
 constexpr int kAlgorithmVersion = 1;
 constexpr char kMagic[8] = {'T', 'L', 'A', 'O', 'C', 'C', '0', '1'};
 
-// SplitMix64's finaliser and a counter-based stream per (seed, vertex), as in point_cloud.cpp.
-constexpr uint64_t mix64(uint64_t z) {
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-  return z ^ (z >> 31);
-}
-class CounterRng {
- public:
-  CounterRng(uint64_t seed, uint64_t k)
-      : state_(mix64(seed * 0x9e3779b97f4a7c15ULL + mix64(k ^ 0x414f414f414f414fULL))) {}
-  double uniform() {  // [0, 1), 53 bits
-    state_ += 0x9e3779b97f4a7c15ULL;
-    return static_cast<double>(mix64(state_) >> 11) * 0x1.0p-53;
-  }
-
- private:
-  uint64_t state_;
-};
-
 // Orthonormal basis about a unit n (Duff et al. 2017, "Building an Orthonormal Basis, Revisited").
 void basis(const glm::dvec3& n, glm::dvec3& t, glm::dvec3& b) {
   const double s = std::copysign(1.0, n.z);
@@ -55,52 +39,6 @@ void basis(const glm::dvec3& n, glm::dvec3& t, glm::dvec3& b) {
   const double c = n.x * n.y * a;
   t = {1.0 + s * n.x * n.x * a, s * c, -s * n.x};
   b = {c, s + n.y * n.y * a, -n.y};
-}
-
-struct EmbreeScene {
-  RTCDevice device = nullptr;
-  RTCScene scene = nullptr;
-  ~EmbreeScene() {
-    if (scene != nullptr) rtcReleaseScene(scene);
-    if (device != nullptr) rtcReleaseDevice(device);
-  }
-};
-
-[[noreturn]] void embreeFailure(RTCDevice device, const char* step) {
-  const RTCError e = device != nullptr ? rtcGetDeviceError(device) : RTC_ERROR_UNKNOWN;
-  throw AmbientOcclusionError(fmt::format("ambient occlusion: Embree failed to {} (error code {})",
-                                          step, static_cast<int>(e)));
-}
-
-void createDevice(EmbreeScene& e) {
-  e.device = rtcNewDevice(nullptr);
-  if (e.device == nullptr) embreeFailure(nullptr, "create a device");
-}
-
-void buildScene(const TriangleMesh& mesh, EmbreeScene& e) {
-  e.scene = rtcNewScene(e.device);
-  if (e.scene == nullptr) embreeFailure(e.device, "create a scene");
-  rtcSetSceneFlags(e.scene, RTC_SCENE_FLAG_ROBUST);
-  RTCGeometry geom = rtcNewGeometry(e.device, RTC_GEOMETRY_TYPE_TRIANGLE);
-  if (geom == nullptr) embreeFailure(e.device, "create a triangle geometry");
-  auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
-      geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), mesh.vertexCount()));
-  auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
-      geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned),
-      mesh.triangleCount()));
-  if (vertices == nullptr || indices == nullptr) {
-    rtcReleaseGeometry(geom);
-    embreeFailure(e.device, "allocate the mesh buffers");
-  }
-  for (size_t i = 0; i < mesh.vertexCount(); ++i)
-    for (int k = 0; k < 3; ++k) vertices[3 * i + k] = static_cast<float>(mesh.positions[i][k]);
-  for (size_t i = 0; i < mesh.triangleCount(); ++i)
-    for (int k = 0; k < 3; ++k) indices[3 * i + k] = mesh.triangles[i][k];
-  rtcCommitGeometry(geom);
-  rtcAttachGeometry(e.scene, geom);
-  rtcReleaseGeometry(geom);
-  rtcCommitScene(e.scene);
-  if (rtcGetDeviceError(e.device) != RTC_ERROR_NONE) embreeFailure(e.device, "build the scene");
 }
 
 void checkOptions(const AmbientOcclusionOptions& options) {
@@ -155,32 +93,30 @@ AmbientOcclusion computeAmbientOcclusion(const TriangleMesh& mesh,
         "ambient occlusion: {} points but {} normals", points.size(), normals.size()));
 
   AmbientOcclusion result;
-  auto start = std::chrono::steady_clock::now();
-  EmbreeScene embree;
-  createDevice(embree);
-  result.deviceSeconds = secondsSince(start);
-  start = std::chrono::steady_clock::now();
-  buildScene(mesh, embree);
-  result.bvhSeconds = secondsSince(start);
+  std::optional<RayScene> scene;
+  try {
+    scene.emplace(mesh, "ambient occlusion");
+  } catch (const std::runtime_error& e) {
+    throw AmbientOcclusionError(e.what());
+  }
+  result.deviceSeconds = scene->deviceSeconds();
+  result.bvhSeconds = scene->buildSeconds();
 
   const Bounds bounds = mesh.bounds();
   const double eps = 1e-5 * (glm::length(bounds.center()) + bounds.radius());
   const int rays = options.rays;
   result.values.assign(points.size(), 1.0f);
 
-  start = std::chrono::steady_clock::now();
+  const auto start = std::chrono::steady_clock::now();
   tbb::parallel_for(tbb::blocked_range<size_t>(0, points.size(), 64),
                     [&](const tbb::blocked_range<size_t>& range) {
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
     for (size_t v = range.begin(); v != range.end(); ++v) {
       const glm::dvec3 n = normals[v];
       if (glm::dot(n, n) == 0.0) continue;  // unused vertex: AO = 1
       glm::dvec3 t, b;
       basis(n, t, b);
       const glm::dvec3 o = points[v] + eps * n;
-      CounterRng rng(options.seed, v);
+      CounterRng rng(options.seed, v ^ 0x414f414f414f414fULL);  // AO's own streams ("AOAO")
       int visible = 0;
       for (int i = 0; i < rays; ++i) {
         const double u1 = rng.uniform(), u2 = rng.uniform();
@@ -190,18 +126,8 @@ AmbientOcclusion computeAmbientOcclusion(const TriangleMesh& mesh,
         const double phi = 2.0 * std::numbers::pi * u2;
         const glm::dvec3 d =
             sinTheta * std::cos(phi) * t + sinTheta * std::sin(phi) * b + cosTheta * n;
-        RTCRay ray{};
-        ray.org_x = static_cast<float>(o.x);
-        ray.org_y = static_cast<float>(o.y);
-        ray.org_z = static_cast<float>(o.z);
-        ray.dir_x = static_cast<float>(d.x);
-        ray.dir_y = static_cast<float>(d.y);
-        ray.dir_z = static_cast<float>(d.z);
-        ray.tnear = static_cast<float>(eps);
-        ray.tfar = std::numeric_limits<float>::infinity();
-        ray.mask = 0xFFFFFFFFu;
-        rtcOccluded1(embree.scene, &context, &ray);
-        if (ray.tfar != -std::numeric_limits<float>::infinity()) ++visible;  // Eq. 3.5: V = 1
+        if (!scene->occluded(o, d, eps, std::numeric_limits<double>::infinity(), true))
+          ++visible;  // Eq. 3.5: V = 1
       }
       result.values[v] = static_cast<float>(static_cast<double>(visible) / rays);
     }

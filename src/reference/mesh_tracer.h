@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "geometry/mesh.h"
+#include "geometry/ray_scene.h"
 #include "reference/camera.h"
 #include "reference/sphere.h"
 #include "reference/transport.h"
@@ -44,8 +45,7 @@ class MeshBody final : public Body {
   size_t triangleCount() const { return triangles_; }
 
  private:
-  struct Embree;
-  std::unique_ptr<Embree> embree_;
+  geometry::RayScene scene_;
   BoundingSphere bounds_;
   double epsilon_ = 0.0;
   size_t triangles_ = 0;
