@@ -466,4 +466,10 @@ Scene defaultScene() {
   return s;
 }
 
+std::string meshKey(const Scene& s) {
+  return fmt::format("{}|{}|{},{},{}|{}|{},{},{}", s.mesh_file.string(), s.mesh_normalize,
+                     s.mesh_rotate.x, s.mesh_rotate.y, s.mesh_rotate.z, s.mesh_scale,
+                     s.mesh_translate.x, s.mesh_translate.y, s.mesh_translate.z);
+}
+
 }  // namespace translucent::scene

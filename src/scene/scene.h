@@ -133,6 +133,9 @@ void saveScene(const Scene& scene, const std::filesystem::path& path);
 geometry::TriangleMesh loadSceneMesh(const Scene& scene);
 // The placement alone, applied to a mesh in place.
 void placeMesh(const Scene& scene, geometry::TriangleMesh& mesh);
+// A text that changes exactly when loadSceneMesh's result would (file and placement): techniques
+// keep their meshes, point clouds and AO while it stays the same.
+std::string meshKey(const Scene& scene);
 
 // The lights the reference path tracer handles (directional, point, beam); throws
 // ParameterError naming the first light of another type.

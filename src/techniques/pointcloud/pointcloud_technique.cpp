@@ -235,14 +235,8 @@ struct PointCloudTechnique::Impl {
     gpu::checkGlError("building the point-cloud programs");
   }
 
-  static std::string meshKeyOf(const scene::Scene& s) {
-    return fmt::format("{}|{}|{},{},{}|{}|{},{},{}", s.mesh_file.string(), s.mesh_normalize,
-                       s.mesh_rotate.x, s.mesh_rotate.y, s.mesh_rotate.z, s.mesh_scale,
-                       s.mesh_translate.x, s.mesh_translate.y, s.mesh_translate.z);
-  }
-
   void loadMesh(const scene::Scene& s) {
-    const std::string key = meshKeyOf(s);
+    const std::string key = scene::meshKey(s);
     if (key == meshKey && gpuMesh) return;
     geometry::TriangleMesh m = scene::loadSceneMesh(s);
     m.requireClosed(fmt::format("mesh file '{}'", s.mesh_file.string()));
