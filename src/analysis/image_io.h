@@ -4,6 +4,7 @@
 // Pixel data are interleaved RGB floats, row by row from the top.
 #pragma once
 
+#include <map>
 #include <span>
 #include <stdexcept>
 #include <string>
@@ -45,6 +46,16 @@ struct RgbImage {
   std::vector<std::string> channel_names;  // all channels in the file
 };
 RgbImage readRgb(const std::string& path);
+
+// Every channel of an EXR written by writeExr: R, G, B and the "<name>.R/G/B" layers, and the
+// string attributes. Throws ImageError naming the file (also for a layer missing a channel).
+struct LayeredImage {
+  int width = 0, height = 0;
+  std::vector<float> rgb;
+  std::map<std::string, std::vector<float>> layers;
+  std::map<std::string, std::string> attributes;
+};
+LayeredImage readExrLayers(const std::string& path);
 
 // Writes an 8-bit RGB PNG of the tone-mapped image.
 void writePng(const std::string& path, int width, int height, std::span<const float> rgb,
