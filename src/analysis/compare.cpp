@@ -44,7 +44,7 @@ ReferenceKind parseReferenceKind(const std::string& name, const std::string& opt
 CompareImage Reference::radianceFor(bssrdf::ExitConvention convention, double eta) const {
   if (convention == bssrdf::ExitConvention::Jensen) return radiance;
   // Eq. 2.16's normalisation 1/(4C_φ(1/η)), a constant of η (exit_radiance.h).
-  return radiance.scaled(1.0 / bssrdf::diffuseTransmittanceFromOutside(eta));
+  return radiance.scaled(bssrdf::exitConventionScale(convention, eta));
 }
 
 // ---- Cache keys ----------------------------------------------------------------------------

@@ -46,6 +46,10 @@ double exitRadianceFactor(ExitConvention convention, double eta, double cos_o, d
   return convention == ExitConvention::Jensen ? f : f / norm;
 }
 
+double exitConventionScale(ExitConvention convention, double eta) {
+  return convention == ExitConvention::Jensen ? 1.0 : 1.0 / diffuseTransmittanceFromOutside(eta);
+}
+
 double exitRadianceFactor(ExitConvention convention, double eta, double cos_o) {
   return exitRadianceFactor(convention, eta, cos_o, diffuseTransmittanceFromOutside(eta));
 }

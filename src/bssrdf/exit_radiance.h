@@ -38,4 +38,9 @@ double diffuseTransmittanceFromOutside(double eta);
 double exitRadianceFactor(ExitConvention convention, double eta, double cos_o, double norm);
 double exitRadianceFactor(ExitConvention convention, double eta, double cos_o);
 
+// L_convention / L_Jensen, independent of the exit direction: 1 (Jensen) or
+// 1 / diffuseTransmittanceFromOutside(eta) (Normalized). The constant by which a renderer that
+// computes Ft B / π turns it into the chosen convention (pointcloud radiance pass).
+double exitConventionScale(ExitConvention convention, double eta);
+
 }  // namespace translucent::bssrdf

@@ -40,6 +40,20 @@ TEST(ExitRadiance, JensenConventionLosesTheDiffuseFresnelReflectance) {
   EXPECT_NEAR(diffuseTransmittanceFromOutside(1.5), 1.0 - 0.0918, 5e-4);
 }
 
+// The direction-independent scale a renderer applies to Ft B/π gives the factor of each
+// convention at every exit cosine (to rounding).
+TEST(ExitRadiance, ConventionScaleTurnsJensenIntoEachConvention) {
+  for (double eta : {1.0, 1.3, 1.5})
+    for (ExitConvention c : {ExitConvention::Jensen, ExitConvention::Normalized})
+      for (double mu : {0.05, 0.5, 1.0})
+        EXPECT_NEAR(exitConventionScale(c, eta) * exitRadianceFactor(ExitConvention::Jensen, eta, mu),
+                    exitRadianceFactor(c, eta, mu), 1e-15)
+            << toString(c) << " eta " << eta << " mu " << mu;
+  EXPECT_EQ(exitConventionScale(ExitConvention::Jensen, 1.3), 1.0);
+  EXPECT_NEAR(exitConventionScale(ExitConvention::Normalized, 1.3),
+              1.0 / diffuseTransmittanceFromOutside(1.3), 1e-15);
+}
+
 TEST(ExitRadiance, ParsingNamesTheValidConventions) {
   EXPECT_EQ(parseExitConvention("jensen"), ExitConvention::Jensen);
   EXPECT_EQ(parseExitConvention("normalized"), ExitConvention::Normalized);
