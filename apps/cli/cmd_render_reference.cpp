@@ -38,15 +38,6 @@ namespace {
 
 using reference::McImage;
 
-uint64_t parseCount(const std::string& text, const char* option) {
-  char* end = nullptr;
-  const double v = std::strtod(text.c_str(), &end);
-  if (end == text.c_str() || *end != '\0' || !(v >= 1.0) || v > 1e18 || std::floor(v) != v)
-    throw ParameterError(
-        fmt::format("{} '{}': expected a whole number >= 1 (e.g. 1000000 or 1e6)", option, text));
-  return static_cast<uint64_t>(v);
-}
-
 glm::dvec3 parseVec3(const std::string& text, const char* option) {
   const auto parts = splitList(text);
   if (parts.size() != 3)
