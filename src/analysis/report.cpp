@@ -48,12 +48,14 @@ json metricsJson(const Metrics& m) {
           {"rel_rmse_raw", number(m.rel_rmse_raw)},
           {"noise_mse", number(m.noise_mse)},
           {"noise_mse_stderr", number(m.noise_mse_stderr)},
+          {"noise_variance", number(m.noise_variance)},
           {"bias", number(m.bias)},
           {"bias_stderr", number(m.bias_stderr)},
           {"ssim", number(m.ssim)},
           {"flip", number(m.flip)},
           {"mean_abs_z", number(m.mean_abs_z)},
-          {"fraction_abs_z_above_3", number(m.fraction_abs_z_above_3)}};
+          {"fraction_abs_z_above_3", number(m.fraction_abs_z_above_3)},
+          {"z_pixels", m.z_pixels}};
 }
 
 json pairJson(const PairMetrics& p) {
@@ -123,7 +125,7 @@ class Writer {
     return name;
   }
   std::string bar(const std::string& name, ColorMap cmap, double lo, double hi) {
-    const int w = 256, h = 16;
+    const int w = 320, h = 40;  // colorBar needs >= 24 rows for its labels
     writePng8(file(name), w, h, colorBar(w, h, cmap, lo, hi));
     return name;
   }
@@ -165,7 +167,7 @@ table{border-collapse:collapse;margin:0.5em 0 1.5em}td,th{border:1px solid #bbb;
 text-align:right;font-size:13px}th{background:#eee}td.l,th.l{text-align:left}
 figure{display:inline-block;margin:4px;text-align:center;font-size:12px;vertical-align:top}
 figure img{image-rendering:pixelated;border:1px solid #888;width:240px}
-img.bar{width:256px;height:16px;image-rendering:auto;border:none}
+figure img.bar{width:320px;height:40px;image-rendering:auto;border:none}
 pre{background:#f4f4f4;padding:8px;white-space:pre-wrap;word-break:break-all}
 .warn{color:#a00;font-weight:bold}.plot{width:800px;border:1px solid #ccc})";
 
@@ -356,10 +358,12 @@ std::vector<std::string> writeReport(const fs::path& dir, const CompareReport& r
        "radiance towards the camera (cone half-angle " + num(r.scene.cone_angle) +
        "°). Linear EXRs: the links.</p>\n<table><tr><th class=\"l\">source</th><th>exitance B</th>"
        "<th>radiance L</th><th>true radiance (cone)</th></tr>\n";
-  auto cell = [](const std::string& src, const std::string& caption) {
-    return src.empty() ? std::string("<td>–</td>")
-                       : "<td><figure><img src=\"" + html(src) + "\" alt=\"" + html(caption) +
-                             "\"><figcaption>" + html(caption) + "</figcaption></figure></td>";
+  auto figure = [](const std::string& src, const std::string& caption, const char* cls) {
+    return "<figure><img" + std::string(cls) + " src=\"" + html(src) + "\" alt=\"" +
+           html(caption) + "\"><figcaption>" + html(caption) + "</figcaption></figure>";
+  };
+  auto cell = [&](const std::string& src, const std::string& caption) {
+    return src.empty() ? std::string("<td>–</td>") : "<td>" + figure(src, caption, "") + "</td>";
   };
   for (const Shown& s : shownRows) {
     const std::string exr = (s.label.ends_with(" reference") ? s.label.substr(0, s.label.size() - 10)
@@ -369,10 +373,10 @@ std::vector<std::string> writeReport(const fs::path& dir, const CompareReport& r
          cell(s.cone, s.label + " cone L") + "</tr>\n";
   }
   h += "</table>\n";
-  h += "<p>Masks (white: compared): " + cell(maskInterior, fmt::format("interior, {} pixels",
-                                                                      r.masks.interiorPixels())) +
-       cell(maskCone, fmt::format("interior, away from silhouettes (cone), {} pixels",
-                                  r.masks.conePixels())) +
+  h += "<p>Masks (white: compared): " + figure(maskInterior, fmt::format("interior, {} pixels",
+                                                                      r.masks.interiorPixels()), "") +
+       figure(maskCone, fmt::format("interior, away from silhouettes (cone), {} pixels",
+                                  r.masks.conePixels()), "") +
        "</p>\n<p>" + html(j["masks"]["interior"].get<std::string>()) + "; for the cone radiance: " +
        html(j["masks"]["interior_cone"].get<std::string>()) + ".</p>\n";
 
@@ -398,8 +402,9 @@ std::vector<std::string> writeReport(const fs::path& dir, const CompareReport& r
                      pct(m.fraction_abs_z_above_3));
   }
   h += "</table>\n<h3>Error maps</h3>\n<p>Relative difference (test − reference) / reference: " +
-       cell(barRel, fmt::format("−{0:g}% … +{0:g}%", 100 * kRelativeRange)) + " z-score: " +
-       cell(barZ, fmt::format("−{0:g} … +{0:g}", kZRange)) + " FLIP: " + cell(barFlip, "0 … 1") +
+       figure(barRel, fmt::format("−{0:g}% … +{0:g}%", 100 * kRelativeRange), " class=\"bar\"") +
+       " z-score: " + figure(barZ, fmt::format("−{0:g} … +{0:g}", kZRange), " class=\"bar\"") +
+       " FLIP: " + figure(barFlip, "0 … 1", " class=\"bar\"") +
        "</p>\n<table><tr><th class=\"l\">pair</th><th>relative difference</th><th>z-score</th>"
        "<th>FLIP</th></tr>\n";
   for (size_t i = 0; i < r.metrics.size(); ++i) {
