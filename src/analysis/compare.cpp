@@ -25,8 +25,8 @@ using nlohmann::json;
 
 CompareImage CompareImage::scaled(double factor) const {
   CompareImage out = *this;
-  for (float& v : out.rgb) v = static_cast<float>(v * factor);
-  for (float& v : out.se) v = static_cast<float>(v * std::abs(factor));
+  for (float& v : out.rgb) v = static_cast<float>(static_cast<double>(v) * factor);
+  for (float& v : out.se) v = static_cast<float>(static_cast<double>(v) * std::abs(factor));
   return out;
 }
 

@@ -116,8 +116,9 @@ TEST(CompareMetrics, NormalizedRadianceIsJensenOverTheDiffuseTransmittance) {
   const double scale = 1.0 / bssrdf::diffuseTransmittanceFromOutside(s.medium.eta);
   ASSERT_EQ(n.rgb.size(), ref.radiance.rgb.size());
   for (size_t i = 0; i < n.rgb.size(); ++i) {
-    EXPECT_NEAR(n.rgb[i], ref.radiance.rgb[i] * scale, 1e-6 * std::abs(n.rgb[i]) + 1e-30);
-    EXPECT_NEAR(n.se[i], ref.radiance.se[i] * scale, 1e-6 * n.se[i] + 1e-30);
+    const double l = ref.radiance.rgb[i], se = ref.radiance.se[i];
+    EXPECT_NEAR(n.rgb[i], l * scale, 1e-6 * l * scale + 1e-30);
+    EXPECT_NEAR(n.se[i], se * scale, 1e-6 * se * scale + 1e-30);
   }
   EXPECT_EQ(ref.radianceFor(bssrdf::ExitConvention::Jensen, s.medium.eta).rgb, ref.radiance.rgb);
 }

@@ -30,16 +30,16 @@ std::string readText(const fs::path& p) {
   return s.str();
 }
 
-struct Run {
+struct CliRun {
   int status = -1;
   std::string output;  // stdout and stderr
 };
 
-Run run(const std::string& args, const std::string& tag) {
+CliRun run(const std::string& args, const std::string& tag) {
   const fs::path log = kRoot / (tag + ".log");
   const std::string cmd = "TRANSLUCENT_CACHE_DIR='" + (kRoot / "technique-cache").string() + "' '" +
                           TRANSLUCENT_CLI + "' compare " + args + " > '" + log.string() + "' 2>&1";
-  Run r;
+  CliRun r;
   const int rc = std::system(cmd.c_str());
   r.status = WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
   r.output = readText(log);
@@ -56,7 +56,7 @@ class CompareCli : public ::testing::Test {
   static void SetUpTestSuite() {
     fs::remove_all(kRoot);
     fs::create_directories(kRoot);
-    first_ = new Run(run(std::string("'") + TRANSLUCENT_CUBE_SCENE + "' --sweep " +
+    first_ = new CliRun(run(std::string("'") + TRANSLUCENT_CUBE_SCENE + "' --sweep " +
                              common(kRoot / "report"), "first"));
   }
   static void TearDownTestSuite() {
@@ -64,9 +64,9 @@ class CompareCli : public ::testing::Test {
     std::error_code ec;
     fs::remove_all(kRoot, ec);
   }
-  static Run* first_;
+  static CliRun* first_;
 };
-Run* CompareCli::first_ = nullptr;
+CliRun* CompareCli::first_ = nullptr;
 
 TEST_F(CompareCli, ReportIsCompleteAndSelfContained) {
   ASSERT_EQ(first_->status, 0) << first_->output;
@@ -112,10 +112,11 @@ TEST_F(CompareCli, ReportIsCompleteAndSelfContained) {
     const std::string n = t.at("name");
     EXPECT_GT(t.at("frame_ms").get<double>(), 0.0) << n;
     EXPECT_FALSE(t.at("passes").empty()) << n;
-    for (const char* ref : {"model", "physical"}) {
-      EXPECT_TRUE(rows.contains(n + "/" + ref + "/radiance")) << n << " " << ref;
-      if (t.at("has_exitance").get<bool>())
-        EXPECT_TRUE(rows.contains(n + "/" + ref + "/exitance")) << n << " " << ref;
+    for (const std::string kind : {"model", "physical"}) {
+      EXPECT_TRUE(rows.contains(n + "/" + kind + "/radiance")) << n << " " << kind;
+      if (t.at("has_exitance").get<bool>()) {
+        EXPECT_TRUE(rows.contains(n + "/" + kind + "/exitance")) << n << " " << kind;
+      }
     }
     EXPECT_TRUE(rows.contains(n + "/physical/cone_radiance")) << n;
   }
@@ -159,7 +160,7 @@ TEST_F(CompareCli, ReportRendersInHeadlessChromiumWithImagesShowing) {
 
 TEST_F(CompareCli, SecondRunReusesTheReferencesAndAChangedSceneMisses) {
   ASSERT_EQ(first_->status, 0) << first_->output;
-  const Run again = run(std::string("'") + TRANSLUCENT_CUBE_SCENE + "' --techniques pointcloud " +
+  const CliRun again = run(std::string("'") + TRANSLUCENT_CUBE_SCENE + "' --techniques pointcloud " +
                             common(kRoot / "report"), "again");
   ASSERT_EQ(again.status, 0) << again.output;
   EXPECT_NE(again.output.find("physical reference: reused from the cache"), std::string::npos)
@@ -181,7 +182,7 @@ TEST_F(CompareCli, SecondRunReusesTheReferencesAndAChangedSceneMisses) {
   text.replace(text.find(mesh), mesh.size(),
                "\"" + (fs::path(TRANSLUCENT_CUBE_SCENE).parent_path() / "../meshes/cube.obj").string() + "\"");
   std::ofstream(kRoot / "brighter.json") << text;
-  const Run changed = run("'" + (kRoot / "brighter.json").string() + "' --techniques pointcloud " +
+  const CliRun changed = run("'" + (kRoot / "brighter.json").string() + "' --techniques pointcloud " +
                               common(kRoot / "report-brighter"), "changed");
   ASSERT_EQ(changed.status, 0) << changed.output;
   EXPECT_EQ(changed.output.find("reused from the cache"), std::string::npos) << changed.output;
@@ -192,12 +193,12 @@ TEST_F(CompareCli, FolderWithAUsersFilesIsRefused) {
   const fs::path mine = kRoot / "mine";
   fs::create_directories(mine);
   std::ofstream(mine / "thesis.tex") << "my work";
-  const Run r = run(std::string("'") + TRANSLUCENT_CUBE_SCENE + "' " + common(mine), "refused");
+  const CliRun r = run(std::string("'") + TRANSLUCENT_CUBE_SCENE + "' " + common(mine), "refused");
   EXPECT_NE(r.status, 0);
   EXPECT_NE(r.output.find("thesis.tex"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("--force"), std::string::npos) << r.output;
   EXPECT_EQ(readText(mine / "thesis.tex"), "my work");
-  const Run bad = run(std::string("'") + TRANSLUCENT_CUBE_SCENE + "' --reference pathtraced " +
+  const CliRun bad = run(std::string("'") + TRANSLUCENT_CUBE_SCENE + "' --reference pathtraced " +
                           common(kRoot / "bad"), "bad");
   EXPECT_NE(bad.status, 0);
   EXPECT_NE(bad.output.find("--reference 'pathtraced'"), std::string::npos) << bad.output;
