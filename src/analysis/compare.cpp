@@ -77,6 +77,10 @@ std::string referenceKeyText(const scene::Scene& scene, const ReferenceRequest& 
   json s = json::parse(scene::toJson(scene));
   s.erase("technique");
   s.erase("display");
+  // The same file by any path (relative to another working directory, through links).
+  std::error_code ec;
+  const fs::path canonical = fs::weakly_canonical(scene.mesh_file, ec);
+  if (!ec && s.contains("mesh")) s["mesh"]["file"] = canonical.string();
   j["scene"] = s;
   j["mesh_sha256"] = sha256Hex(readFileBytes(scene.mesh_file, "mesh file"));
   j["kind"] = toString(request.kind);

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <set>
@@ -316,8 +317,12 @@ std::vector<std::string> writeReport(const fs::path& dir, const CompareReport& r
                   ColorMap::Diverging, -kRelativeRange, kRelativeRange);
     m.z = w.map(stem + "-z.png", zScoreMap(im.test.ref(), im.reference.ref(), *im.mask),
                 ColorMap::Diverging, -kZRange, kZRange);
-    m.flip = w.map(stem + "-flip.png", flipMap(im.test.ref(), im.reference.ref(), o),
-                   ColorMap::Magma, 0.0, 1.0);
+    // FLIP is computed on the whole image (its filters see the neighbours); shown, like the
+    // other maps, where it is averaged: grey outside the mask.
+    std::vector<float> flip = flipMap(im.test.ref(), im.reference.ref(), o);
+    for (size_t i = 0; i < flip.size() && i < im.mask->size(); ++i)
+      if (!(*im.mask)[i]) flip[i] = std::numeric_limits<float>::quiet_NaN();
+    m.flip = w.map(stem + "-flip.png", flip, ColorMap::Magma, 0.0, 1.0);
     maps.push_back(m);
     json pj = pairJson(p);
     pj["maps"] = {{"relative", m.rel}, {"z", m.z}, {"flip", m.flip}};
@@ -349,7 +354,7 @@ std::vector<std::string> writeReport(const fs::path& dir, const CompareReport& r
   h += "<p>Scene: <b>" + html(r.scene_file.empty() ? "built-in bunny" : r.scene_file) + "</b>: " +
        html(sceneSummary(r.scene)) + ". GPU: " + html(r.gpu) + ". " + html(r.version) +
        ", created " + html(r.created) + ".</p>\n";
-  h += "<p>Reproduce: <pre>" + html(r.command) + "</pre></p>\n";
+  h += "<p>Reproduce:</p><pre>" + html(r.command) + "</pre>\n";
   for (const std::string& n : r.notes) h += "<p>" + html(n) + "</p>\n";
 
   h += "<h2>Images</h2>\n<p>Tone mapped with exposure " + num(r.scene.exposure) + " stops, gamma " +
