@@ -84,7 +84,6 @@ RgbImage readRgb(const std::string& path) {
   return img;
 }
 
-<<<<<<< HEAD
 LayeredImage readExrLayers(const std::string& path) {
   auto in = OIIO::ImageInput::open(path);
   if (!in) throw ImageError(fmt::format("cannot read '{}': {}", path, OIIO::geterror()));
@@ -121,14 +120,9 @@ LayeredImage readExrLayers(const std::string& path) {
   return img;
 }
 
-unsigned char toneMap(float value, const ToneMap& tm) {
-  double v = static_cast<double>(value) * std::exp2(tm.exposure);
-  if (!(v > 0.0)) return 0;  // also NaN
-=======
 double toneMapValue(double value, const ToneMap& tm) {
   double v = value * std::exp2(tm.exposure);
   if (!(v > 0.0)) return 0.0;  // also NaN
->>>>>>> metrics
   v = std::min(v, 1.0);
   return std::pow(v, 1.0 / tm.gamma);
 }
