@@ -231,7 +231,7 @@ void runCompare(const CompareArgs& a) {
                                                                    ? std::string("not cached")
                                                                    : ref.cache_note)
                                                             : "cached as " + ref.cache_file.string());
-    fmt::print(stderr, "  {}\n", what);
+    fmt::print(stderr, "{} reference: {}\n", toString(kind), what);
     report.notes.push_back(fmt::format("{} reference: {}", toString(kind), what));
     report.partial = report.partial || ref.partial;
     report.references.push_back(std::move(ref));

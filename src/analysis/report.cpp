@@ -37,6 +37,7 @@ std::string html(const std::string& s) {
 
 std::string num(double v) { return std::isfinite(v) ? fmt::format("{:.4g}", v) : "–"; }
 std::string pct(double v) { return std::isfinite(v) ? fmt::format("{:+.2f}%", 100.0 * v) : "–"; }
+std::string pctU(double v) { return std::isfinite(v) ? fmt::format("{:.2f}%", 100.0 * v) : "–"; }
 
 // JSON has no NaN or infinity: such values are written as null.
 json number(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
@@ -155,11 +156,13 @@ std::string maskPng(Writer& w, const std::string& name, const std::vector<uint8_
 }
 
 std::string sceneSummary(const scene::Scene& s) {
-  return fmt::format("{} ({}x{}), medium σa = ({:.4g}, {:.4g}, {:.4g}), σs = ({:.4g}, {:.4g}, "
-                     "{:.4g}) per {} scene units, g = {}, η = {}, model {}",
-                     s.mesh_file.string(), s.camera.width, s.camera.height, s.medium.sigma_a[0],
+  return fmt::format("{} ({}x{}), medium{} σa = ({:.4g}, {:.4g}, {:.4g}), σs = ({:.4g}, {:.4g}, "
+                     "{:.4g}) per medium unit, {} medium units per scene unit, g = {}, η = {}, "
+                     "model {}",
+                     s.mesh_file.string(), s.camera.width, s.camera.height,
+                     s.preset.empty() ? "" : " " + s.preset, s.medium.sigma_a[0],
                      s.medium.sigma_a[1], s.medium.sigma_a[2], s.medium.sigma_s[0],
-                     s.medium.sigma_s[1], s.medium.sigma_s[2], 1.0 / s.medium.scale, s.medium.g,
+                     s.medium.sigma_s[1], s.medium.sigma_s[2], s.medium.scale, s.medium.g,
                      s.medium.eta, s.model);
 }
 
@@ -402,9 +405,9 @@ std::vector<std::string> writeReport(const fs::path& dir, const CompareReport& r
                      "<td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
                      html(p.test), html(p.reference), html(p.quantity),
                      p.convention.empty() ? "–" : html(p.convention), m.pixels,
-                     num(m.mean_reference), num(m.mean_test), pct(m.rel_rmse), pct(m.rel_rmse_raw),
-                     pct(m.bias), pct(m.bias_stderr), num(m.ssim), num(m.flip), num(m.mean_abs_z),
-                     pct(m.fraction_abs_z_above_3));
+                     num(m.mean_reference), num(m.mean_test), pctU(m.rel_rmse), pctU(m.rel_rmse_raw),
+                     pct(m.bias), pctU(m.bias_stderr), num(m.ssim), num(m.flip), num(m.mean_abs_z),
+                     pctU(m.fraction_abs_z_above_3));
   }
   h += "</table>\n<h3>Error maps</h3>\n<p>Relative difference (test − reference) / reference: " +
        figure(barRel, fmt::format("−{0:g}% … +{0:g}%", 100 * kRelativeRange), " class=\"bar\"") +
@@ -464,7 +467,7 @@ std::vector<std::string> writeReport(const fs::path& dir, const CompareReport& r
       std::string errs;
       for (const PairMetrics& p : s.metrics)
         errs += fmt::format("{}{} vs {}: {}", errs.empty() ? "" : "; ", p.quantity, p.reference,
-                            pct(p.metrics.rel_rmse));
+                            pctU(p.metrics.rel_rmse));
       h += fmt::format("<tr><td class=\"l\">{}</td><td class=\"l\">{}</td><td>{}</td><td>{}</td>"
                        "<td class=\"l\">{}</td></tr>\n", html(s.technique), html(s.parameter),
                        num(s.value), num(s.frame_ms), html(errs));
