@@ -387,7 +387,7 @@ struct ModelReferenceArgs {
   std::string scene;
   reference::ModelReferenceOptions options;
   std::string convention = "jensen";
-  bool no_jitter = false;
+  bool jitter = false;
 };
 
 void runIntegrateMesh(const ModelReferenceArgs& m, const RunArgs& a) {
@@ -403,7 +403,7 @@ void runIntegrateMesh(const ModelReferenceArgs& m, const RunArgs& a) {
   o.seed = a.seed;
   o.threads = a.threads;
   o.convention = bssrdf::parseExitConvention(m.convention);
-  o.jitter = !m.no_jitter;
+  o.jitter = m.jitter;
   reference::ModelReferenceImages img;
   auto pass = [&](const reference::ProgressCallback& cb) {
     img = reference::renderModelReference(mesh, scene.medium, bssrdf::model(scene.model), lights,
@@ -518,9 +518,10 @@ void addRenderReferenceCommands(CLI::App& app) {
                     "Radiance from B: jensen (Ft B/pi) or normalized (Ft B/(pi 4C_phi(1/eta)))")
         ->check(CLI::IsMember(bssrdf::exitConventionNames()))
         ->capture_default_str();
-    cmd->add_flag("--no-jitter", m->no_jitter,
-                  "Rays at the centres of their strata (--subpixels 1: the pixel centre, where a "
-                  "rasteriser shades)");
+    cmd->add_flag("--jitter", m->jitter,
+                  "Jitter the rays in their strata (unbiased pixel averages; the standard error "
+                  "then includes a conservative estimate of the rays' part). Default: strata "
+                  "centres (--subpixels 1: the pixel centre, where a rasteriser shades)");
     cmd->add_option("--near-field", m->options.near_field,
                     "Radius of the analytic disc about each shaded point [sample spacings]")
         ->capture_default_str();

@@ -165,6 +165,7 @@ struct SampleGrid {
   double cell = 1.0;
   glm::ivec3 dims{1};
   std::vector<uint32_t> start;  // per cell (x fastest), + 1 sentinel
+  std::vector<uint32_t> middle; // per cell: the first sample of odd index (the second half)
   std::vector<float> x, y, z, e0, e1, e2;
   glm::dvec3 lower(const glm::ivec3& c) const { return origin + glm::dvec3(c) * cell; }
 };
@@ -200,12 +201,22 @@ SampleGrid buildGrid(const geometry::PointCloud& cloud, const std::vector<Rgb>& 
   g.start.assign(cells + 1, 0);
   for (uint32_t k : lit) ++g.start[cellOf(cloud.positions[k]) + 1];
   for (size_t c = 0; c < cells; ++c) g.start[c + 1] += g.start[c];
-  // Counting sort, stable: samples keep their index order inside a cell.
-  std::vector<uint32_t> fill(g.start.begin(), g.start.end() - 1);
+  // Counting sort: in each cell first the samples of even index, then those of odd index (two
+  // independent halves, for the jitter variance), each in index order.
+  std::vector<uint32_t> even(cells, 0);
+  for (uint32_t k : lit)
+    if (k % 2 == 0) ++even[cellOf(cloud.positions[k])];
+  g.middle.resize(cells);
+  std::vector<uint32_t> fillEven(cells), fillOdd(cells);
+  for (size_t c = 0; c < cells; ++c) {
+    fillEven[c] = g.start[c];
+    fillOdd[c] = g.middle[c] = g.start[c] + even[c];
+  }
   const size_t m = lit.size();
   g.x.resize(m), g.y.resize(m), g.z.resize(m), g.e0.resize(m), g.e1.resize(m), g.e2.resize(m);
   for (uint32_t k : lit) {
-    const uint32_t slot = fill[cellOf(cloud.positions[k])]++;
+    const size_t cell = cellOf(cloud.positions[k]);
+    const uint32_t slot = k % 2 == 0 ? fillEven[cell]++ : fillOdd[cell]++;
     g.x[slot] = cloud.positions[k].x;
     g.y[slot] = cloud.positions[k].y;
     g.z[slot] = cloud.positions[k].z;
@@ -229,7 +240,7 @@ struct RayHit {
 // The first moments follow from ray[][]: Σ_k Σ_s v_sck and Σ_s f_s Σ_k v_sck.
 struct PixelSums {
   double b2[3]{}, l2[3]{};
-  double ray[kMaxRays][3]{};
+  double ray[2][kMaxRays][3]{};  // [half]: samples of even / odd index
 };
 
 // Up to four hits at once (a pixel of 2x2 rays is one group); unused slots lie far away.
@@ -411,7 +422,7 @@ GroupPasses groupPasses() {
 // Adds the samples of cells [begin, end) to `sums` for the hits of one pixel (in groups of four).
 // Float arithmetic in chunks of kChunk samples (vectorised), chunk sums in double; the order is
 // fixed, so the result does not depend on the thread.
-void accumulate(const SampleGrid& grid, uint32_t begin, uint32_t end,
+void accumulate(const SampleGrid& grid, uint32_t begin, uint32_t end, int half,
                 std::span<const HitGroup> groups, const TableView& tv, const GroupPasses& passes,
                 PixelSums& sums) {
   alignas(64) float wB[3][kChunk], wL[3][kChunk];
@@ -425,14 +436,14 @@ void accumulate(const SampleGrid& grid, uint32_t begin, uint32_t end,
     if (groups.size() == 1) {
       float ray[12] = {};
       passes.fused(px, py, pz, e, count, groups[0], tv, wB, wL, ray, sq);
-      for (int j = 0; j < 12; ++j) sums.ray[j / 3][j % 3] += double(ray[j]);
+      for (int j = 0; j < 12; ++j) sums.ray[half][j / 3][j % 3] += double(ray[j]);
     } else {
       for (int c = 0; c < 3; ++c)
         for (uint32_t k = 0; k < count; ++k) wB[c][k] = wL[c][k] = 0.0f;
       for (size_t gi = 0; gi < groups.size(); ++gi) {
         float ray[12] = {};
         passes.split(px, py, pz, e, count, groups[gi], tv, wB, wL, ray, sq);
-        for (int j = 0; j < 12; ++j) sums.ray[4 * gi + size_t(j / 3)][j % 3] += double(ray[j]);
+        for (int j = 0; j < 12; ++j) sums.ray[half][4 * gi + size_t(j / 3)][j % 3] += double(ray[j]);
       }
       for (int c = 0; c < 3; ++c) {
         float b = 0.0f, l = 0.0f;
@@ -568,7 +579,7 @@ ModelReferenceImages renderModelReference(const geometry::TriangleMesh& meshIn, 
   out.radiance.assign(3 * npix, 0.0f);
   out.radiance_se.assign(3 * npix, 0.0f);
   out.coverage.assign(npix, 0.0f);
-  const double N = double(options.samples), scale = area / N;
+  const double N = double(options.samples);
   const GroupPasses passes = groupPasses();
   TableView tv;
   tv.T = table.values.data();
@@ -677,20 +688,25 @@ ModelReferenceImages renderModelReference(const geometry::TriangleMesh& meshIn, 
             const glm::dvec3 cl = grid.lower({cx, cy, cz}), cu = cl + glm::dvec3(grid.cell);
             const glm::dvec3 gap = glm::max(glm::max(cl - hi, lo - cu), glm::dvec3(0.0));
             if (glm::dot(gap, gap) > rMax * rMax) continue;
-            accumulate(grid, b, e, groups, tv, passes, *sums);
+            accumulate(grid, b, grid.middle[cell], 0, groups, tv, passes, *sums);
+            accumulate(grid, grid.middle[cell], e, 1, groups, tv, passes, *sums);
           }
 
       // Estimates: near field + (1/N) Σ t_k with t_k = A (1/M) Σ_s R E, and standard errors.
       for (size_t c = 0; c < 3; ++c) {
         auto estimate = [&](bool radiance, double s2, float& value, float& se) {
-          // Per-ray values B̂_s (misses 0): the near field plus A/N Σ_k v_sk.
-          double ray[kMaxRays]{};
-          for (int r = 0; r < M; ++r) ray[r] = radiance ? rayNearL[r][c] : rayNearB[r][c];
+          // Per-ray values from each half of the samples (misses 0): the near field plus
+          // A/N_half Σ_{k in half} (f_s) v_sk.
+          double half[2][kMaxRays]{};
+          const double nHalf[2] = {std::ceil(0.5 * N), std::floor(0.5 * N)};
           double s = 0.0;  // Σ_k Σ_s (f_s) v_sk
-          for (size_t k = 0; k < hits.size(); ++k) {
-            const double f = radiance ? double(hits[k].factor) : 1.0;
-            s += f * sums->ray[k][c];
-            ray[rayOf[k]] += scale * f * sums->ray[k][c];
+          for (int hf = 0; hf < 2; ++hf) {
+            for (int r = 0; r < M; ++r) half[hf][r] = radiance ? rayNearL[r][c] : rayNearB[r][c];
+            for (size_t k = 0; k < hits.size(); ++k) {
+              const double f = radiance ? double(hits[k].factor) : 1.0;
+              s += f * sums->ray[hf][k][c];
+              if (nHalf[hf] > 0.0) half[hf][rayOf[k]] += area / nHalf[hf] * f * sums->ray[hf][k][c];
+            }
           }
           double near = 0.0;
           for (int r = 0; r < M; ++r) near += radiance ? rayNearL[r][c] : rayNearB[r][c];
@@ -701,12 +717,16 @@ ModelReferenceImages renderModelReference(const geometry::TriangleMesh& meshIn, 
           const double var = N > 1.0 ? std::max(0.0, (tSum2 - N * mean * mean) / (N - 1.0)) : 0.0;
           double v = var / N;
           value = static_cast<float>(near + mean);
-          if (options.jitter && M > 1) {
-            double m = 0.0, q = 0.0;
-            for (int r = 0; r < M; ++r) m += ray[r];
-            m /= M;
-            for (int r = 0; r < M; ++r) q += (ray[r] - m) * (ray[r] - m);
-            v += q / (double(M - 1) * M);
+          if (options.jitter && M > 1 && N > 1.0) {
+            // The spread of the true per-ray values, from the product of the two halves'
+            // deviations: their noises are independent, so it has no noise term in expectation
+            // (the spread of one half's values would add the decorrelated part of the noise).
+            double m0 = 0.0, m1 = 0.0, q = 0.0;
+            for (int r = 0; r < M; ++r) m0 += half[0][r], m1 += half[1][r];
+            m0 /= M;
+            m1 /= M;
+            for (int r = 0; r < M; ++r) q += (half[0][r] - m0) * (half[1][r] - m1);
+            v += std::max(0.0, q) / (double(M - 1) * M);
           }
           se = static_cast<float>(std::sqrt(v));
         };
