@@ -12,12 +12,14 @@
 //
 // The EXR holds the chosen quantity in R, G, B and its per-pixel standard error in the layer
 // "stderr" (stderr.R, ...), every quantity computed as layers "<name>" and "<name>_stderr"
-// (exitance, radiance, cone_radiance), and metadata saying what the pixels are. Passes accumulate into the
+// (exitance, radiance, cone_radiance), `integrate mesh` also the layer "coverage" (fraction of
+// the pixel's camera rays that hit the mesh, in R = G = B), and metadata saying what the pixels are. Passes accumulate into the
 // same images (which are rewritten after every pass); Ctrl-C or --time-limit stops the current
 // pass and writes what was computed so far, marked partial.
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -390,6 +392,24 @@ struct ModelReferenceArgs {
   bool jitter = false;
 };
 
+// Per channel, the median over fully covered pixels of exitance_se / exitance: the noise level.
+std::vector<double> medianRelativeError(const reference::ModelReferenceImages& img) {
+  std::vector<double> out;
+  for (size_t c = 0; c < 3; ++c) {
+    std::vector<double> rel;
+    for (size_t p = 0; p < img.coverage.size(); ++p)
+      if (img.coverage[p] == 1.0f && img.exitance[3 * p + c] > 0.0f)
+        rel.push_back(double(img.exitance_se[3 * p + c]) / double(img.exitance[3 * p + c]));
+    if (rel.empty()) {
+      out.push_back(0.0);
+      continue;
+    }
+    std::nth_element(rel.begin(), rel.begin() + long(rel.size() / 2), rel.end());
+    out.push_back(rel[rel.size() / 2]);
+  }
+  return out;
+}
+
 void runIntegrateMesh(const ModelReferenceArgs& m, const RunArgs& a) {
   a.validate();
   if (a.passes != 1)
@@ -429,7 +449,9 @@ void runIntegrateMesh(const ModelReferenceArgs& m, const RunArgs& a) {
                         {"area", img.area}, {"near_radius", img.near_radius},
                         {"near_fraction", img.near_fraction}, {"prune_radius", img.prune_radius},
                         {"tail_fraction", img.tail_fraction}, {"table_size", img.table_size},
-                        {"table_error", img.table_error}, {"seconds", img.seconds},
+                        {"table_error", img.table_error},
+                        {"median_relative_stderr", medianRelativeError(img)},
+                        {"seconds", img.seconds},
                         {"threads", img.threads}, {"partial", partial}};
     writeJson(a, j);
   };
