@@ -393,7 +393,13 @@ std::vector<std::string> writeReport(const fs::path& dir, const CompareReport& r
        "noise removed: sqrt(max(0, MSE − noise MSE)) / mean reference); raw: without; bias: "
        "mean(test − reference) / mean reference ± its standard error; |z|: per pixel and channel "
        "|test − reference| / combined standard error (≈ 0.8 for agreement within noise); FLIP "
-       "and SSIM of the tone-mapped images over the mask.</p>\n";
+       "and SSIM of the tone-mapped images over the mask.</p>\n<p>Caveats: standard errors "
+       "are per pixel and channel and the aggregate ones assume independent pixels and channels. "
+       "The model reference's pixels and channels share its surface samples, so for pairs with "
+       "the model reference the bias ± stderr and z understate the uncertainty (per pixel, up to "
+       "√3 in z). A pixel that no photon reached has a standard error of 0: at low photon counts "
+       "(the cone radiance needs about 1/sin²θc times more photons than B) z and the noise-aware "
+       "RMSE are unreliable; raise --photons until they settle.</p>\n";
   h += "<table><tr><th class=\"l\">test</th><th class=\"l\">reference</th><th class=\"l\">quantity"
        "</th><th class=\"l\">L convention</th><th>pixels</th><th>mean ref.</th><th>mean test</th>"
        "<th>rel. RMSE</th><th>rel. RMSE raw</th><th>bias</th><th>± stderr</th><th>SSIM</th>"
