@@ -41,7 +41,7 @@ struct CompareArgs {
   std::string techniques = "all";
   std::string references = "physical,model";
   std::string photons = "1e6", samples = "200000";
-  int subpixels = 2;
+  int subpixels = 1;  // pixel centres, as the techniques shade them
   bool sweep = false;
   std::string out = "compare-report";
   bool force = false;
@@ -293,8 +293,7 @@ void runCompare(const CompareArgs& a) {
           for (const PairMetrics& m : point.metrics) {
             if (m.quantity != "radiance") continue;
             auto& xy = series[m.reference];
-            xy.label = fmt::format("{} ({} {}) vs {}", name, p.name,
-                                   fmt::join(p.sweep, "/"), m.reference);
+            xy.label = fmt::format("{} {} vs {}", name, p.name, m.reference);
             xy.x.push_back(sr.frame_ms);
             xy.y.push_back(100.0 * m.metrics.rel_rmse);
           }
@@ -364,7 +363,9 @@ void addCompareCommand(CLI::App& app) {
   cmd->add_option("--samples", a->samples, "Model reference: surface samples (e.g. 2e5)")
       ->capture_default_str();
   cmd->add_option("--subpixels", a->subpixels,
-                  "Model reference: camera rays per pixel per axis (stratified)")
+                  "Model reference: camera rays per pixel per axis (strata centres). 1: the pixel "
+                  "centre, where the techniques shade, so that technique vs model carries no "
+                  "pixel-filter difference; more: pixel averages like the physical reference")
       ->capture_default_str();
   cmd->add_flag("--sweep", a->sweep,
                 "Also render each technique's quality parameter over its sweep values and plot "

@@ -72,6 +72,12 @@ std::string pairStem(const PairMetrics& p) {
                      p.convention.empty() ? "" : "-" + p.convention);
 }
 
+int modelSubpixels(const CompareReport& r) {
+  for (const Reference& ref : r.references)
+    if (ref.kind == ReferenceKind::Model) return ref.request.subpixels;
+  return 0;
+}
+
 const Reference* findReference(const CompareReport& r, const std::string& kind) {
   for (const Reference& ref : r.references)
     if (toString(ref.kind) == kind) return &ref;
@@ -399,7 +405,11 @@ std::vector<std::string> writeReport(const fs::path& dir, const CompareReport& r
        "the model reference the bias ± stderr and z understate the uncertainty (per pixel, up to "
        "√3 in z). A pixel that no photon reached has a standard error of 0: at low photon counts "
        "(the cone radiance needs about 1/sin²θc times more photons than B) z and the noise-aware "
-       "RMSE are unreliable; raise --photons until they settle.</p>\n";
+       "RMSE are unreliable; raise --photons until they settle. Pixel filters: the techniques "
+       "shade the pixel centre; the model reference traces " + (modelSubpixels(r) > 0 ? fmt::format("{0}x{0}", modelSubpixels(r)) : std::string("(none here)")) +
+       " rays per pixel (1x1: the centre, so technique vs model has no filter difference); the "
+       "physical reference is a pixel average (box filter), so pairs with it include the "
+       "difference between point and box sampling, which grows with the detail per pixel.</p>\n";
   h += "<table><tr><th class=\"l\">test</th><th class=\"l\">reference</th><th class=\"l\">quantity"
        "</th><th class=\"l\">L convention</th><th>pixels</th><th>mean ref.</th><th>mean test</th>"
        "<th>rel. RMSE</th><th>rel. RMSE raw</th><th>bias</th><th>± stderr</th><th>SSIM</th>"
