@@ -195,6 +195,20 @@ void runCompare(const CompareArgs& a) {
   if (a.no_cache) cmd += " --no-cache";
   else if (!a.cache.empty()) cmd += " --cache " + quoted(cacheDir.string());
   report.command = cmd;
+  report.settings = {{"techniques", fmt::format("{}", fmt::join(names, ","))},
+                     {"reference", a.references},
+                     {"photons_per_channel", std::to_string(photons)},
+                     {"samples", std::to_string(samples)},
+                     {"subpixels", std::to_string(a.subpixels)},
+                     {"seed", std::to_string(a.seed)},
+                     {"threads", std::to_string(a.threads)},
+                     {"width", std::to_string(s.camera.width)},
+                     {"height", std::to_string(s.camera.height)},
+                     {"frames", std::to_string(a.frames)},
+                     {"warmup", std::to_string(a.warmup)},
+                     {"sweep", a.sweep ? "true" : "false"},
+                     {"cache", a.no_cache ? "off" : cacheDir.string()},
+                     {"out", out.string()}};
 
   // ---- References --------------------------------------------------------------------------
   InterruptGuard guard;

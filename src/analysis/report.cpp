@@ -236,6 +236,10 @@ std::vector<std::string> writeReport(const fs::path& dir, const CompareReport& r
   json j;
   j["generator"] = kGenerator;
   j["version"] = r.version;
+  j["versions"] = {{"translucent", r.version}, {"gl", r.gpu},
+                   {"compiler", __VERSION__},
+                   {"reference_code_version", kReferenceCodeVersion}};
+  for (const auto& [k, v] : r.settings) j["settings"][k] = v;
   j["created"] = r.created;
   j["command"] = r.command;
   j["scene_file"] = r.scene_file;
