@@ -601,7 +601,8 @@ ModelReferenceImages renderModelReference(const geometry::TriangleMesh& meshIn, 
     std::vector<HitGroup> groups;
     for (int i = 0; i < w; ++i) {
       if (stop.load(std::memory_order_relaxed)) return false;
-      // Camera rays: stratified over the pixel, jittered from the pixel's own stream.
+      // Camera rays: stratified over the pixel, at the strata's centres or jittered from the
+      // pixel's own stream.
       hits.clear();
       Rng rng(options.seed, uint64_t(j) * uint64_t(w) + uint64_t(i));
       std::vector<int> rayOf;  // hit index -> ray index (misses have none)
