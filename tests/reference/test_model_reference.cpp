@@ -93,6 +93,41 @@ TEST(ModelReference, FlatSlabGivesFresnelTimesIrradianceTimesRdNormalizedDiffusi
   expectFlatSlab("normalized-diffusion");
 }
 
+// The other lights on the flat slab, against the directional light of irradiance 1 with the same
+// samples: a beam wider than the window plus r_max gives exactly its irradiance P/(π r²) (here
+// 2) times the directional result; a distant point light straight above gives I/D² (here 1) times
+// it, less the fall-off of I cos θ / d² within r_max of the window (at most 1.5 r²/D² ≈ 1.4e-3).
+TEST(ModelReference, BeamAndPointLightsScaleTheDirectionalResult) {
+  const Medium medium = shortRangeMedium();
+  const auto mesh = geometry::makeBox({-1.8, -1.8, -0.5}, {1.8, 1.8, 0.0});
+  Camera cam;
+  cam.projection = Camera::Projection::Orthographic;
+  cam.position = {0.0, 0.0, 3.0};
+  cam.view_height = 0.4;
+  cam.width = cam.height = 3;
+  ModelReferenceOptions o;
+  o.samples = 300000;
+  o.tail = 1e-3;
+  o.threads = 2;
+  const bssrdf::Model& model = bssrdf::model("dipole");
+  const auto dir = renderModelReference(mesh, medium, model, lightFrom({0, 0, 1}), cam, o);
+  const double radius = 1.7, D = 50.0;
+  ASSERT_LT(dir.prune_radius + 0.3, radius);
+  const std::vector<Light> beam{Light{BeamLight{{0, 0, 5}, {0, 0, -1}, radius,
+                                                2.0 * std::numbers::pi * radius * radius}, {1, 1, 1}}};
+  const std::vector<Light> point{Light{PointLight{{0, 0, D}, D * D}, {1, 1, 1}}};
+  const auto b = renderModelReference(mesh, medium, model, beam, cam, o);
+  const auto p = renderModelReference(mesh, medium, model, point, cam, o);
+  for (size_t k = 0; k < dir.exitance.size(); ++k) {
+    const double d = dir.exitance[k];
+    ASSERT_GT(d, 0.0);
+    EXPECT_NEAR(double(b.exitance[k]) / d, 2.0, 2e-6) << k;
+    const double ratio = double(p.exitance[k]) / d;
+    EXPECT_LE(ratio, 1.0 + 1e-6) << k;
+    EXPECT_GE(ratio, 1.0 - 1.5 * std::pow(dir.prune_radius + 0.3, 2) / (D * D)) << k;
+  }
+}
+
 // The lit sphere of sphere.h (radius 1, light and camera along +z) and an icosphere mesh of it.
 SphereScene litSphere(int size) {
   SphereScene s;
