@@ -91,6 +91,7 @@ struct ModelReferenceOptions {
   bool jitter = false;        // true: rays jittered in their strata (false: at the strata's centres)
   double near_field = 3.0;    // ρ in sample spacings sqrt(A/N), > 0
   double tail = 1e-4;         // fraction of Rd beyond the pruning radius r_max, in (0, 0.01]
+  bool portable = false;      // the baseline-ISA inner loop even where AVX2 + FMA is available
 
   // Throws ParameterError naming the bad field.
   void validate() const;

@@ -44,7 +44,7 @@ std::vector<Light> lightFrom(const glm::dvec3& direction, double irradiance = 1.
 // ~10 reduced mean free paths, where the noise comes from (the profile's peak): their errors are
 // nearly independent, so their mean is tested to ~se/4 (with a factor 1.5 for the correlation
 // the shared tails leave).
-void expectFlatSlab(const std::string& modelName) {
+void expectFlatSlab(const std::string& modelName, int subpixels = 2) {
   const Medium medium = shortRangeMedium();
   const auto mesh = geometry::makeBox({-1.8, -1.8, -0.5}, {1.8, 1.8, 0.0});
   Camera cam;
@@ -57,6 +57,7 @@ void expectFlatSlab(const std::string& modelName) {
   o.samples = 1000000;
   o.tail = 1e-3;
   o.threads = 2;
+  o.subpixels = subpixels;
   const bssrdf::Model& model = bssrdf::model(modelName);
   const auto img = renderModelReference(mesh, medium, model, lightFrom({0, 0, 1}), cam, o);
   ASSERT_FALSE(img.partial);
@@ -86,6 +87,9 @@ void expectFlatSlab(const std::string& modelName) {
 }
 
 TEST(ModelReference, FlatSlabGivesFresnelTimesIrradianceTimesRdDipole) { expectFlatSlab("dipole"); }
+
+// 3x3 rays per pixel: more than one group of four hits (the two-pass sums of the inner loop).
+TEST(ModelReference, FlatSlabWithNineRaysPerPixel) { expectFlatSlab("dipole", 3); }
 
 // Normalized diffusion has R ~ 1/r at the source: the analytic near-field disc is what keeps its
 // variance finite.
@@ -266,6 +270,27 @@ TEST(ModelReference, SameSeedIsBitIdenticalOnAnyThreadCount) {
     EXPECT_EQ(one.radiance_se, two.radiance_se);
     EXPECT_EQ(one.coverage, two.coverage);
   }
+}
+
+// The AVX2 inner loop and the portable one compute the same sums (to float rounding).
+TEST(ModelReference, PortableAndVectorKernelsAgree) {
+  const Medium medium = shortRangeMedium();
+  const SphereScene scene = litSphere(8);
+  const auto mesh = geometry::makeIcosphere(4, scene.radius);
+  const std::vector<Light> lights{scene.light()};
+  ModelReferenceOptions o;
+  o.samples = 50000;
+  o.subpixels = 3;  // 9 rays: three groups of four, the split (non-fused) path too
+  const auto fast = renderModelReference(mesh, medium, bssrdf::model("dipole"), lights,
+                                         scene.camera(), o);
+  o.portable = true;
+  const auto portable = renderModelReference(mesh, medium, bssrdf::model("dipole"), lights,
+                                             scene.camera(), o);
+  for (size_t k = 0; k < fast.exitance.size(); ++k) {
+    EXPECT_NEAR(fast.exitance[k], portable.exitance[k], 1e-5 * std::abs(double(portable.exitance[k])) + 1e-12) << k;
+    EXPECT_NEAR(fast.exitance_se[k], portable.exitance_se[k], 1e-4 * double(portable.exitance_se[k]) + 1e-12) << k;
+  }
+  EXPECT_EQ(fast.coverage, portable.coverage);
 }
 
 // Different seeds: the images differ by noise only, as their standard errors say. Over 8 seeds,
