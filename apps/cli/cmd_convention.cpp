@@ -361,6 +361,11 @@ void runStudy(const StudyArgs& a) {
   if (a.cone_angle != 15.0) command += fmt::format(" --cone-angle {}", a.cone_angle);
   if (a.materials != StudyArgs{}.materials) command += " --materials " + a.materials;
   if (a.seed != 1) command += fmt::format(" --seed {}", a.seed);
+  const StudyArgs defaults;
+  if (a.bunny != defaults.bunny) command += " --bunny " + a.bunny;
+  if (a.sphere_size != defaults.sphere_size) command += fmt::format(" --sphere-size {}", a.sphere_size);
+  if (a.bunny_width != defaults.bunny_width || a.bunny_height != defaults.bunny_height)
+    command += fmt::format(" --bunny-width {} --bunny-height {}", a.bunny_width, a.bunny_height);
   command += " --out " + a.out;
   const std::string text = markdown(a, runs, command);
   std::ofstream f(a.out);

@@ -29,7 +29,7 @@
 //   table_size 4096 [64, 65536]; shadow_map_size 2048 [64, 8192] texels;
 //   shadow_offset 1.0 [0, 16] texels; shadow_bias 1.0 [0, 16] texels; shadow_samples 8 [1, 64];
 //   shadow_radius 1.5 [0, 16] texels; ibl_samples 256 [1, 65536]; ibl_samples_per_frame 16 [1, 1024];
-//   radiance_convention kDefaultRadianceConvention (jensen|normalized);
+//   radiance_convention normalized (kDefaultRadianceConvention) | jensen;
 //   specular false; roughness 0.3 [0.01, 1].
 //
 // Units: scene units for lengths; light fluxes as in the scene (scene/scene.h); the image is
