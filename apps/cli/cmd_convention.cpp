@@ -51,9 +51,9 @@ struct StudyArgs {
   int bunny_width = 160, bunny_height = 120;
 };
 
-// Photons per channel at --photon-scale 1, for each scene: 10-50 s each on two cores, ~5 minutes
-// for the default materials (walk lengths grow with the albedo: a Marble photon costs ~15 times a
-// Ketchup one).
+// Photons per channel at --photon-scale 1, for each scene: 175 s of CPU time in all for the
+// default materials and scenes (10 minutes wall on a loaded 2-core share); walk lengths grow with
+// the albedo: a Marble photon costs ~15 times a Ketchup one.
 uint64_t basePhotons(const std::string& material) {
   static const std::map<std::string, uint64_t> counts = {
       {"marble", 1'500'000}, {"potato", 3'000'000}, {"skin2", 3'000'000},
@@ -386,7 +386,7 @@ void addConventionStudyCommand(CLI::App& app) {
   cmd->add_option("--bunny", a->bunny, "Bunny scene file (JSON)")->capture_default_str();
   cmd->add_option("--materials", a->materials, "Presets, comma-separated")->capture_default_str();
   cmd->add_option("--photon-scale", a->photon_scale,
-                  "Factor on the photon counts (1: ~4 minutes on 2 cores)")->capture_default_str();
+                  "Factor on the photon counts (1: ~3 CPU-minutes)")->capture_default_str();
   cmd->add_option("--cone-angle", a->cone_angle, "Cone half-angle of the true radiance [degrees]")
       ->capture_default_str();
   cmd->add_option("--seed", a->seed, "Random seed")->capture_default_str();
