@@ -181,8 +181,10 @@ nlohmann::json fluxJson(const reference::TransportStats& s) {
     const auto em = s.emitted[c].estimate(s.photons[c]);
     const auto en = s.entered[c].estimate(s.photons[c]);
     const auto ex = s.exited[c].estimate(s.photons[c]);
+    const auto es = s.escaped[c].estimate(s.photons[c]);
     j.push_back({{"emitted", em.value}, {"entered", en.value}, {"entered_stderr", en.std_error},
-                 {"exited", ex.value}, {"exited_stderr", ex.std_error}});
+                 {"exited", ex.value}, {"exited_stderr", ex.std_error},
+                 {"escaped", es.value}, {"escaped_stderr", es.std_error}});
   }
   return j;
 }

@@ -4,8 +4,10 @@
 //
 // The mesh must be closed (watertight); its winding and normals are not used: a ray from outside
 // enters at its first hit, so the mesh shadows itself, and a ray from inside leaves at its first
-// hit; refraction and Fresnel use the geometric normal of the hit triangle. Self-intersecting or
-// nested surfaces are not supported (their "inside" is not well defined).
+// hit; refraction and Fresnel use the geometric normal of the hit triangle. The mesh need not be
+// convex: light that leaves one part and meets another (ear to head) re-enters there
+// (transport.h). Self-intersecting or nested surfaces are not supported (their "inside" is not
+// well defined).
 //
 // Output per pixel (camera.h): the pixel average of the radiant exitance B, of the diffusion
 // radiance Ft(η, ω_o) B / π, and of the true radiance towards the camera averaged over a cone of
