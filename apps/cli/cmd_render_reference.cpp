@@ -355,6 +355,8 @@ void runPathtraceMesh(const std::string& sceneFile, const RunArgs& a) {
                         {"triangles", tracer.body().triangleCount()},
                         {"photons_per_channel", st.photons.empty() ? 0 : st.photons[0]},
                         {"seconds", st.seconds}, {"photons_per_second", st.photonsPerSecond()},
+                        {"scattering_events", st.scattering_events},
+                        {"photons_in_several_pixels", tracer.severalPixelPhotons()},
                         {"threads", st.threads}, {"flux_per_channel", fluxJson(st)},
                         {"partial", partial}};
     writeJson(a, j);

@@ -70,6 +70,8 @@ class MeshPathTracer {
   const TransportStats& stats() const { return stats_; }
   const MeshBody& body() const { return body_; }
   const CameraModel& camera() const { return tally_->camera(); }
+  // Photons that scored into more than one pixel (ImageTally::severalPixelPhotons).
+  uint64_t severalPixelPhotons() const { return tally_->severalPixelPhotons(); }
 
  private:
   void init(const Camera& camera, double cone_half_angle);
