@@ -30,7 +30,8 @@
 //     free path at an exit carries over to the re-entry (exponential flights are memoryless), so
 //     η = 1 needs no random number there. Bodies that declare themselves convex (a static
 //     `kConvex = true`, e.g. SphereBody) skip the re-entry query; for a convex mesh the exit ray
-//     never hits, so nothing is drawn and results are those of a walk without re-entry;
+//     never hits, so nothing is drawn and results are those of a walk without re-entry (up to
+//     the rare photons that slip through the mesh at an edge, mesh_tracer.h);
 //   - analog absorption with probability 1 - α at each collision (Algorithm 1 line 15), then
 //     Henyey-Greenstein scattering (phase.h);
 //   - the seed's long-path roulette after `long_path_roulette` scattering events (keep with
