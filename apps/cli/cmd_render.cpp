@@ -125,13 +125,23 @@ void runRender(const RenderArgs& a) {
   if (!a.exr.empty()) {
     std::vector<analysis::ExrLayer> layers;
     for (const auto& [name, data] : frame.layers) layers.push_back({name, data});
+    // What the pixels are depends on the technique's exit-radiance convention (seed Eq. 2.16).
+    std::string quantity = "the technique's colour (RGB), not derived from an exitance";
+    for (const auto& p : t->parameters())
+      if (p.name == "radiance_convention") {
+        const std::string& c = std::get<std::string>(t->parameter(p.name));
+        quantity = fmt::format("radiance {} (RGB, radiance_convention {}), per unit light flux",
+                               c == "jensen" ? "Ft(eta, w_o) B / pi"
+                                             : "Ft(eta, w_o) B / (pi 4 C_phi(1/eta))",
+                               c);
+      }
     const std::pair<std::string, std::string> attrs[] = {
-        {"translucent:quantity", "radiance Ft(eta, w_o) B / pi (RGB), per unit light flux"},
+        {"translucent:quantity", quantity},
         {"translucent:layers", "exitance: radiant exitance B (RGB)"},
         {"translucent:technique", s.technique},
         {"translucent:source", what}};
     analysis::writeExr(a.exr, frame.width, frame.height, frame.rgb, layers, attrs);
-    fmt::print("wrote {}\n", a.exr);
+    fmt::print("wrote {}: {}\n", a.exr, quantity);
   }
   if (!a.out.empty()) {
     analysis::writePng(a.out, frame.width, frame.height, frame.rgb, {s.exposure, s.gamma});

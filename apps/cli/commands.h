@@ -11,5 +11,6 @@ void addProfileCommand(CLI::App& app);
 void addPathtraceCommand(CLI::App& app);
 void addRenderReferenceCommands(CLI::App& app);  // pathtrace sphere|mesh, integrate sphere
 void addRenderCommand(CLI::App& app);            // render (real-time techniques, GPU)
+void addConventionStudyCommand(CLI::App& app);   // convention-study (exit-radiance conventions)
 
 }  // namespace translucent::cli

@@ -8,7 +8,10 @@
 //     B(x_o) = Σ_c R(x_o, x_c) Φ_c     [W / scene unit², RGB]
 // over single points (x_c = p_i, Φ_c = E_i A_i) and clusters (octree nodes, x_c = P_v,
 // Φ_c = Φ_v), by a stack-bounded traversal of the octree; then the radiance
-//     L = Ft(η, n·ω_o) B / π  (+ an optional specular reflection of the directional lights).
+//     L = s Ft(η, n·ω_o) B / π  (+ an optional specular reflection of the directional lights),
+// s = ExitScale, the exit-radiance convention of seed Eq. 2.16 (bssrdf/exit_radiance.h): 1 for
+// Jensen et al. 2001, 1/(4Cφ(1/η)) = 1/(1 - 2 C1_ext) for the normalized form. The exitance
+// output stays B.
 // The traversal is the CPU oracle's (techniques/pointcloud/cpu_traversal.h) step for step:
 //   subdivide(node): interior, Φ_v ≠ 0 and A_v >= ε d², with d the distance from x_o to the
 //     node's bounding box (Criterion 0, 0 inside the box) or to P_v (Criterion 1);
@@ -48,6 +51,7 @@ uniform uvec2 Size;            // image size [pixels]
 uniform float Epsilon;         // maximum solid angle of a cluster [sr]
 uniform int Criterion;         // 0: bounding-box distance, 1: centroid distance
 uniform float Eta;             // n_medium / n_outside
+uniform vec3 ExitScale;        // L / (Ft B/π) per channel (radiance_convention), dimensionless
 uniform vec3 CameraPosition;   // pinhole centre
 uniform vec3 CameraForward;    // orthographic viewing direction
 uniform bool Orthographic;
@@ -179,7 +183,7 @@ void main() {
   pcKernelInit();
   vec3 b = radiantExitance(x, n);
   vec3 v = Orthographic ? -CameraForward : normalize(CameraPosition - x);
-  vec3 l = pcFresnelTransmittance(dot(n, v), Eta) * b / PC_PI;
+  vec3 l = ExitScale * (pcFresnelTransmittance(dot(n, v), Eta) * b / PC_PI);
   if (SpecularLights > 0) l += specular(n, v);
   pcRadiance[out_] = vec4(l, 1.0);
   pcExitance[out_] = vec4(b, 1.0);

@@ -15,6 +15,7 @@
 
 #include "analysis/image_io.h"
 #include "bssrdf/bssrdf_file.h"
+#include "bssrdf/exit_radiance.h"
 #include "bssrdf/registry.h"
 #include "geometry/icosphere.h"
 #include "gpu/bssrdf_kernels.h"
@@ -147,6 +148,35 @@ TEST_F(PointCloudGpu, FramesWithoutReadBackTimeTheSamePasses) {
   ASSERT_EQ(kept.passes.size(), full.passes.size());
   for (size_t i = 0; i < kept.passes.size(); ++i) EXPECT_EQ(kept.passes[i].name, full.passes[i].name);
   EXPECT_EQ(t->render({}).rgb, full.rgb);
+}
+
+// The two exit-radiance conventions (radiance_convention, seed Eq. 2.16) on a lit sphere, 16x16:
+// the normalized frame is the Jensen frame divided by 4Cφ(1/η) = 1 - 2 C1_ext(η) in every channel
+// and pixel, to 1e-6 relative (one extra float multiplication by a float-rounded constant: a few
+// 1e-7), and the exitance layer B is bit for bit the same under both (same traversal).
+TEST_F(PointCloudGpu, NormalizedConventionIsJensenOverTheDiffuseTransmittance) {
+  TempDir dir;
+  const auto obj = writeObj(geometry::makeIcosphere(3, 1.0), dir.path() / "sphere.obj");
+  scene::Scene s = testScene(obj, 16);
+  s.lights[0].emitter = reference::DirectionalLight{glm::normalize(glm::dvec3(0.5, 0.3, 1.0)), 1.0};
+  auto t = technique(2000);
+  t->setParameter("radiance_convention", std::string("jensen"));
+  t->prepare(s, gpu::testing::context());
+  const techniques::Frame jensen = t->render({});
+  t->setParameter("radiance_convention", std::string("normalized"));
+  const techniques::Frame normalized = t->render({});
+  ASSERT_EQ(jensen.rgb.size(), 16u * 16u * 3u);
+  ASSERT_EQ(normalized.rgb.size(), jensen.rgb.size());
+  EXPECT_EQ(normalized.layers.at("exitance"), jensen.layers.at("exitance"));
+  const double norm = bssrdf::diffuseTransmittanceFromOutside(s.medium.eta);
+  EXPECT_NEAR(norm, 0.9386, 1e-3);  // 1 - 2 C1_ext(1.3): 6.1% diffuse Fresnel reflectance
+  int lit = 0;
+  for (size_t i = 0; i < jensen.rgb.size(); ++i) {
+    const double expected = double(jensen.rgb[i]) / norm;
+    if (jensen.rgb[i] > 0.0f) ++lit;
+    EXPECT_NEAR(double(normalized.rgb[i]), expected, 1e-6 * expected) << "value " << i;
+  }
+  EXPECT_GT(lit, 3 * 100);  // most of the disc's ~200 pixels, three channels
 }
 
 // ---- irradiance pass ------------------------------------------------------------------------

@@ -8,7 +8,9 @@
 
 #include <glm/geometric.hpp>
 
+#include "bssrdf/exit_radiance.h"
 #include "optics/fresnel.h"
+#include "techniques/pointcloud/pointcloud_technique.h"
 #include "techniques/pointcloud/environment.h"
 #include "techniques/registry.h"
 
@@ -80,6 +82,38 @@ TEST(Registry, MakesTechniquesByNameAndListsValidNames) {
   } catch (const UnknownTechniqueError& e) {
     EXPECT_NE(std::string(e.what()).find("pointcloud"), std::string::npos) << e.what();
   }
+}
+
+// The point-cloud technique offers both exit-radiance conventions of seed Eq. 2.16 as an enum
+// descriptor (so the CLI and the explorer list them), from a scene's technique settings too, and
+// rejects anything else naming the valid values. The empirical shader derives no radiance from an
+// exitance and has no such parameter.
+TEST(Registry, PointCloudListsAndChecksTheRadianceConvention) {
+  auto t = make("pointcloud");
+  const ParameterInfo* info = nullptr;
+  for (const auto& p : t->parameters())
+    if (p.name == "radiance_convention") info = &p;
+  ASSERT_NE(info, nullptr);
+  EXPECT_EQ(info->type, ParameterType::Enum);
+  EXPECT_EQ(info->choices, bssrdf::exitConventionNames());
+  EXPECT_EQ(std::get<std::string>(info->value), pointcloud::kDefaultRadianceConvention);
+  EXPECT_NO_THROW((void)bssrdf::parseExitConvention(pointcloud::kDefaultRadianceConvention));
+  scene::Scene s;
+  for (const char* name : {"normalized", "jensen"}) {
+    s.settings["radiance_convention"] = std::string(name);
+    applySettings(*t, s);
+    EXPECT_EQ(t->parameter("radiance_convention"), ParameterValue(std::string(name)));
+  }
+  try {
+    t->setParameter("radiance_convention", std::string("deon"));
+    FAIL() << "expected an error";
+  } catch (const ParameterError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("radiance_convention"), std::string::npos) << what;
+    EXPECT_NE(what.find("jensen, normalized"), std::string::npos) << what;
+  }
+  const auto empirical = make("empirical");
+  for (const auto& p : empirical->parameters()) EXPECT_NE(p.name, "radiance_convention");
 }
 
 TEST(Registry, SceneSettingsApplyWithTheKeyInErrors) {

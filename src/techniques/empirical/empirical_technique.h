@@ -23,6 +23,11 @@
 //   thickness                 normalised smoothed thickness t (unclamped)
 //   ao                        interpolated per-vertex AO
 //
+// Radiance: the image is the colour of Eq. 3.6 itself; no radiant exitance B is computed and no
+// radiance is derived from one, so the exit-radiance conventions of seed Eq. 2.16 (the point-cloud
+// technique's `radiance_convention`, bssrdf/exit_radiance.h) do not apply and there is no such
+// parameter here.
+//
 // Parameters: see parameters() (every term of Eq. 3.6, the smoothing kernel, the AO rays, and
 // `preset`, which sets thickness_exponent, backlight and diffuse_weight from Table 4.3).
 #pragma once

@@ -14,6 +14,7 @@
 
 #include "analysis/image_io.h"
 #include "bssrdf/bssrdf_file.h"
+#include "bssrdf/exit_radiance.h"
 #include "bssrdf/registry.h"
 #include "gpu/bssrdf_kernels.h"
 #include "gpu/bssrdf_profiles.h"
@@ -92,6 +93,11 @@ std::vector<ParameterInfo> parameterInfos() {
                              "occluded environment lighting: shadow-mapped directions in total"),
       ParameterInfo::integer("ibl_samples_per_frame", 16, 1, 1024,
                              "occluded environment lighting: directions added per frame"),
+      ParameterInfo::enumeration("radiance_convention", kDefaultRadianceConvention,
+                                 bssrdf::exitConventionNames(),
+                                 "radiance from the exitance B (seed Eq. 2.16): jensen Ft B/π, or "
+                                 "normalized Ft B/(π 4Cφ(1/η)), which carries out exactly B; "
+                                 "see docs/radiance-convention.md"),
       ParameterInfo::boolean("specular", false,
                              "add a GGX specular reflection of the directional lights (unshadowed)"),
       ParameterInfo::floating("roughness", 0.3, 0.01, 1.0, "GGX roughness α of the specular term"),
@@ -648,6 +654,10 @@ struct PointCloudTechnique::Impl {
       p.set("Epsilon", static_cast<float>(params.getFloat("epsilon")));
       p.set("Criterion", params.getEnum("criterion") == "bbox" ? 0 : 1);
       p.set("Eta", static_cast<float>(s.medium.eta));
+      // One η per medium, so the same factor in every channel.
+      p.set("ExitScale", glm::vec3(static_cast<float>(bssrdf::exitConventionScale(
+                             bssrdf::parseExitConvention(params.getEnum("radiance_convention")),
+                             s.medium.eta))));
       p.set("CameraPosition", toVec3(s.camera.position));
       p.set("CameraForward", toVec3(glm::normalize(s.camera.look_at - s.camera.position)));
       p.set("Orthographic", s.camera.projection == reference::Camera::Projection::Orthographic);
