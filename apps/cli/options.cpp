@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <cstdlib>
 
 #include "optics/presets.h"
@@ -19,6 +20,15 @@ std::vector<std::string> splitList(const std::string& text) {
     start = end + 1;
   }
   return out;
+}
+
+uint64_t parseCount(const std::string& text, const char* option) {
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (end == text.c_str() || *end != '\0' || !(v >= 1.0) || v > 1e18 || std::floor(v) != v)
+    throw ParameterError(
+        fmt::format("{} '{}': expected a whole number >= 1 (e.g. 1000000 or 1e6)", option, text));
+  return static_cast<uint64_t>(v);
 }
 
 Rgb parseRgb(const std::string& text, const std::string& option) {

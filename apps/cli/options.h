@@ -2,6 +2,7 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -12,6 +13,8 @@ namespace translucent::cli {
 
 // "0.5" (grey) or "r,g,b"; throws ParameterError naming the option.
 Rgb parseRgb(const std::string& text, const std::string& option);
+// A count as typed ("1000000", "1e6"): a whole number >= 1; throws ParameterError naming `option`.
+uint64_t parseCount(const std::string& text, const char* option);
 // "a,b,c" -> {"a","b","c"}
 std::vector<std::string> splitList(const std::string& text);
 

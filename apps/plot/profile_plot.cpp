@@ -459,20 +459,13 @@ GuiSession::GuiSession() {
 
 GuiSession::~GuiSession() = default;
 
-void writeProfilePlot(const std::string& path, const std::vector<analysis::Curve>& curves,
-                      const PlotOptions& options) {
-  const std::string ext = lowerExtension(path);
-  if (ext != ".png" && ext != ".svg")
-    throw ParameterError(fmt::format("plot file '{}': expected a name ending in .png or .svg", path));
-  const int w = options.width, h = options.height;
-  if (w < kMinPixels || w > kMaxPixels || h < kMinPixels || h > kMaxPixels)
-    throw ParameterError(fmt::format("plot size {}x{}: expected width and height in [{}, {}] pixels",
-                                     w, h, kMinPixels, kMaxPixels));
-  GuiSession session;
-  auto chart = makeProfileChart(curves, options);
-  const QString file = QString::fromStdString(path);
+namespace {
 
-  if (ext == ".png") {
+// PNG (raster) or SVG (vector) by the extension; ParameterError for another one or a bad size.
+void writeChartFile(const std::string& path, std::unique_ptr<QChart> chart, int w, int h,
+                    const std::string& title, const std::string& description) {
+  const QString file = QString::fromStdString(path);
+  if (lowerExtension(path) == ".png") {
     QImage image(w, h, QImage::Format_ARGB32_Premultiplied);
     image.fill(Qt::white);
     renderChart(std::move(chart), image, w, h, path);
@@ -492,13 +485,113 @@ void writeProfilePlot(const std::string& path, const std::vector<analysis::Curve
   svg.setSize(QSize(w, h));
   svg.setViewBox(QRect(0, 0, w, h));
   svg.setResolution(96);  // the screen resolution fonts were laid out for
-  svg.setTitle(QString::fromStdString(options.title.empty() ? "Radial profiles" : options.title));
-  svg.setDescription("Pencil-beam radial reflectance profiles (translucent profile)");
+  svg.setTitle(QString::fromStdString(title));
+  svg.setDescription(QString::fromStdString(description));
   renderChart(std::move(chart), svg, w, h, path);
   out.close();
   if (out.error() != QFileDevice::NoError)
     throw std::runtime_error(
         fmt::format("cannot write '{}': {}", path, out.errorString().toStdString()));
+}
+
+void checkPlotFile(const std::string& path, int w, int h) {
+  const std::string ext = lowerExtension(path);
+  if (ext != ".png" && ext != ".svg")
+    throw ParameterError(fmt::format("plot file '{}': expected a name ending in .png or .svg", path));
+  if (w < kMinPixels || w > kMaxPixels || h < kMinPixels || h > kMaxPixels)
+    throw ParameterError(fmt::format("plot size {}x{}: expected width and height in [{}, {}] pixels",
+                                     w, h, kMinPixels, kMaxPixels));
+}
+
+}  // namespace
+
+void writeProfilePlot(const std::string& path, const std::vector<analysis::Curve>& curves,
+                      const PlotOptions& options) {
+  checkPlotFile(path, options.width, options.height);
+  GuiSession session;
+  writeChartFile(path, makeProfileChart(curves, options), options.width, options.height,
+                 options.title.empty() ? "Radial profiles" : options.title,
+                 "Pencil-beam radial reflectance profiles (translucent profile)");
+}
+
+std::unique_ptr<QChart> makeXyChart(const std::vector<XySeries>& series,
+                                    const XyPlotOptions& options) {
+  auto chart = std::make_unique<QChart>();
+  if (!options.title.empty()) {
+    chart->setTitle(QString::fromStdString(options.title));
+    chart->setTitleFont(sized(11.0, true));
+  }
+  chart->legend()->setFont(sized(9.0));
+  chart->legend()->setAlignment(Qt::AlignBottom);
+  // Axes over the points a scale can show (log: > 0), with a margin.
+  auto usable = [](double v, bool log) { return std::isfinite(v) && (!log || v > 0.0); };
+  Range xr, yr;
+  for (const XySeries& s : series)
+    for (size_t i = 0; i < std::min(s.x.size(), s.y.size()); ++i)
+      if (usable(s.x[i], options.log_x) && usable(s.y[i], options.log_y)) {
+        xr.add(s.x[i]);
+        yr.add(s.y[i]);
+      }
+  auto axis = [](bool log, const Range& r, const std::string& title) -> QAbstractAxis* {
+    QAbstractAxis* a = nullptr;
+    if (log) {
+      auto* l = new QLogValueAxis;
+      l->setBase(10.0);
+      l->setLabelFormat("%g");
+      l->setMinorTickCount(-1);
+      const double lo = r.empty() ? 0.1 : r.lo, hi = r.empty() ? 1.0 : r.hi;
+      l->setRange(lo / 1.5, hi * 1.5);
+      a = l;
+    } else {
+      auto* v = new QValueAxis;
+      const double lo = r.empty() ? 0.0 : r.lo, hi = r.empty() ? 1.0 : r.hi;
+      const double pad = hi > lo ? 0.05 * (hi - lo) : std::max(1e-12, 0.05 * std::abs(hi));
+      v->setRange(lo - pad, hi + pad);
+      v->setLabelFormat("%g");
+      a = v;
+    }
+    styleAxis(a, title);
+    return a;
+  };
+  QAbstractAxis* ax = axis(options.log_x, xr, options.x_label);
+  QAbstractAxis* ay = axis(options.log_y, yr, options.y_label);
+  chart->addAxis(ax, Qt::AlignBottom);
+  chart->addAxis(ay, Qt::AlignLeft);
+  for (size_t k = 0; k < series.size(); ++k) {
+    const XySeries& s = series[k];
+    const QColor colour = kModelColours[k % kModelColours.size()];
+    auto* line = new QLineSeries;
+    auto* dots = new QScatterSeries;
+    line->setName(QString::fromStdString(s.label));
+    QPen pen(colour);
+    pen.setWidthF(kPenWidth);
+    pen.setStyle(kModelDashes[k % kModelDashes.size()]);
+    line->setPen(pen);
+    dots->setColor(colour);
+    dots->setBorderColor(colour);
+    dots->setMarkerSize(7.0);
+    for (size_t i = 0; i < std::min(s.x.size(), s.y.size()); ++i)
+      if (usable(s.x[i], options.log_x) && usable(s.y[i], options.log_y)) {
+        line->append(s.x[i], s.y[i]);
+        dots->append(s.x[i], s.y[i]);
+      }
+    chart->addSeries(line);
+    chart->addSeries(dots);
+    for (QAbstractSeries* q : {static_cast<QAbstractSeries*>(line), static_cast<QAbstractSeries*>(dots)}) {
+      q->attachAxis(ax);
+      q->attachAxis(ay);
+    }
+    hideFromLegend(*chart, dots);
+  }
+  return chart;
+}
+
+void writeXyPlot(const std::string& path, const std::vector<XySeries>& series,
+                 const XyPlotOptions& options) {
+  checkPlotFile(path, options.width, options.height);
+  GuiSession session;
+  writeChartFile(path, makeXyChart(series, options), options.width, options.height,
+                 options.title.empty() ? "x-y plot" : options.title, options.title);
 }
 
 }  // namespace translucent::plot

@@ -58,6 +58,22 @@ std::unique_ptr<QChart> makeProfileChart(const std::vector<analysis::Curve>& cur
 void writeProfilePlot(const std::string& path, const std::vector<analysis::Curve>& curves,
                       const PlotOptions& options);
 
+// Generic x-y charts (e.g. `translucent compare --sweep`: error against GPU time): one line with
+// point markers per series, optionally logarithmic axes (points a log axis cannot show are
+// dropped). Same files and sizes as writeProfilePlot.
+struct XySeries {
+  std::string label;
+  std::vector<double> x, y;
+};
+struct XyPlotOptions {
+  std::string title, x_label, y_label;
+  bool log_x = false, log_y = false;
+  int width = 1600, height = 1000;
+};
+std::unique_ptr<QChart> makeXyChart(const std::vector<XySeries>& series, const XyPlotOptions& options);
+void writeXyPlot(const std::string& path, const std::vector<XySeries>& series,
+                 const XyPlotOptions& options);
+
 // Ensures a QApplication exists while it lives. When none does, it creates one on the offscreen
 // platform (file output never needs a window, and batch runs have no display); an existing
 // QApplication (the explorer's) is used as is. Throws std::runtime_error when a non-widget

@@ -84,12 +84,52 @@ RgbImage readRgb(const std::string& path) {
   return img;
 }
 
-unsigned char toneMap(float value, const ToneMap& tm) {
-  double v = static_cast<double>(value) * std::exp2(tm.exposure);
-  if (!(v > 0.0)) return 0;  // also NaN
+LayeredImage readExrLayers(const std::string& path) {
+  auto in = OIIO::ImageInput::open(path);
+  if (!in) throw ImageError(fmt::format("cannot read '{}': {}", path, OIIO::geterror()));
+  const OIIO::ImageSpec spec = in->spec();
+  const size_t pixels = static_cast<size_t>(spec.width) * static_cast<size_t>(spec.height);
+  const auto nc = static_cast<size_t>(spec.nchannels);
+  std::vector<float> data(pixels * nc);
+  const bool ok = in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, data.data());
+  const std::string message = ok ? "" : in->geterror();
+  in->close();
+  if (!ok) throw ImageError(fmt::format("cannot read '{}': {}", path, message));
+  LayeredImage img;
+  img.width = spec.width;
+  img.height = spec.height;
+  for (const auto& p : spec.extra_attribs)
+    if (p.type() == OIIO::TypeDesc::STRING) img.attributes[p.name().string()] = p.get_string();
+  // Channel c of layer `name` ("" for the base image) -> its position in the file.
+  auto channel = [&](const std::string& name, const char* c) -> size_t {
+    const std::string full = name.empty() ? c : name + "." + c;
+    for (size_t i = 0; i < nc; ++i)
+      if (spec.channelnames[i] == full) return i;
+    throw ImageError(fmt::format("cannot read '{}': no channel '{}'", path, full));
+  };
+  std::vector<std::string> names = {""};
+  for (const auto& n : spec.channelnames)
+    if (n.size() > 2 && n.ends_with(".R")) names.push_back(n.substr(0, n.size() - 2));
+  for (const std::string& name : names) {
+    const size_t idx[3] = {channel(name, "R"), channel(name, "G"), channel(name, "B")};
+    std::vector<float>& out = name.empty() ? img.rgb : img.layers[name];
+    out.resize(pixels * 3);
+    for (size_t p = 0; p < pixels; ++p)
+      for (size_t c = 0; c < 3; ++c) out[3 * p + c] = data[p * nc + idx[c]];
+  }
+  return img;
+}
+
+double toneMapValue(double value, const ToneMap& tm) {
+  double v = value * std::exp2(tm.exposure);
+  if (!(v > 0.0)) return 0.0;  // also NaN
   v = std::min(v, 1.0);
-  v = std::pow(v, 1.0 / tm.gamma);
-  return static_cast<unsigned char>(std::lround(255.0 * v));
+  return std::pow(v, 1.0 / tm.gamma);
+}
+
+unsigned char toneMap(float value, const ToneMap& tm) {
+  return static_cast<unsigned char>(
+      std::lround(255.0 * toneMapValue(static_cast<double>(value), tm)));
 }
 
 void writePng(const std::string& path, int width, int height, std::span<const float> rgb,
@@ -105,6 +145,12 @@ void writePng(const std::string& path, int width, int height, std::span<const fl
   for (size_t i = 0; i < rgb.size(); ++i) data[i] = toneMap(rgb[i], tm);
   OIIO::ImageSpec spec(width, height, 3, OIIO::TypeDesc::UINT8);
   write(path, spec, OIIO::TypeDesc::UINT8, data.data());
+}
+
+void writePng8(const std::string& path, int width, int height, std::span<const uint8_t> rgb8) {
+  checkSize(path, width, height, rgb8.size());
+  OIIO::ImageSpec spec(width, height, 3, OIIO::TypeDesc::UINT8);
+  write(path, spec, OIIO::TypeDesc::UINT8, rgb8.data());
 }
 
 }  // namespace translucent::analysis

@@ -68,6 +68,11 @@ ParameterInfo ParameterInfo::enumeration(std::string name, std::string def,
   return p;
 }
 
+ParameterInfo ParameterInfo::withSweep(std::vector<double> values) && {
+  sweep = std::move(values);
+  return std::move(*this);
+}
+
 std::string toString(const ParameterValue& value) {
   return std::visit(
       [](const auto& v) -> std::string {

@@ -46,6 +46,9 @@ struct ParameterInfo {
   std::string unit;                  // "" when dimensionless ("sr", "texels", "scene units")
   std::string help;                  // one sentence
   bool logarithmic = false;          // Float: a slider should be logarithmic (seed 3.6.1)
+  // A quality parameter: the values `translucent compare --sweep` renders to plot error against
+  // GPU time (equal-time and equal-error comparisons). Empty: not a quality parameter.
+  std::vector<double> sweep;
 
   static ParameterInfo floating(std::string name, double def, double min, double max,
                                 std::string help, std::string unit = "", bool log = false);
@@ -54,6 +57,8 @@ struct ParameterInfo {
   static ParameterInfo boolean(std::string name, bool def, std::string help);
   static ParameterInfo enumeration(std::string name, std::string def,
                                    std::vector<std::string> choices, std::string help);
+  // The same descriptor declared a quality parameter swept over `values` (each in range).
+  ParameterInfo withSweep(std::vector<double> values) &&;
 };
 
 // Converts `value` to the parameter's type and checks it (range, finiteness, choices): ints are

@@ -420,3 +420,51 @@ TEST(PlotFile, BadExtensionSizeOrPathFailsWithAClearError) {
 
 }  // namespace
 }  // namespace translucent::plot
+
+namespace translucent::plot {
+namespace {
+
+// The generic x-y chart of `translucent compare --sweep`: one line and one set of markers per
+// series (markers out of the legend), log axes spanning exactly the positive points, which are
+// the only ones drawn; the PNG has the requested size and each series' colour.
+TEST(XyChart, LogAxesDropNonPositivePointsAndSpanTheRest) {
+  GuiSession session;
+  const std::vector<XySeries> series = {{"a vs model", {1.0, 2.0, 4.0, 0.0}, {10.0, 5.0, 2.5, 1.0}},
+                                        {"b vs physical", {3.0, 6.0}, {-1.0, 20.0}}};
+  XyPlotOptions o;
+  o.x_label = "ms";
+  o.y_label = "error [%]";
+  o.log_x = o.log_y = true;
+  auto chart = makeXyChart(series, o);
+  const auto lines = seriesOf<QLineSeries>(*chart);
+  std::vector<QLineSeries*> plain;
+  for (auto* l : lines)
+    if (!qobject_cast<QScatterSeries*>(l)) plain.push_back(l);
+  ASSERT_EQ(plain.size(), 2u);
+  EXPECT_EQ(plain[0]->count(), 3);  // (0, 1) has x = 0
+  EXPECT_EQ(plain[1]->count(), 1);  // (3, -1) has y < 0
+  EXPECT_EQ(legendNames(*chart), (std::vector<std::string>{"a vs model", "b vs physical"}));
+  auto* x = qobject_cast<QLogValueAxis*>(chart->axes(Qt::Horizontal).front());
+  auto* y = qobject_cast<QLogValueAxis*>(yAxisOf(*chart));
+  ASSERT_NE(x, nullptr);
+  ASSERT_NE(y, nullptr);
+  EXPECT_LT(x->min(), 1.0);
+  EXPECT_GT(x->max(), 6.0);
+  EXPECT_LT(y->min(), 2.5);
+  EXPECT_GT(y->max(), 20.0);
+  EXPECT_EQ(x->titleText().toStdString(), "ms");
+
+  const fs::path png = tempFile("xy.png");
+  fs::remove(png);
+  o.width = 500;
+  o.height = 300;
+  writeXyPlot(png.string(), series, o);
+  QImage image;
+  ASSERT_TRUE(image.load(QString::fromStdString(png.string()), "png"));
+  EXPECT_EQ(image.size(), QSize(500, 300));
+  EXPECT_GT(countNear(image, QColor(0x00, 0x72, 0xB2), 40), 50);  // first series' colour
+  EXPECT_THROW(writeXyPlot(tempFile("xy.jpg").string(), series, o), ParameterError);
+}
+
+}  // namespace
+}  // namespace translucent::plot

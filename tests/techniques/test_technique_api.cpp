@@ -84,6 +84,24 @@ TEST(Registry, MakesTechniquesByNameAndListsValidNames) {
   }
 }
 
+// `translucent compare --sweep` renders every sweep value: each must be a valid value of a
+// numeric parameter, and every technique declares a quality parameter to sweep.
+TEST(Registry, SweepValuesAreValidAndEveryTechniqueHasOne) {
+  for (const std::string& name : names()) {
+    const auto t = make(name);
+    int swept = 0;
+    for (const auto& p : t->parameters()) {
+      if (p.sweep.empty()) continue;
+      ++swept;
+      EXPECT_TRUE(p.type == ParameterType::Float || p.type == ParameterType::Int)
+          << name << "." << p.name;
+      EXPECT_GE(p.sweep.size(), 3u) << name << "." << p.name;
+      for (double v : p.sweep) EXPECT_NO_THROW((void)checkedValue(p, v)) << name << "." << p.name << " = " << v;
+    }
+    EXPECT_GE(swept, 1) << name;
+  }
+}
+
 // The point-cloud technique offers both exit-radiance conventions of seed Eq. 2.16 as an enum
 // descriptor (so the CLI and the explorer list them), from a scene's technique settings too, and
 // rejects anything else naming the valid values. The empirical shader derives no radiance from an

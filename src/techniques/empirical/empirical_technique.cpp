@@ -53,7 +53,10 @@ std::vector<ParameterInfo> parameterInfos() {
                               "diffuse weight K_b added to K_d in the backlight (Eq. 3.10; "
                               "Table 4.3 d)"),
       ParameterInfo::boolean("smoothing", true, "smooth the back depth (appendix C, Eq. C.1)"),
-      ParameterInfo::integer("kernel_size", 5, 1, 15, "smoothing window k × k (odd)", "texels"),
+      // The only per-frame cost/quality knob (AO rays are precomputed and cached): the shade
+      // pass reads k² back-depth texels per pixel (Eq. C.1).
+      ParameterInfo::integer("kernel_size", 5, 1, 15, "smoothing window k × k (odd)", "texels")
+          .withSweep({1, 3, 5, 9, 15}),
       ParameterInfo::floating("sigma", 1.0, 0.1, 8.0, "Gaussian σ of the smoothing", "texels"),
       ParameterInfo::floating("smoothing_threshold", 0.1, 1e-4, 10.0,
                               "back-depth deviation at which a neighbour's weight reaches 0 "

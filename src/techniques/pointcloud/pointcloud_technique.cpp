@@ -70,7 +70,9 @@ std::vector<ParameterInfo> parameterInfos() {
       ParameterInfo::floating("epsilon", kDefaultEpsilon, 1e-4, 100.0,
                               "largest solid angle A_v/d² a cluster may span before it is "
                               "subdivided (Eq. 2.40; smaller is more accurate and slower)",
-                              "sr", true),
+                              "sr", true)
+          // The traversal's accuracy/time knob (seed 2.6.4): each halving opens more nodes.
+          .withSweep({0.8, 0.4, 0.2, 0.1, 0.05, 0.025}),
       ParameterInfo::enumeration("criterion", "bbox", {"bbox", "centroid"},
                                  "distance d of the criterion: to the node's bounding box "
                                  "(conservative, seed 2.6.4) or to its centroid (Jensen & Buhler)"),

@@ -1,0 +1,408 @@
+// translucent compare: a scene rendered with real-time techniques on the GPU and compared with
+// two references (analysis/compare.h): the volumetric path tracer (physical) and the scene's
+// BSSRDF integrated over the whole surface (model). Technique vs model is the technique's own
+// error, model vs physical the model's, technique vs physical the total; for the exitance B (when
+// the technique has it), the diffusion radiance L and the true (cone-averaged) radiance. Writes a
+// self-contained report folder (analysis/report.h): index.html, report.json, EXRs and PNGs.
+//
+// This file does the GPU part (headless context, techniques, frame timing, the sweep) and the
+// sweep's plot (Qt Charts); the references, their cache, the masks, the metrics and the report
+// are library code in src/analysis.
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <ctime>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <optional>
+#include <set>
+
+#include "analysis/report.h"
+#include "commands.h"
+#include "gpu/context.h"
+#include "options.h"
+#include "plot/profile_plot.h"
+#include "progress.h"
+#include "scene/scene.h"
+#include "techniques/registry.h"
+
+namespace translucent::cli {
+namespace {
+namespace fs = std::filesystem;
+using analysis::PassStat;
+using analysis::PairMetrics;
+
+struct CompareArgs {
+  std::string scene;
+  std::string techniques = "all";
+  std::string references = "physical,model";
+  std::string photons = "1e6", samples = "200000";
+  int subpixels = 1;  // pixel centres, as the techniques shade them
+  bool sweep = false;
+  std::string out = "compare-report";
+  bool force = false;
+  std::string cache;  // "" : the default folder
+  bool no_cache = false;
+  uint64_t seed = 1;
+  int threads = 0;
+  std::optional<int> width, height;
+  int frames = 5, warmup = 2;
+};
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+// The technique's radiance convention: its `radiance_convention` parameter, else Jensen (the
+// techniques without one compute no radiance from an exitance, or compute Ft B / π).
+bssrdf::ExitConvention conventionOf(const techniques::Technique& t) {
+  for (const auto& p : t.parameters())
+    if (p.name == "radiance_convention")
+      return bssrdf::parseExitConvention(std::get<std::string>(t.parameter(p.name)));
+  return bssrdf::ExitConvention::Jensen;
+}
+
+// One converged frame read back (the images), then `warmup` + `frames` frames kept on the GPU
+// (read-back stalls the pipeline, techniques/technique.h), of which the last `frames` are timed.
+struct Rendered {
+  analysis::TechniqueImages images;
+  std::vector<PassStat> passes;
+  double frame_ms = 0.0;
+  std::vector<std::string> notes;
+};
+
+Rendered renderTimed(techniques::Technique& t, const scene::Scene& s, int warmup, int frames) {
+  Rendered r;
+  techniques::FrameRequest request;
+  request.converge = true;
+  techniques::Frame f = t.render(request);
+  r.notes = f.notes;
+  if (f.width != s.camera.width || f.height != s.camera.height)
+    throw std::runtime_error(fmt::format("technique {} rendered {}x{}: expected the camera's {}x{}",
+                                         t.name(), f.width, f.height, s.camera.width,
+                                         s.camera.height));
+  r.images.name = std::string(t.name());
+  r.images.convention = conventionOf(t);
+  r.images.radiance = {f.width, f.height, std::move(f.rgb), {}};
+  if (auto it = f.layers.find("exitance"); it != f.layers.end())
+    r.images.exitance = {f.width, f.height, std::move(it->second), {}};
+  request.readback = false;
+  std::vector<double> totals;
+  std::vector<std::pair<std::string, int>> order;  // passes in frame order
+  std::map<std::pair<std::string, int>, std::vector<double>> times;
+  for (int k = 0; k < warmup + frames; ++k) {
+    const techniques::Frame g = t.render(request);
+    if (k < warmup) continue;
+    totals.push_back(g.totalMs());
+    for (const auto& p : g.passes) {
+      const auto key = std::make_pair(p.name, p.depth);
+      if (!times.contains(key)) order.push_back(key);
+      times[key].push_back(p.ms);
+    }
+  }
+  r.frame_ms = median(totals);
+  for (const auto& key : order) {
+    const auto& v = times[key];
+    r.passes.push_back({key.first, key.second, median(v), *std::min_element(v.begin(), v.end()),
+                        *std::max_element(v.begin(), v.end())});
+  }
+  return r;
+}
+
+std::vector<std::string> techniqueList(const std::string& text) {
+  const std::vector<std::string> all = techniques::names();
+  if (text == "all") return all;
+  std::vector<std::string> out;
+  for (const std::string& n : splitList(text)) {
+    if (std::find(all.begin(), all.end(), n) == all.end())
+      throw ParameterError(fmt::format("--techniques '{}': unknown technique '{}': valid techniques "
+                                       "are {} (or all)", text, n, fmt::join(all, ", ")));
+    if (std::find(out.begin(), out.end(), n) == out.end()) out.push_back(n);
+  }
+  if (out.empty())
+    throw ParameterError(fmt::format("--techniques '{}': expected a list of techniques or all", text));
+  return out;
+}
+
+std::string quoted(const std::string& s) {
+  if (!s.empty() && s.find_first_of(" \t'\"\\$`;&|<>()*?") == std::string::npos) return s;
+  std::string q = "'";
+  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+std::string utcNow() {
+  const std::time_t now = std::time(nullptr);
+  std::tm tm{};
+  gmtime_r(&now, &tm);
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return buf;
+}
+
+void runCompare(const CompareArgs& a) {
+  // ---- Options -----------------------------------------------------------------------------
+  const std::vector<std::string> names = techniqueList(a.techniques);
+  std::vector<analysis::ReferenceKind> kinds;
+  for (const std::string& k : splitList(a.references)) {
+    const auto kind = analysis::parseReferenceKind(k, "--reference");
+    if (std::find(kinds.begin(), kinds.end(), kind) == kinds.end()) kinds.push_back(kind);
+  }
+  if (kinds.empty())
+    throw ParameterError(fmt::format("--reference '{}': expected physical, model or both",
+                                     a.references));
+  const uint64_t photons = parseCount(a.photons, "--photons");
+  const uint64_t samples = parseCount(a.samples, "--samples");
+  if (a.subpixels < 1 || a.subpixels > 16)
+    throw ParameterError(fmt::format("--subpixels {}: expected 1 to 16", a.subpixels));
+  if (a.frames < 1) throw ParameterError(fmt::format("--frames {}: expected at least 1", a.frames));
+  if (a.warmup < 0) throw ParameterError(fmt::format("--warmup {}: expected 0 or more", a.warmup));
+  if (a.threads < 0) throw ParameterError(fmt::format("--threads {}: expected >= 0", a.threads));
+  if (!a.cache.empty() && a.no_cache)
+    throw ParameterError("--cache and --no-cache: expected one of them");
+
+  scene::Scene s = a.scene.empty() ? scene::defaultScene() : scene::loadScene(a.scene);
+  if (a.width) s.camera.width = *a.width;
+  if (a.height) s.camera.height = *a.height;
+  s.camera.validate();
+  const fs::path out = fs::absolute(a.out);
+  const fs::path cacheDir = a.no_cache ? fs::path()
+                            : a.cache.empty() ? analysis::defaultReferenceCacheDirectory()
+                                              : fs::absolute(a.cache);
+  analysis::prepareReportDirectory(out, a.force, cacheDir, "--out");
+  const geometry::TriangleMesh mesh = scene::loadSceneMesh(s);
+
+  analysis::CompareReport report;
+  report.scene_file = a.scene;
+  report.scene = s;
+  report.version = "translucent 0.1.0";
+  report.created = utcNow();
+  report.cache_dir = cacheDir;
+  std::string cmd = "translucent compare";
+  if (!a.scene.empty()) cmd += " " + quoted(fs::absolute(a.scene).string());
+  cmd += fmt::format(" --techniques {} --reference {} --photons {} --samples {} --subpixels {} "
+                     "--seed {} --width {} --height {} --frames {} --warmup {}{} --out {}",
+                     fmt::join(names, ","), quoted(a.references), photons, samples, a.subpixels,
+                     a.seed, s.camera.width, s.camera.height, a.frames, a.warmup,
+                     a.sweep ? " --sweep" : "", quoted(out.string()));
+  if (a.no_cache) cmd += " --no-cache";
+  else if (!a.cache.empty()) cmd += " --cache " + quoted(cacheDir.string());
+  report.command = cmd;
+  report.settings = {{"techniques", fmt::format("{}", fmt::join(names, ","))},
+                     {"reference", a.references},
+                     {"photons_per_channel", std::to_string(photons)},
+                     {"samples", std::to_string(samples)},
+                     {"subpixels", std::to_string(a.subpixels)},
+                     {"seed", std::to_string(a.seed)},
+                     {"threads", std::to_string(a.threads)},
+                     {"width", std::to_string(s.camera.width)},
+                     {"height", std::to_string(s.camera.height)},
+                     {"frames", std::to_string(a.frames)},
+                     {"warmup", std::to_string(a.warmup)},
+                     {"sweep", a.sweep ? "true" : "false"},
+                     {"cache", a.no_cache ? "off" : cacheDir.string()},
+                     {"out", out.string()}};
+
+  // ---- References --------------------------------------------------------------------------
+  InterruptGuard guard;
+  const std::optional<analysis::ReferenceCache> cache =
+      a.no_cache ? std::nullopt : std::optional<analysis::ReferenceCache>(cacheDir);
+  for (const auto kind : kinds) {
+    if (InterruptGuard::interrupted()) {
+      report.notes.push_back(fmt::format("{} reference skipped (Ctrl-C)", toString(kind)));
+      report.partial = true;
+      continue;
+    }
+    analysis::ReferenceRequest req;
+    req.kind = kind;
+    req.count = kind == analysis::ReferenceKind::Physical ? photons : samples;
+    req.seed = a.seed;
+    req.threads = a.threads;
+    req.subpixels = a.subpixels;
+    const bool physical = kind == analysis::ReferenceKind::Physical;
+    ProgressBar bar(fmt::format("compare: {} reference", toString(kind)),
+                    physical ? "photons" : "pixels");
+    fmt::print(stderr, "{} reference ({} {}):\n", toString(kind), req.count,
+               physical ? "photons per channel" : "surface samples");
+    analysis::Reference ref = analysis::cachedReference(
+        s, mesh, req, cache ? &*cache : nullptr, [&](const reference::TraceProgress& p) {
+          return bar(p);
+        });
+    bar.end();
+    const std::string what =
+        ref.from_cache ? fmt::format("reused from the cache: {} (computed in {:.2f} s)",
+                                     ref.cache_file.string(), ref.seconds)
+                       : fmt::format("computed in {:.2f} s{}; {}", ref.seconds,
+                                     ref.partial ? " (stopped early: partial)" : "",
+                                     ref.cache_file.empty() ? (ref.cache_note.empty()
+                                                                   ? std::string("not cached")
+                                                                   : ref.cache_note)
+                                                            : "cached as " + ref.cache_file.string());
+    fmt::print(stderr, "{} reference: {}\n", toString(kind), what);
+    report.notes.push_back(fmt::format("{} reference: {}", toString(kind), what));
+    report.partial = report.partial || ref.partial;
+    report.references.push_back(std::move(ref));
+  }
+  std::span<const float> coverage;
+  for (const auto& r : report.references)
+    if (r.kind == analysis::ReferenceKind::Model) coverage = r.coverage;
+  report.masks = analysis::compareMasks(s, mesh, coverage);
+  const double eta = s.medium.eta;
+  analysis::MetricOptions display;
+  display.exposure = s.exposure;
+  display.gamma = s.gamma;
+
+  // ---- Techniques --------------------------------------------------------------------------
+  // The context first: the techniques' GL objects must be deleted while it is alive.
+  gpu::Context gl;
+  report.gpu = fmt::format("{} ({})", gl.info().renderer, gl.info().version);
+  std::set<bssrdf::ExitConvention> conventions;
+  std::vector<plot::XySeries> sweepSeries;
+  for (const std::string& name : names) {
+    std::unique_ptr<techniques::Technique> t = techniques::make(name);
+    // The scene's settings belong to the scene's technique; the others run at their defaults.
+    if (name == s.technique) techniques::applySettings(*t, s);
+    fmt::print(stderr, "{}: preparing on {}\n", name, report.gpu);
+    t->prepare(s, gl);
+    Rendered r = renderTimed(*t, s, a.warmup, a.frames);
+    fmt::print(stderr, "  frame {:.3f} ms (median of {}), L by the {} convention{}\n", r.frame_ms,
+               a.frames, toString(r.images.convention),
+               r.images.exitance.empty() ? ", no exitance" : "");
+    conventions.insert(r.images.convention);
+    const auto rows = analysis::techniqueMetrics(r.images, report.references, eta, report.masks,
+                                                 display);
+    report.metrics.insert(report.metrics.end(), rows.begin(), rows.end());
+
+    analysis::TechniqueRun run;
+    run.description = techniques::description(name);
+    for (const auto& p : t->parameters())
+      run.parameters.emplace_back(p.name, techniques::toString(t->parameter(p.name)));
+    run.passes = r.passes;
+    run.frame_ms = r.frame_ms;
+    run.timed_frames = a.frames;
+    run.warmup_frames = a.warmup;
+    run.notes = r.notes;
+    run.images = std::move(r.images);
+
+    // The sweep: each quality parameter over its values (the others as above), then restored.
+    if (a.sweep && !InterruptGuard::interrupted()) {
+      for (const auto& p : t->parameters()) {
+        if (p.sweep.empty()) continue;
+        const techniques::ParameterValue keep = t->parameter(p.name);
+        std::map<std::string, plot::XySeries> series;  // per reference
+        for (double v : p.sweep) {
+          t->setParameter(p.name, v);
+          Rendered sr = renderTimed(*t, s, a.warmup, a.frames);
+          analysis::SweepPoint point{name, p.name, v, sr.frame_ms,
+                                     analysis::techniqueMetrics(sr.images, report.references, eta,
+                                                                report.masks, display)};
+          fmt::print(stderr, "  sweep {} = {:g}: {:.3f} ms\n", p.name, v, sr.frame_ms);
+          for (const PairMetrics& m : point.metrics) {
+            if (m.quantity != "radiance") continue;
+            auto& xy = series[m.reference];
+            xy.label = fmt::format("{} {} vs {}", name, p.name, m.reference);
+            xy.x.push_back(sr.frame_ms);
+            xy.y.push_back(100.0 * m.metrics.rel_rmse);
+          }
+          report.sweep.push_back(std::move(point));
+        }
+        t->setParameter(p.name, keep);
+        for (auto& [ref, xy] : series) sweepSeries.push_back(std::move(xy));
+      }
+    }
+    report.techniques.push_back(std::move(run));
+  }
+  if (conventions.empty()) conventions.insert(bssrdf::ExitConvention::Jensen);
+  for (const auto conv : conventions) {
+    const auto rows = analysis::modelMetrics(report.references, conv, eta, report.masks, display);
+    report.metrics.insert(report.metrics.end(), rows.begin(), rows.end());
+  }
+  if (a.sweep && InterruptGuard::interrupted()) report.notes.push_back("sweep skipped (Ctrl-C)");
+
+  // ---- Report ------------------------------------------------------------------------------
+  if (!sweepSeries.empty()) {
+    plot::XyPlotOptions o;
+    o.title = "Radiance error against GPU frame time (sweep of each quality parameter)";
+    o.x_label = "GPU time per frame [ms]";
+    o.y_label = "relative RMSE of L, noise-aware [%]";
+    o.log_x = o.log_y = true;
+    o.width = 1200;
+    o.height = 750;
+    plot::writeXyPlot((out / "sweep.png").string(), sweepSeries, o);
+    report.figures.push_back(
+        {"sweep.png", "Noise-aware relative RMSE of the radiance L (interior pixels) against the "
+                      "median GPU frame time, one point per value of each technique's quality "
+                      "parameter; vs model: the technique's own error, vs physical: the total."});
+  }
+  const auto files = analysis::writeReport(out, report);
+  fmt::print("{:<12} {:<9} {:<14} {:>10} {:>10} {:>8} {:>8}\n", "test", "reference", "quantity",
+             "relRMSE", "bias", "SSIM", "FLIP");
+  for (const PairMetrics& m : report.metrics)
+    fmt::print("{:<12} {:<9} {:<14} {:>9.2f}% {:>+9.2f}% {:>8.4f} {:>8.4f}\n", m.test,
+               m.reference, m.quantity, 100.0 * m.metrics.rel_rmse, 100.0 * m.metrics.bias,
+               m.metrics.ssim, m.metrics.flip);
+  for (const auto& t : report.techniques)
+    fmt::print("{}: {:.3f} ms per frame (GPU, median of {})\n", t.images.name, t.frame_ms,
+               t.timed_frames);
+  fmt::print("wrote {} ({} files){}\n", (out / "index.html").string(), files.size(),
+             report.partial ? " (partial: stopped early)" : "");
+}
+
+}  // namespace
+
+void addCompareCommand(CLI::App& app) {
+  auto a = std::make_shared<CompareArgs>();
+  auto* cmd = app.add_subcommand(
+      "compare", "Compare real-time techniques with the physical (path-traced) and model "
+                 "(integrated BSSRDF) references of a scene: errors of B, L and the true "
+                 "radiance, GPU times, an HTML/JSON report with images and error maps");
+  cmd->add_option("scene", a->scene, "Scene file (JSON, see README); omitted: the built-in bunny");
+  cmd->add_option("--techniques", a->techniques,
+                  fmt::format("Techniques to compare, comma-separated: {} or all",
+                              fmt::join(techniques::names(), ", ")))
+      ->capture_default_str();
+  cmd->add_option("--reference", a->references,
+                  "References: physical (volumetric path tracing), model (the scene's BSSRDF "
+                  "integrated over the surface), or both, comma-separated")
+      ->capture_default_str();
+  cmd->add_option("--photons", a->photons, "Physical reference: photons per channel (e.g. 1e6)")
+      ->capture_default_str();
+  cmd->add_option("--samples", a->samples, "Model reference: surface samples (e.g. 2e5)")
+      ->capture_default_str();
+  cmd->add_option("--subpixels", a->subpixels,
+                  "Model reference: camera rays per pixel per axis (strata centres). 1: the pixel "
+                  "centre, where the techniques shade, so that technique vs model carries no "
+                  "pixel-filter difference; more: pixel averages like the physical reference")
+      ->capture_default_str();
+  cmd->add_flag("--sweep", a->sweep,
+                "Also render each technique's quality parameter over its sweep values and plot "
+                "error against GPU time (pointcloud: epsilon; empirical: kernel_size)");
+  cmd->add_option("--out", a->out, "Report folder (created; a previous report there is replaced)")
+      ->capture_default_str();
+  cmd->add_flag("--force", a->force,
+                "Write into --out even when it holds files that are not a previous report");
+  cmd->add_option("--cache", a->cache,
+                  "Reference cache folder (default: $TRANSLUCENT_CACHE_DIR, $XDG_CACHE_HOME/"
+                  "translucent or ~/.cache/translucent, then references/)");
+  cmd->add_flag("--no-cache", a->no_cache, "Neither read nor store cached references");
+  cmd->add_option("--seed", a->seed, "Seed of both references (same seed: same images on any "
+                                     "thread count)")->capture_default_str();
+  cmd->add_option("--threads", a->threads, "Reference worker threads (0: all cores)")
+      ->capture_default_str();
+  cmd->add_option("--width", a->width, "Image width [pixels] (default: the scene camera's)");
+  cmd->add_option("--height", a->height, "Image height [pixels] (default: the scene camera's)");
+  cmd->add_option("--frames", a->frames, "Timed frames per technique (the median is reported)")
+      ->capture_default_str();
+  cmd->add_option("--warmup", a->warmup, "Untimed frames before the timed ones")
+      ->capture_default_str();
+  cmd->callback([a] { runCompare(*a); });
+}
+
+}  // namespace translucent::cli

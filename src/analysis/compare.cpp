@@ -1,0 +1,438 @@
+#include "analysis/compare.h"
+
+#include <fmt/format.h>
+#include <openssl/evp.h>
+#include <tbb/parallel_for.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "analysis/image_io.h"
+#include "bssrdf/bssrdf_file.h"
+#include "bssrdf/registry.h"
+#include "geometry/point_cloud.h"  // defaultCacheDirectory
+#include "geometry/ray_scene.h"
+#include "reference/camera.h"
+#include "reference/mesh_tracer.h"
+#include "reference/model_reference.h"
+
+namespace translucent::analysis {
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+CompareImage CompareImage::scaled(double factor) const {
+  CompareImage out = *this;
+  for (float& v : out.rgb) v = static_cast<float>(static_cast<double>(v) * factor);
+  for (float& v : out.se) v = static_cast<float>(static_cast<double>(v) * std::abs(factor));
+  return out;
+}
+
+const char* toString(ReferenceKind kind) {
+  return kind == ReferenceKind::Physical ? "physical" : "model";
+}
+
+ReferenceKind parseReferenceKind(const std::string& name, const std::string& option) {
+  if (name == "physical") return ReferenceKind::Physical;
+  if (name == "model") return ReferenceKind::Model;
+  throw ParameterError(
+      fmt::format("{} '{}': expected physical or model (or a list of them)", option, name));
+}
+
+CompareImage Reference::radianceFor(bssrdf::ExitConvention convention, double eta) const {
+  if (convention == bssrdf::ExitConvention::Jensen) return radiance;
+  // Eq. 2.16's normalisation 1/(4C_φ(1/η)), a constant of η (exit_radiance.h).
+  return radiance.scaled(bssrdf::exitConventionScale(convention, eta));
+}
+
+// ---- Cache keys ----------------------------------------------------------------------------
+
+namespace {
+
+std::string sha256Hex(std::string_view data) {
+  unsigned char md[EVP_MAX_MD_SIZE];
+  unsigned int len = 0;
+  if (EVP_Digest(data.data(), data.size(), md, &len, EVP_sha256(), nullptr) != 1)
+    throw std::runtime_error("SHA-256 of a reference key failed (OpenSSL EVP_Digest)");
+  std::string hex;
+  for (unsigned int i = 0; i < len; ++i) hex += fmt::format("{:02x}", md[i]);
+  return hex;
+}
+
+std::string readFileBytes(const fs::path& path, const std::string& what) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) throw ParameterError(fmt::format("{} '{}': cannot read the file", what, path.string()));
+  std::ostringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+}  // namespace
+
+std::string referenceKeyText(const scene::Scene& scene, const ReferenceRequest& request) {
+  json j;
+  // The scene as the references see it: the technique and display settings change neither.
+  json s = json::parse(scene::toJson(scene));
+  s.erase("technique");
+  s.erase("display");
+  // The same file by any path (relative to another working directory, through links).
+  std::error_code ec;
+  const fs::path canonical = fs::weakly_canonical(scene.mesh_file, ec);
+  if (!ec && s.contains("mesh")) s["mesh"]["file"] = canonical.string();
+  j["scene"] = s;
+  // The coefficients themselves: toJson writes a preset by name, and a caller may have changed
+  // the medium behind it.
+  const Medium& m = scene.medium;
+  j["medium"] = {{"sigma_a", {m.sigma_a[0], m.sigma_a[1], m.sigma_a[2]}},
+                 {"sigma_s", {m.sigma_s[0], m.sigma_s[1], m.sigma_s[2]}},
+                 {"g", m.g}, {"eta", m.eta}, {"scale", m.scale}};
+  j["mesh_sha256"] = sha256Hex(readFileBytes(scene.mesh_file, "mesh file"));
+  j["kind"] = toString(request.kind);
+  j["count"] = request.count;
+  j["seed"] = request.seed;
+  if (request.kind == ReferenceKind::Model) j["subpixels"] = request.subpixels;
+  j["stored_convention"] = "jensen";
+  j["code_version"] = kReferenceCodeVersion;
+  return j.dump();  // objects are ordered by key: canonical
+}
+
+std::string referenceKey(const scene::Scene& scene, const ReferenceRequest& request) {
+  return sha256Hex(referenceKeyText(scene, request));
+}
+
+// ---- Cache ---------------------------------------------------------------------------------
+
+fs::path defaultReferenceCacheDirectory() {
+  return geometry::defaultCacheDirectory() / "references";
+}
+
+fs::path ReferenceCache::fileFor(ReferenceKind kind, const std::string& key) const {
+  return dir_ / fmt::format("{}-{}.exr", toString(kind), key);
+}
+
+namespace {
+
+// The images of a reference as EXR layers (base RGB: the exitance).
+struct Layers {
+  std::vector<std::string> names;
+  std::vector<const std::vector<float>*> data;
+  std::vector<float> coverage_rgb;
+};
+
+Layers layersOf(const Reference& r) {
+  Layers l;
+  auto add = [&](const std::string& name, const std::vector<float>& v) {
+    if (v.empty()) return;
+    l.names.push_back(name);
+    l.data.push_back(&v);
+  };
+  add("exitance_stderr", r.exitance.se);
+  add("radiance", r.radiance.rgb);
+  add("radiance_stderr", r.radiance.se);
+  add("cone_radiance", r.cone_radiance.rgb);
+  add("cone_radiance_stderr", r.cone_radiance.se);
+  if (!r.coverage.empty()) {
+    for (float c : r.coverage) l.coverage_rgb.insert(l.coverage_rgb.end(), {c, c, c});
+    l.names.push_back("coverage");
+    l.data.push_back(&l.coverage_rgb);
+  }
+  return l;
+}
+
+}  // namespace
+
+void writeReferenceExr(const fs::path& path, const Reference& r, const std::string& source) {
+  const Layers l = layersOf(r);
+  std::vector<ExrLayer> layers;
+  for (size_t i = 0; i < l.names.size(); ++i) layers.push_back({l.names[i], *l.data[i]});
+  const std::pair<std::string, std::string> attrs[] = {
+      {"translucent:quantity", "radiant exitance B (RGB); layers: radiance Ft B / pi (Jensen), "
+                               "cone_radiance (physical), <layer>_stderr, coverage (model)"},
+      {"translucent:reference", toString(r.kind)},
+      {"translucent:source", source},
+      {"translucent:key", r.key},
+      {"translucent:partial", r.partial ? "true" : "false"}};
+  writeExr(path.string(), r.exitance.width, r.exitance.height, r.exitance.rgb, layers, attrs);
+}
+
+std::optional<Reference> ReferenceCache::load(ReferenceKind kind, const std::string& key,
+                                              int width, int height, std::string* note) const {
+  const fs::path exr = fileFor(kind, key);
+  fs::path meta = exr;
+  meta.replace_extension(".json");
+  std::error_code ec;
+  if (!fs::exists(meta, ec)) return std::nullopt;
+  auto fail = [&](const std::string& why) -> std::optional<Reference> {
+    if (note) *note = fmt::format("cache entry '{}' {}; recomputed", exr.string(), why);
+    return std::nullopt;
+  };
+  try {
+    std::ifstream f(meta);
+    const json j = json::parse(f);
+    if (j.at("key").get<std::string>() != key || j.at("kind").get<std::string>() != toString(kind))
+      return fail("does not match its name");
+    const LayeredImage img = readExrLayers(exr.string());
+    if (img.width != width || img.height != height) return fail("has another image size");
+    Reference r;
+    r.kind = kind;
+    r.key = key;
+    r.from_cache = true;
+    r.cache_file = exr;
+    r.count_done = j.at("count_done").get<uint64_t>();
+    r.seconds = j.at("seconds").get<double>();
+    r.request.kind = kind;
+    r.request.count = j.at("count").get<uint64_t>();
+    r.request.seed = j.at("seed").get<uint64_t>();
+    r.request.subpixels = j.value("subpixels", 2);
+    auto image = [&](const std::string& name, const std::string& se) {
+      CompareImage c;
+      c.width = width;
+      c.height = height;
+      c.rgb = name.empty() ? img.rgb : img.layers.at(name);
+      c.se = img.layers.at(se);
+      return c;
+    };
+    r.exitance = image("", "exitance_stderr");
+    r.radiance = image("radiance", "radiance_stderr");
+    if (kind == ReferenceKind::Physical) r.cone_radiance = image("cone_radiance", "cone_radiance_stderr");
+    if (kind == ReferenceKind::Model) {
+      const auto& c = img.layers.at("coverage");
+      for (size_t i = 0; i < c.size(); i += 3) r.coverage.push_back(c[i]);
+    }
+    return r;
+  } catch (const std::exception& e) {
+    return fail(fmt::format("is unreadable ({})", e.what()));
+  }
+}
+
+void ReferenceCache::store(Reference& r) const {
+  if (r.partial) {
+    r.cache_note = "partial (stopped early): not cached";
+    return;
+  }
+  const fs::path exr = fileFor(r.kind, r.key);
+  fs::path meta = exr;
+  meta.replace_extension(".json");
+  // Temporary names keep the extension (OpenImageIO picks the format by it).
+  const std::string tag = fmt::format(".tmp{}", static_cast<long>(getpid()));
+  const fs::path tmpExr = dir_ / (exr.stem().string() + tag + ".exr");
+  const fs::path tmpMeta = dir_ / (meta.stem().string() + tag + ".json");
+  std::error_code ec;
+  fs::create_directories(dir_, ec);
+  try {
+    writeReferenceExr(tmpExr, r, "translucent compare (reference cache)");
+    json j = {{"key", r.key},         {"kind", toString(r.kind)},
+              {"count", r.request.count}, {"count_done", r.count_done},
+              {"seed", r.request.seed},   {"seconds", r.seconds},
+              {"width", r.exitance.width}, {"height", r.exitance.height},
+              {"code_version", kReferenceCodeVersion}};
+    if (r.kind == ReferenceKind::Model) j["subpixels"] = r.request.subpixels;
+    {
+      std::ofstream f(tmpMeta);
+      f << j.dump(2) << "\n";
+      if (!f) throw ImageError(fmt::format("cannot write '{}'", tmpMeta.string()));
+    }
+    // The .json is renamed last: a reader never sees it beside a missing or partial .exr.
+    fs::rename(tmpExr, exr);
+    fs::rename(tmpMeta, meta);
+    r.cache_file = exr;
+  } catch (const std::exception& e) {
+    fs::remove(tmpExr, ec);
+    fs::remove(tmpMeta, ec);
+    r.cache_note = fmt::format("not cached: {}", e.what());
+  }
+}
+
+// ---- Computing references ------------------------------------------------------------------
+
+namespace {
+
+CompareImage fromMc(const reference::McImage& m) {
+  return {m.width(), m.height(), m.rgb(), m.rgbStdError()};
+}
+
+}  // namespace
+
+Reference computeReference(const scene::Scene& scene, const geometry::TriangleMesh& mesh,
+                           const ReferenceRequest& request,
+                           const reference::ProgressCallback& progress) {
+  if (request.count < 1)
+    throw ParameterError(fmt::format("{} reference: count is 0: expected at least 1",
+                                     toString(request.kind)));
+  Reference r;
+  r.kind = request.kind;
+  r.request = request;
+  r.key = referenceKey(scene, request);
+  const std::vector<reference::Light> lights = scene::referenceLights(scene);
+  if (request.kind == ReferenceKind::Physical) {
+    reference::MeshPathTracer tracer(mesh, scene.medium, lights, scene.camera, scene.cone_angle,
+                                     {request.seed, request.threads});
+    const reference::TransportStats st = tracer.addPass(request.count, progress);
+    r.exitance = fromMc(tracer.images().exitance);
+    r.radiance = fromMc(tracer.images().radiance);
+    r.cone_radiance = fromMc(tracer.images().cone_radiance);
+    r.count_done = st.photons.empty() ? 0 : st.photons[0];
+    r.seconds = st.seconds;
+    r.partial = st.partial;
+    return r;
+  }
+  if (bssrdf::hasBssrdfExtension(scene.model))
+    throw ParameterError(fmt::format(
+        "--reference model: the scene's model is the .bssrdf file '{}'; the model reference "
+        "integrates a registered model ({})", scene.model, fmt::join(bssrdf::modelNames(), ", ")));
+  reference::ModelReferenceOptions o;
+  o.samples = request.count;
+  o.subpixels = request.subpixels;
+  o.seed = request.seed;
+  o.threads = request.threads;
+  o.convention = bssrdf::ExitConvention::Jensen;  // stored; Reference::radianceFor converts
+  const reference::ModelReferenceImages m = reference::renderModelReference(
+      mesh, scene.medium, bssrdf::model(scene.model), lights, scene.camera, o, progress);
+  r.exitance = {m.width, m.height, m.exitance, m.exitance_se};
+  r.radiance = {m.width, m.height, m.radiance, m.radiance_se};
+  r.coverage = m.coverage;
+  r.count_done = m.samples;
+  r.seconds = m.seconds;
+  r.partial = m.partial;
+  return r;
+}
+
+Reference cachedReference(const scene::Scene& scene, const geometry::TriangleMesh& mesh,
+                          const ReferenceRequest& request, const ReferenceCache* cache,
+                          const reference::ProgressCallback& progress) {
+  std::string note;
+  if (cache) {
+    const std::string key = referenceKey(scene, request);
+    if (auto hit = cache->load(request.kind, key, scene.camera.width, scene.camera.height, &note)) {
+      hit->request.threads = request.threads;
+      return std::move(*hit);
+    }
+  }
+  Reference r = computeReference(scene, mesh, request, progress);
+  if (cache) cache->store(r);
+  if (!note.empty()) r.cache_note = note + (r.cache_note.empty() ? "" : "; " + r.cache_note);
+  return r;
+}
+
+// ---- Masks ---------------------------------------------------------------------------------
+
+std::vector<uint8_t> interiorMask(const geometry::TriangleMesh& mesh,
+                                  const reference::Camera& camera, int grid, double min_cos) {
+  if (grid < 1) throw ParameterError(fmt::format("mask grid is {}: expected >= 1", grid));
+  const geometry::RayScene rays(mesh, "compare mask");
+  const reference::CameraModel cam(camera);
+  const int w = camera.width, h = camera.height;
+  std::vector<uint8_t> mask(static_cast<size_t>(w) * static_cast<size_t>(h), 0);
+  tbb::parallel_for(0, h, [&](int y) {
+    for (int x = 0; x < w; ++x) {
+      bool inside = true;
+      for (int b = 0; b < grid && inside; ++b)
+        for (int a = 0; a < grid && inside; ++a) {
+          glm::dvec3 o, d;
+          cam.ray(x + (a + 0.5) / grid, y + (b + 0.5) / grid, o, d);
+          geometry::RayHit hit;
+          inside = rays.intersect(o, d, 0.0, std::numeric_limits<double>::infinity(), hit) &&
+                   (min_cos <= 0.0 || std::abs(glm::dot(hit.normal, d)) >= min_cos);
+        }
+      mask[static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x)] = inside;
+    }
+  });
+  return mask;
+}
+
+namespace {
+uint64_t countSet(const std::vector<uint8_t>& m) {
+  uint64_t n = 0;
+  for (uint8_t v : m) n += v != 0;
+  return n;
+}
+}  // namespace
+
+uint64_t Masks::interiorPixels() const { return countSet(interior); }
+uint64_t Masks::conePixels() const { return countSet(cone); }
+
+Masks compareMasks(const scene::Scene& scene, const geometry::TriangleMesh& mesh,
+                   std::span<const float> model_coverage) {
+  constexpr int kGrid = 4;
+  constexpr double kPi = 3.14159265358979323846;
+  Masks m;
+  m.interior = interiorMask(mesh, scene.camera, kGrid, 0.0);
+  // camera.h: the cone reaches below the horizon where the angle to the silhouette is < θc.
+  m.cone = interiorMask(mesh, scene.camera, kGrid, std::sin(scene.cone_angle * kPi / 180.0));
+  if (!model_coverage.empty()) {
+    if (model_coverage.size() != m.interior.size())
+      throw ParameterError(fmt::format("model reference coverage has {} pixels: expected {}",
+                                       model_coverage.size(), m.interior.size()));
+    for (size_t i = 0; i < m.interior.size(); ++i)
+      if (!(model_coverage[i] >= 1.0f)) m.interior[i] = m.cone[i] = 0;
+  }
+  return m;
+}
+
+// ---- Metrics -------------------------------------------------------------------------------
+
+Metrics compareImages(const CompareImage& test, const CompareImage& reference,
+                      std::span<const uint8_t> mask, const MetricOptions& display) {
+  if (test.width != reference.width || test.height != reference.height ||
+      test.rgb.size() != reference.rgb.size())
+    throw ParameterError(fmt::format("compare: test image {}x{} and reference {}x{} differ in size",
+                                     test.width, test.height, reference.width, reference.height));
+  if (!mask.empty() && mask.size() * 3 != reference.rgb.size())
+    throw ParameterError(fmt::format("compare: mask of {} pixels for a {}x{} image", mask.size(),
+                                     reference.width, reference.height));
+  MetricOptions o = display;
+  o.mask = mask;
+  return computeMetrics(test.ref(), reference.ref(), o);
+}
+
+namespace {
+
+void addRow(std::vector<PairMetrics>& rows, const std::string& test, const std::string& ref,
+            const std::string& quantity, const std::string& convention, const std::string& mask_name,
+            const CompareImage& t, const CompareImage& r, const std::vector<uint8_t>& mask,
+            const MetricOptions& display) {
+  rows.push_back({test, ref, quantity, convention, mask_name, compareImages(t, r, mask, display)});
+}
+
+}  // namespace
+
+std::vector<PairMetrics> techniqueMetrics(const TechniqueImages& t,
+                                          std::span<const Reference> references, double eta,
+                                          const Masks& masks, const MetricOptions& display) {
+  std::vector<PairMetrics> rows;
+  const std::string conv = bssrdf::toString(t.convention);
+  for (const Reference& r : references) {
+    const std::string ref = toString(r.kind);
+    if (!t.exitance.empty())
+      addRow(rows, t.name, ref, "exitance", "", "interior", t.exitance, r.exitance, masks.interior,
+             display);
+    addRow(rows, t.name, ref, "radiance", conv, "interior", t.radiance,
+           r.radianceFor(t.convention, eta), masks.interior, display);
+    if (r.kind == ReferenceKind::Physical)
+      addRow(rows, t.name, ref, "cone_radiance", conv, "interior_cone", t.radiance,
+             r.cone_radiance, masks.cone, display);
+  }
+  return rows;
+}
+
+std::vector<PairMetrics> modelMetrics(std::span<const Reference> references,
+                                      bssrdf::ExitConvention convention, double eta,
+                                      const Masks& masks, const MetricOptions& display) {
+  const Reference *model = nullptr, *physical = nullptr;
+  for (const Reference& r : references) (r.kind == ReferenceKind::Model ? model : physical) = &r;
+  if (!model || !physical) return {};
+  std::vector<PairMetrics> rows;
+  const std::string conv = bssrdf::toString(convention);
+  const CompareImage l = model->radianceFor(convention, eta);
+  addRow(rows, "model", "physical", "exitance", "", "interior", model->exitance, physical->exitance,
+         masks.interior, display);
+  addRow(rows, "model", "physical", "radiance", conv, "interior", l,
+         physical->radianceFor(convention, eta), masks.interior, display);
+  addRow(rows, "model", "physical", "cone_radiance", conv, "interior_cone", l,
+         physical->cone_radiance, masks.cone, display);
+  return rows;
+}
+
+}  // namespace translucent::analysis

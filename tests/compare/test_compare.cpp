@@ -1,0 +1,345 @@
+// `translucent compare`'s library (analysis/compare.h) on the cube scene at a few dozen pixels:
+// metrics that must come out of known inputs (a reference scaled by 1.1 is +10% biased; two
+// independent estimates of the same image agree within their noise), the reference cache (a
+// second request hits and gives the same numbers, a changed input misses), the masks and the
+// report folder's safety rules.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <fstream>
+
+#include "analysis/compare.h"
+#include "analysis/report.h"
+#include "bssrdf/exit_radiance.h"
+
+namespace translucent::analysis {
+namespace {
+namespace fs = std::filesystem;
+
+class TempDir {
+ public:
+  explicit TempDir(const std::string& tag)
+      : path_(fs::temp_directory_path() /
+              ("translucent_test_compare_" + tag + "_" + std::to_string(::getpid()))) {
+    fs::remove_all(path_);
+    fs::create_directories(path_);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+  }
+  const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+};
+
+scene::Scene cubeScene(int width = 32, int height = 24) {
+  scene::Scene s = scene::loadScene(TRANSLUCENT_CUBE_SCENE);
+  s.camera.width = width;
+  s.camera.height = height;
+  return s;
+}
+
+ReferenceRequest physical(uint64_t photons, uint64_t seed) {
+  ReferenceRequest r;
+  r.kind = ReferenceKind::Physical;
+  r.count = photons;
+  r.seed = seed;
+  r.threads = 2;
+  return r;
+}
+
+ReferenceRequest model(uint64_t samples, uint64_t seed) {
+  ReferenceRequest r;
+  r.kind = ReferenceKind::Model;
+  r.count = samples;
+  r.seed = seed;
+  r.threads = 2;
+  r.subpixels = 2;
+  return r;
+}
+
+// Both noise-aware statistics of two estimates of the same expected image must be within
+// 3.5 standard errors of zero (a two-sided 3.5σ band: a false failure once in ~2000 runs, and the
+// seeds are fixed).
+void expectAgreeWithinNoise(const Metrics& m, const std::string& what) {
+  SCOPED_TRACE(what);
+  ASSERT_GT(m.pixels, 100u);
+  ASSERT_GT(m.noise_mse_stderr, 0.0);
+  EXPECT_LT(std::abs(m.noise_mse), 3.5 * m.noise_mse_stderr)
+      << "noise_mse " << m.noise_mse << " ± " << m.noise_mse_stderr;
+  ASSERT_GT(m.bias_stderr, 0.0);
+  EXPECT_LT(std::abs(m.bias), 3.5 * m.bias_stderr) << "bias " << m.bias << " ± " << m.bias_stderr;
+  // The noise-aware error is far below the raw one: the difference is (almost) all noise.
+  EXPECT_LT(m.rel_rmse, 0.5 * m.rel_rmse_raw);
+}
+
+TEST(CompareMetrics, AReferenceScaledBy1p1HasTenPercentBias) {
+  const scene::Scene s = cubeScene();
+  const geometry::TriangleMesh mesh = scene::loadSceneMesh(s);
+  const Reference ref = computeReference(s, mesh, physical(20000, 1));
+  const Masks masks = compareMasks(s, mesh, {});
+  ASSERT_GT(masks.interiorPixels(), 50u);
+  for (const CompareImage* img : {&ref.exitance, &ref.radiance}) {
+    CompareImage t = img->scaled(1.1);
+    t.se.clear();  // an exact "technique"
+    const Metrics m = compareImages(t, *img, masks.interior);
+    EXPECT_NEAR(m.bias, 0.1, 1e-6);
+    EXPECT_NEAR(m.mean_test / m.mean_reference, 1.1, 1e-6);
+    // The error is 10% of every pixel: between 10% of the mean (uniform image) and far more.
+    EXPECT_GT(m.rel_rmse_raw, 0.1 - 1e-6);
+    // A 10% error is far outside the noise of most pixels.
+    EXPECT_GT(m.mean_abs_z, 1.0);
+  }
+  // The technique rows: exitance against exitance, the radiance under its convention.
+  TechniqueImages t{"scaled", bssrdf::ExitConvention::Jensen, ref.radiance.scaled(1.1),
+                    ref.exitance.scaled(1.1)};
+  t.radiance.se.clear();
+  t.exitance.se.clear();
+  const std::vector<Reference> refs = {ref};
+  const auto rows = techniqueMetrics(t, refs, s.medium.eta, masks);
+  ASSERT_EQ(rows.size(), 3u);  // exitance, radiance, cone_radiance against the physical reference
+  EXPECT_EQ(rows[0].quantity, "exitance");
+  EXPECT_NEAR(rows[0].metrics.bias, 0.1, 1e-6);
+  EXPECT_EQ(rows[1].quantity, "radiance");
+  EXPECT_NEAR(rows[1].metrics.bias, 0.1, 1e-6);
+  EXPECT_EQ(rows[2].quantity, "cone_radiance");
+  EXPECT_EQ(rows[2].mask, "interior_cone");
+}
+
+TEST(CompareMetrics, NormalizedRadianceIsJensenOverTheDiffuseTransmittance) {
+  const scene::Scene s = cubeScene(16, 12);
+  const Reference ref = computeReference(s, scene::loadSceneMesh(s), physical(5000, 3));
+  const CompareImage n = ref.radianceFor(bssrdf::ExitConvention::Normalized, s.medium.eta);
+  const double scale = 1.0 / bssrdf::diffuseTransmittanceFromOutside(s.medium.eta);
+  ASSERT_EQ(n.rgb.size(), ref.radiance.rgb.size());
+  for (size_t i = 0; i < n.rgb.size(); ++i) {
+    const double l = ref.radiance.rgb[i], se = ref.radiance.se[i];
+    EXPECT_NEAR(n.rgb[i], l * scale, 1e-6 * l * scale + 1e-30);
+    EXPECT_NEAR(n.se[i], se * scale, 1e-6 * se * scale + 1e-30);
+  }
+  EXPECT_EQ(ref.radianceFor(bssrdf::ExitConvention::Jensen, s.medium.eta).rgb, ref.radiance.rgb);
+}
+
+TEST(CompareMetrics, TwoPhysicalReferencesAgreeWithinTheirErrors) {
+  const scene::Scene s = cubeScene();
+  const geometry::TriangleMesh mesh = scene::loadSceneMesh(s);
+  const Reference a = computeReference(s, mesh, physical(100000, 11));
+  const Reference b = computeReference(s, mesh, physical(100000, 12));
+  ASSERT_NE(a.exitance.rgb, b.exitance.rgb);  // independent
+  const Masks masks = compareMasks(s, mesh, {});
+  expectAgreeWithinNoise(compareImages(a.exitance, b.exitance, masks.interior), "exitance");
+  expectAgreeWithinNoise(compareImages(a.radiance, b.radiance, masks.interior), "radiance");
+  expectAgreeWithinNoise(compareImages(a.cone_radiance, b.cone_radiance, masks.cone), "cone");
+}
+
+// The model reference against itself with another seed. Its pixels share the surface samples, so
+// their errors are correlated: the metrics' bias_stderr (independent pixels) understates the
+// uncertainty of an image mean, and its standard errors include a conservative sub-pixel term
+// (model_reference.h), so noise_mse tends below 0. What must hold: per pixel, z is no wider than a
+// standard normal deviate; the noise-aware MSE is not above the noise (one-sided); and the bias is
+// within 3.5 times the correlation-proof bound sd(Σ t) <= Σ se_t of the mean's standard error.
+void expectModelAgreesWithItself(const CompareImage& t, const CompareImage& r,
+                                 const std::vector<uint8_t>& mask, const std::string& what) {
+  SCOPED_TRACE(what);
+  const Metrics m = compareImages(t, r, mask);
+  ASSERT_GT(m.pixels, 100u);
+  EXPECT_LT(m.noise_mse, 3.5 * m.noise_mse_stderr) << m.noise_mse << " ± " << m.noise_mse_stderr;
+  // The channels share the samples too, so the metrics' z (independent channels) is up to √3
+  // too wide; per pixel, sd(Σc t) <= Σc se_t bounds it whatever the correlation.
+  double st = 0.0, sr = 0.0, sum = 0.0, abs_z = 0.0;
+  uint64_t n = 0, above3 = 0;
+  for (size_t p = 0; p < mask.size(); ++p) {
+    if (!mask[p]) continue;
+    double dt = 0.0, pt = 0.0, pr = 0.0;
+    for (size_t c = 0; c < 3; ++c) {
+      const double se_t = t.se[3 * p + c], se_r = r.se[3 * p + c];
+      dt += static_cast<double>(t.rgb[3 * p + c]) - static_cast<double>(r.rgb[3 * p + c]);
+      pt += se_t;
+      pr += se_r;
+      sum += static_cast<double>(r.rgb[3 * p + c]);
+    }
+    st += pt;
+    sr += pr;
+    const double z = dt / std::sqrt(pt * pt + pr * pr);
+    if (!std::isfinite(z)) continue;
+    ++n;
+    abs_z += std::abs(z);
+    above3 += std::abs(z) > 3.0;
+  }
+  ASSERT_GT(n, 100u);
+  EXPECT_LT(abs_z / n, 0.8) << "a standard normal deviate has mean |z| = 0.80";
+  EXPECT_LT(static_cast<double>(above3) / n, 0.01) << above3 << " of " << n;
+  const double bound = std::sqrt(st * st + sr * sr) / sum;
+  EXPECT_LT(std::abs(m.bias), 3.5 * bound) << "bias " << m.bias << ", bound " << bound;
+}
+
+TEST(CompareMetrics, TheModelReferenceAsATechniqueHasNoErrorBeyondNoise) {
+  const scene::Scene s = cubeScene();
+  const geometry::TriangleMesh mesh = scene::loadSceneMesh(s);
+  const Reference ref = computeReference(s, mesh, model(20000, 1));
+  const Reference other = computeReference(s, mesh, model(20000, 2));
+  ASSERT_NE(ref.exitance.rgb, other.exitance.rgb);  // independent
+  const Masks masks = compareMasks(s, mesh, ref.coverage);
+  ASSERT_GT(masks.interiorPixels(), 50u);
+  expectModelAgreesWithItself(other.exitance, ref.exitance, masks.interior, "exitance");
+  expectModelAgreesWithItself(other.radiance, ref.radiance, masks.interior, "radiance");
+}
+
+TEST(CompareMasks, InteriorExcludesSilhouettesAndConeExcludesGrazingViews) {
+  const scene::Scene s = cubeScene(40, 30);
+  const geometry::TriangleMesh mesh = scene::loadSceneMesh(s);
+  const Masks m = compareMasks(s, mesh, {});
+  const auto at = [&](const std::vector<uint8_t>& v, int x, int y) {
+    return v[static_cast<size_t>(y) * 40 + static_cast<size_t>(x)];
+  };
+  EXPECT_EQ(at(m.interior, 20, 15), 1);  // the camera looks at the cube's centre
+  EXPECT_EQ(at(m.interior, 0, 0), 0);    // background
+  uint64_t both = 0;
+  for (size_t i = 0; i < m.interior.size(); ++i) {
+    EXPECT_LE(m.cone[i], m.interior[i]);
+    both += m.cone[i];
+  }
+  EXPECT_GT(both, 0u);
+  // A stricter cone (larger θc) masks at least as much; a grid of 1 ray per pixel keeps more
+  // interior pixels than 4x4 (the silhouette pixels' centres may hit).
+  const auto one = interiorMask(mesh, s.camera, 1, 0.0);
+  uint64_t n1 = 0;
+  for (uint8_t v : one) n1 += v;
+  EXPECT_GE(n1, m.interiorPixels());
+  const auto steep = interiorMask(mesh, s.camera, 4, std::sin(60.0 * 3.14159265358979 / 180.0));
+  for (size_t i = 0; i < steep.size(); ++i) EXPECT_LE(steep[i], m.interior[i]);
+}
+
+TEST(CompareCache, ASecondRequestHitsAndAChangedInputMisses) {
+  TempDir dir("cache");
+  const ReferenceCache cache(dir.path());
+  scene::Scene s = cubeScene(16, 12);
+  const geometry::TriangleMesh mesh = scene::loadSceneMesh(s);
+  const ReferenceRequest req = physical(4000, 5);
+  const Reference first = cachedReference(s, mesh, req, &cache);
+  EXPECT_FALSE(first.from_cache);
+  ASSERT_FALSE(first.cache_file.empty()) << first.cache_note;
+  EXPECT_TRUE(fs::exists(first.cache_file));
+  const Reference second = cachedReference(s, mesh, req, &cache);
+  EXPECT_TRUE(second.from_cache);
+  EXPECT_EQ(second.key, first.key);
+  EXPECT_EQ(second.exitance.rgb, first.exitance.rgb);  // bit for bit (float EXR)
+  EXPECT_EQ(second.exitance.se, first.exitance.se);
+  EXPECT_EQ(second.radiance.rgb, first.radiance.rgb);
+  EXPECT_EQ(second.cone_radiance.se, first.cone_radiance.se);
+  EXPECT_EQ(second.count_done, first.count_done);
+
+  // What the references do not depend on keeps the key: threads, technique and display settings.
+  scene::Scene same = s;
+  same.technique = "empirical";
+  same.settings["kernel_size"] = 3.0;
+  same.exposure = 2.0;
+  ReferenceRequest threads = req;
+  threads.threads = 1;
+  EXPECT_EQ(referenceKey(same, threads), first.key);
+  // Everything they depend on changes it.
+  scene::Scene other = s;
+  other.medium.sigma_a[0] *= 1.01;
+  EXPECT_NE(referenceKey(other, req), first.key);
+  other = s;
+  other.camera.position.x += 0.01;
+  EXPECT_NE(referenceKey(other, req), first.key);
+  other = s;
+  other.cone_angle = 3.0;
+  EXPECT_NE(referenceKey(other, req), first.key);
+  ReferenceRequest more = req;
+  more.count = 8000;
+  EXPECT_NE(referenceKey(s, more), first.key);
+  more = req;
+  more.seed = 6;
+  EXPECT_NE(referenceKey(s, more), first.key);
+  more = req;
+  more.kind = ReferenceKind::Model;
+  EXPECT_NE(referenceKey(s, more), first.key);
+  other = s;
+  other.medium.sigma_a[0] *= 1.01;
+  const Reference changed = cachedReference(other, mesh, req, &cache);
+  EXPECT_FALSE(changed.from_cache);
+  EXPECT_NE(changed.exitance.rgb, first.exitance.rgb);
+
+  // A mesh file's bytes are part of the key even when its path stays.
+  TempDir meshes("mesh");
+  const fs::path copy = meshes.path() / "cube.obj";
+  fs::copy_file(s.mesh_file, copy);
+  scene::Scene moved = s;
+  moved.mesh_file = copy;
+  const std::string before = referenceKey(moved, req);
+  std::ofstream(copy, std::ios::app) << "# an edit\n";
+  EXPECT_NE(referenceKey(moved, req), before);
+  moved.mesh_file = meshes.path() / "missing.obj";
+  EXPECT_THROW((void)referenceKey(moved, req), ParameterError);
+}
+
+TEST(CompareCache, PartialReferencesAreNotStoredAndCorruptEntriesMiss) {
+  TempDir dir("partial");
+  const ReferenceCache cache(dir.path());
+  const scene::Scene s = cubeScene(16, 12);
+  const geometry::TriangleMesh mesh = scene::loadSceneMesh(s);
+  // Stop at the first progress report (as Ctrl-C does): the tracer returns what it has, partial.
+  const Reference part = cachedReference(s, mesh, physical(5000000, 7), &cache,
+                                         [](const reference::TraceProgress&) { return false; });
+  EXPECT_TRUE(part.partial);
+  EXPECT_TRUE(part.cache_file.empty());
+  EXPECT_NE(part.cache_note.find("partial"), std::string::npos) << part.cache_note;
+  EXPECT_FALSE(fs::exists(cache.fileFor(ReferenceKind::Physical, part.key)));
+
+  const ReferenceRequest req = physical(2000, 8);
+  const Reference r = cachedReference(s, mesh, req, &cache);
+  ASSERT_FALSE(r.cache_file.empty());
+  std::ofstream(r.cache_file, std::ios::trunc) << "not an EXR";
+  std::string note;
+  EXPECT_FALSE(cache.load(ReferenceKind::Physical, r.key, 16, 12, &note));
+  EXPECT_NE(note.find("unreadable"), std::string::npos) << note;
+  const Reference again = cachedReference(s, mesh, req, &cache);
+  EXPECT_FALSE(again.from_cache);
+  EXPECT_EQ(again.exitance.rgb, r.exitance.rgb);  // same seed, same image
+}
+
+TEST(CompareReportFolder, RefusesForeignFilesAndReplacesPreviousReports) {
+  TempDir dir("out");
+  const fs::path out = dir.path() / "report";
+  prepareReportDirectory(out, false, {}, "--out");  // created
+  EXPECT_TRUE(fs::is_directory(out));
+  std::ofstream(out / "notes.txt") << "mine";
+  try {
+    prepareReportDirectory(out, false, {}, "--out");
+    FAIL() << "expected an error";
+  } catch (const ParameterError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("--out"), std::string::npos) << what;
+    EXPECT_NE(what.find("notes.txt"), std::string::npos) << what;
+    EXPECT_NE(what.find("--force"), std::string::npos) << what;
+  }
+  EXPECT_NO_THROW(prepareReportDirectory(out, true, {}, "--out"));
+  EXPECT_TRUE(fs::exists(out / "notes.txt"));  // --force writes beside, never deletes, it
+  fs::remove(out / "notes.txt");
+
+  // A previous report: its listed files go, and nothing else is touched.
+  std::ofstream(out / "report.json")
+      << R"({"generator": "translucent compare", "files": ["index.html", "a.png", "report.json"]})";
+  std::ofstream(out / "index.html") << "<html></html>";
+  std::ofstream(out / "a.png") << "png";
+  fs::create_directories(out / "cache");
+  prepareReportDirectory(out, false, out / "cache", "--out");
+  EXPECT_FALSE(fs::exists(out / "index.html"));
+  EXPECT_FALSE(fs::exists(out / "a.png"));
+  EXPECT_FALSE(fs::exists(out / "report.json"));
+  EXPECT_TRUE(fs::is_directory(out / "cache"));
+  // A report.json of someone else is not a report of ours.
+  std::ofstream(out / "report.json") << R"({"generator": "something else", "files": []})";
+  EXPECT_THROW(prepareReportDirectory(out, false, out / "cache", "--out"), ParameterError);
+  // A file in place of the folder.
+  std::ofstream(dir.path() / "file") << "x";
+  EXPECT_THROW(prepareReportDirectory(dir.path() / "file", true, {}, "--out"), ParameterError);
+}
+
+}  // namespace
+}  // namespace translucent::analysis

@@ -1,0 +1,226 @@
+// `translucent compare` through the real binary on the cube at 48x36 (headless GL, llvmpipe
+// where there is no GPU): the report folder is complete and self-contained (every image and link
+// of index.html is a file in it, report.json holds every metric of every pair), it renders in
+// headless Chromium with the images showing, a second run reuses the cached references while a
+// changed scene value misses, and a folder with a user's files is refused.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <regex>
+#include <set>
+#include <sstream>
+
+#include "analysis/image_io.h"
+
+namespace {
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+const fs::path kRoot = fs::temp_directory_path() /
+                       ("translucent_test_compare_cli_" + std::to_string(::getpid()));
+
+std::string readText(const fs::path& p) {
+  std::ifstream f(p);
+  std::ostringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+struct CliRun {
+  int status = -1;
+  std::string output;  // stdout and stderr
+};
+
+CliRun run(const std::string& args, const std::string& tag) {
+  const fs::path log = kRoot / (tag + ".log");
+  const std::string cmd = "TRANSLUCENT_CACHE_DIR='" + (kRoot / "technique-cache").string() + "' '" +
+                          TRANSLUCENT_CLI + "' compare " + args + " > '" + log.string() + "' 2>&1";
+  CliRun r;
+  const int rc = std::system(cmd.c_str());
+  r.status = WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+  r.output = readText(log);
+  return r;
+}
+
+std::string common(const fs::path& out) {
+  return "--width 48 --height 36 --photons 20000 --samples 4000 --frames 2 --warmup 1 "
+         "--threads 2 --cache '" + (kRoot / "cache").string() + "' --out '" + out.string() + "'";
+}
+
+// data/scenes/cube.json with its mesh by absolute path, the directional light's irradiance as
+// given, and 2000 points for the point cloud (llvmpipe renders 100000, the default, at ~1 s a
+// frame); written into kRoot. Returns the path quoted for the shell.
+std::string testScene(const std::string& name, const std::string& irradiance) {
+  std::string text = readText(TRANSLUCENT_CUBE_SCENE);
+  const std::string from = "\"irradiance\": 1.0";
+  text.replace(text.find(from), from.size(), "\"irradiance\": " + irradiance);
+  const std::string mesh = "\"../meshes/cube.obj\"";
+  std::string absolute = "\"";
+  absolute += (fs::path(TRANSLUCENT_CUBE_SCENE).parent_path() / "../meshes/cube.obj").string();
+  absolute += "\"";
+  text.replace(text.find(mesh), mesh.size(), absolute);
+  const std::string last = "\"cone_angle\": 5.0";
+  text.replace(text.find(last), last.size(),
+               last + ",\n  \"technique\": {\"name\": \"pointcloud\", \"points\": 2000}");
+  const fs::path path = kRoot / name;
+  std::ofstream(path) << text;
+  std::string quoted = "'";  // for the shell
+  quoted += path.string();
+  quoted += "' ";
+  return quoted;
+}
+
+class CompareCli : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    fs::remove_all(kRoot);
+    fs::create_directories(kRoot);
+    first_ = new CliRun(run(testScene("cube.json", "1.0") + "--sweep " + common(kRoot / "report"),
+                            "first"));
+  }
+  static void TearDownTestSuite() {
+    delete first_;
+    std::error_code ec;
+    fs::remove_all(kRoot, ec);
+  }
+  static CliRun* first_;
+};
+CliRun* CompareCli::first_ = nullptr;
+
+TEST_F(CompareCli, ReportIsCompleteAndSelfContained) {
+  ASSERT_EQ(first_->status, 0) << first_->output;
+  const fs::path dir = kRoot / "report";
+  const std::string html = readText(dir / "index.html");
+  ASSERT_FALSE(html.empty());
+  // Every src and href names a file in the folder (no absolute paths, no parent folders).
+  const std::regex ref(R"re((?:src|href)="([^"]*)")re");
+  int images = 0, links = 0;
+  for (auto it = std::sregex_iterator(html.begin(), html.end(), ref); it != std::sregex_iterator(); ++it) {
+    const std::string target = (*it)[1];
+    EXPECT_EQ(target.find('/'), std::string::npos) << target;
+    EXPECT_TRUE(fs::is_regular_file(dir / target)) << target;
+    ((*it)[0].str().starts_with("src") ? images : links)++;
+  }
+  EXPECT_GT(images, 30);  // images of 2 techniques and 2 references, 3 maps a pair, bars, masks
+  EXPECT_GT(links, 3);    // the EXRs and report.json
+  EXPECT_NE(html.find("translucent compare"), std::string::npos);
+  EXPECT_NE(html.find("--photons 20000"), std::string::npos);  // the reproducing command
+
+  std::ifstream f(dir / "report.json");
+  const json j = json::parse(f);
+  EXPECT_EQ(j.at("generator"), "translucent compare");
+  for (const auto& file : j.at("files")) EXPECT_TRUE(fs::is_regular_file(dir / file.get<std::string>())) << file;
+  ASSERT_EQ(j.at("references").size(), 2u);
+  for (const auto& r : j.at("references")) {
+    EXPECT_FALSE(r.at("partial").get<bool>());
+    EXPECT_GT(r.at("seconds").get<double>(), 0.0);
+  }
+  // Every technique x reference x quantity has a row with every metric (finite numbers).
+  std::set<std::string> rows;
+  for (const auto& m : j.at("metrics")) {
+    rows.insert(m.at("test").get<std::string>() + "/" + m.at("reference").get<std::string>() + "/" +
+                m.at("quantity").get<std::string>());
+    for (const char* key : {"rel_rmse", "rel_rmse_raw", "noise_mse", "noise_mse_stderr", "bias",
+                            "bias_stderr", "ssim", "flip", "mean_abs_z", "fraction_abs_z_above_3",
+                            "mean_reference", "mean_test"})
+      EXPECT_TRUE(m.at("metrics").at(key).is_number()) << m.dump();
+    EXPECT_GT(m.at("metrics").at("pixels").get<uint64_t>(), 100u) << m.dump();
+  }
+  ASSERT_EQ(j.at("techniques").size(), 2u);
+  for (const auto& t : j.at("techniques")) {
+    const std::string n = t.at("name");
+    EXPECT_GT(t.at("frame_ms").get<double>(), 0.0) << n;
+    EXPECT_FALSE(t.at("passes").empty()) << n;
+    for (const std::string kind : {"model", "physical"}) {
+      EXPECT_TRUE(rows.contains(n + "/" + kind + "/radiance")) << n << " " << kind;
+      if (t.at("has_exitance").get<bool>()) {
+        EXPECT_TRUE(rows.contains(n + "/" + kind + "/exitance")) << n << " " << kind;
+      }
+    }
+    EXPECT_TRUE(rows.contains(n + "/physical/cone_radiance")) << n;
+  }
+  EXPECT_TRUE(rows.contains("pointcloud/model/exitance"));  // the point cloud outputs B
+  for (const char* q : {"exitance", "radiance", "cone_radiance"})
+    EXPECT_TRUE(rows.contains(std::string("model/physical/") + q)) << q;
+  // The sweep: every technique's quality parameter at three or more values, each timed.
+  std::map<std::string, int> points;
+  for (const auto& s : j.at("sweep")) {
+    points[s.at("technique").get<std::string>()]++;
+    EXPECT_GT(s.at("frame_ms").get<double>(), 0.0);
+    EXPECT_FALSE(s.at("metrics").empty());
+  }
+  EXPECT_GE(points["pointcloud"], 3);
+  EXPECT_GE(points["empirical"], 3);
+  EXPECT_TRUE(fs::is_regular_file(dir / "sweep.png"));
+}
+
+TEST_F(CompareCli, ReportRendersInHeadlessChromiumWithImagesShowing) {
+  ASSERT_EQ(first_->status, 0) << first_->output;
+  const fs::path shot = kRoot / "screenshot.png";
+  const std::string cmd = "chromium --headless --no-sandbox --disable-gpu --hide-scrollbars "
+                          "--user-data-dir='" + (kRoot / "chromium").string() + "' --screenshot='" +
+                          shot.string() + "' --window-size=1200,1600 'file://" +
+                          (kRoot / "report" / "index.html").string() + "' > '" +
+                          (kRoot / "chromium.log").string() + "' 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << readText(kRoot / "chromium.log");
+  const auto img = translucent::analysis::readRgb(shot.string());
+  ASSERT_EQ(img.width, 1200);
+  // Images show: the renders have black backgrounds and the masks black outsides, so a large
+  // part of the page is near black, which the page's text (#222, thin) and table lines are not;
+  // and some pixels are coloured (the renders, the false-colour maps).
+  size_t dark = 0, coloured = 0;
+  const size_t n = img.rgb.size() / 3;
+  for (size_t p = 0; p < n; ++p) {
+    const float r = img.rgb[3 * p], g = img.rgb[3 * p + 1], b = img.rgb[3 * p + 2];
+    dark += std::max({r, g, b}) < 0.08f;
+    coloured += std::max({r, g, b}) - std::min({r, g, b}) > 0.1f;
+  }
+  EXPECT_GT(dark, n / 20) << dark << " of " << n << " pixels near black";
+  EXPECT_GT(coloured, n / 500) << coloured << " of " << n << " pixels coloured";
+}
+
+TEST_F(CompareCli, SecondRunReusesTheReferencesAndAChangedSceneMisses) {
+  ASSERT_EQ(first_->status, 0) << first_->output;
+  const CliRun again = run(testScene("cube.json", "1.0") + "--techniques pointcloud " +
+                               common(kRoot / "report"), "again");
+  ASSERT_EQ(again.status, 0) << again.output;
+  EXPECT_NE(again.output.find("physical reference: reused from the cache"), std::string::npos)
+      << again.output;
+  EXPECT_NE(again.output.find("model reference: reused from the cache"), std::string::npos)
+      << again.output;
+  // The previous report was replaced: only pointcloud now.
+  std::ifstream f(kRoot / "report" / "report.json");
+  EXPECT_EQ(json::parse(f).at("techniques").size(), 1u);
+  EXPECT_FALSE(fs::exists(kRoot / "report" / "empirical.exr"));
+
+  // The same scene with a brighter light: both references are computed anew.
+  std::string args = testScene("brighter.json", "1.5");
+  args += "--techniques pointcloud ";
+  args += common(kRoot / "report-brighter");
+  const CliRun changed = run(args, "changed");
+  ASSERT_EQ(changed.status, 0) << changed.output;
+  EXPECT_EQ(changed.output.find("reused from the cache"), std::string::npos) << changed.output;
+  EXPECT_NE(changed.output.find("physical reference: computed in"), std::string::npos) << changed.output;
+  EXPECT_NE(changed.output.find("model reference: computed in"), std::string::npos) << changed.output;
+}
+
+TEST_F(CompareCli, FolderWithAUsersFilesIsRefused) {
+  const fs::path mine = kRoot / "mine";
+  fs::create_directories(mine);
+  std::ofstream(mine / "thesis.tex") << "my work";
+  const CliRun r = run(std::string("'") + TRANSLUCENT_CUBE_SCENE + "' " + common(mine), "refused");
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.output.find("thesis.tex"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("--force"), std::string::npos) << r.output;
+  EXPECT_EQ(readText(mine / "thesis.tex"), "my work");
+  const CliRun bad = run(std::string("'") + TRANSLUCENT_CUBE_SCENE + "' --reference pathtraced " +
+                          common(kRoot / "bad"), "bad");
+  EXPECT_NE(bad.status, 0);
+  EXPECT_NE(bad.output.find("--reference 'pathtraced'"), std::string::npos) << bad.output;
+}
+
+}  // namespace
