@@ -120,12 +120,16 @@ LayeredImage readExrLayers(const std::string& path) {
   return img;
 }
 
-unsigned char toneMap(float value, const ToneMap& tm) {
-  double v = static_cast<double>(value) * std::exp2(tm.exposure);
-  if (!(v > 0.0)) return 0;  // also NaN
+double toneMapValue(double value, const ToneMap& tm) {
+  double v = value * std::exp2(tm.exposure);
+  if (!(v > 0.0)) return 0.0;  // also NaN
   v = std::min(v, 1.0);
-  v = std::pow(v, 1.0 / tm.gamma);
-  return static_cast<unsigned char>(std::lround(255.0 * v));
+  return std::pow(v, 1.0 / tm.gamma);
+}
+
+unsigned char toneMap(float value, const ToneMap& tm) {
+  return static_cast<unsigned char>(
+      std::lround(255.0 * toneMapValue(static_cast<double>(value), tm)));
 }
 
 void writePng(const std::string& path, int width, int height, std::span<const float> rgb,
@@ -141,6 +145,12 @@ void writePng(const std::string& path, int width, int height, std::span<const fl
   for (size_t i = 0; i < rgb.size(); ++i) data[i] = toneMap(rgb[i], tm);
   OIIO::ImageSpec spec(width, height, 3, OIIO::TypeDesc::UINT8);
   write(path, spec, OIIO::TypeDesc::UINT8, data.data());
+}
+
+void writePng8(const std::string& path, int width, int height, std::span<const uint8_t> rgb8) {
+  checkSize(path, width, height, rgb8.size());
+  OIIO::ImageSpec spec(width, height, 3, OIIO::TypeDesc::UINT8);
+  write(path, spec, OIIO::TypeDesc::UINT8, rgb8.data());
 }
 
 }  // namespace translucent::analysis

@@ -4,6 +4,7 @@
 // Pixel data are interleaved RGB floats, row by row from the top.
 #pragma once
 
+#include <cstdint>
 #include <map>
 #include <span>
 #include <stdexcept>
@@ -35,7 +36,10 @@ struct ToneMap {
   double gamma = 2.2;     // display gamma: v -> v^(1/gamma), after clamping to [0, 1]
 };
 
-// 8-bit sRGB-like value of one linear value under a tone map (exposure, clamp, 1/gamma).
+// Display value in [0, 1] of one linear value under a tone map: v 2^exposure, clamped to [0, 1]
+// (NaN to 0), to the power 1/gamma. The perceptual metrics (metrics.h) see images through it.
+double toneMapValue(double value, const ToneMap& tm);
+// The same as an 8-bit value (rounded), as written to PNG files.
 unsigned char toneMap(float value, const ToneMap& tm);
 
 // Reads the first three channels of an image file (any format OpenImageIO reads) as linear
@@ -60,5 +64,9 @@ LayeredImage readExrLayers(const std::string& path);
 // Writes an 8-bit RGB PNG of the tone-mapped image.
 void writePng(const std::string& path, int width, int height, std::span<const float> rgb,
               const ToneMap& tm = {});
+
+// Writes an 8-bit RGB PNG of pixels that are already 8-bit (interleaved, width*height*3), e.g. a
+// false-colour map (colormap.h).
+void writePng8(const std::string& path, int width, int height, std::span<const uint8_t> rgb8);
 
 }  // namespace translucent::analysis

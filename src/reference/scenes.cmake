@@ -7,7 +7,6 @@ find_package(embree 3 REQUIRED)
 add_library(translucent_reference_scenes STATIC
   transport.cpp
   mc_image.cpp
-  mc_compare.cpp
   camera.cpp
   sphere.cpp
   sphere_integration.cpp

@@ -1,8 +1,7 @@
-// Progressive runs (src/reference/progressive.h) and the comparison of two Monte Carlo images
-// (mc_compare.h): the doubling schedule's sums, the equality of a progressive path-traced run
-// with one pass of the same photons and seed, the integrator's schedule-determinism over thread
-// counts, cancellation before and during a pass, and the comparison's statistics against values
-// computed by hand and against two independent estimates of the same image.
+// Progressive runs (src/reference/progressive.h): the doubling schedule's sums, the equality of a
+// progressive path-traced run with one pass of the same photons and seed, the integrator's
+// schedule-determinism over thread counts, cancellation before and during a pass. (The comparison
+// of two such images is tested in tests/analysis/test_mc_compare.cpp.)
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -13,7 +12,6 @@
 #include <vector>
 
 #include "bssrdf/registry.h"
-#include "reference/mc_compare.h"
 #include "reference/progressive.h"
 #include "reference/sphere.h"
 #include "reference/sphere_integration.h"
@@ -28,23 +26,6 @@ SphereScene smallSphere(int size) {
 }
 
 const ScalarMedium kMedium{0.05, 2.0, 0.0, 1.3};
-
-// A one-channel per-pixel image with every pixel's mean and standard error times k: the sums of
-// n samples rebuilt from the mean m and sample variance v as n m and n (m² + v (n - 1) / n).
-McImage scaledCopy(const McImage& src, double k) {
-  McImage out(src.width(), src.height(), 1, McImage::Statistics::PerPixel);
-  for (int y = 0; y < src.height(); ++y)
-    for (int x = 0; x < src.width(); ++x) {
-      const size_t p = static_cast<size_t>(y) * static_cast<size_t>(src.width()) + static_cast<size_t>(x);
-      const double n = static_cast<double>(src.pixelCount(p));
-      const Estimate e = src.pixel(x, y, 0);
-      const double mean = k * e.value;
-      const double var = n > 1.0 ? k * k * e.std_error * e.std_error * n : 0.0;
-      out.addSums(out.index(x, y, 0), mean * n, n * (mean * mean + var * (n - 1.0) / n));
-      out.addPixelCount(p, src.pixelCount(p));
-    }
-  return out;
-}
 
 TEST(DoublingPasses, DoublesAndAddsUpToTheBudget) {
   const auto p = doublingPasses(3, 100);
@@ -160,83 +141,6 @@ TEST(RunProgressive, StopDuringAPassEndsItPartial) {
   EXPECT_GT(t.stats().photons[0], 0u);
   EXPECT_LT(t.stats().photons[0], passes[0]);
   EXPECT_GE(progressCalls.load(), 1);
-}
-
-TEST(CompareImages, StatisticsMatchAHandComputation) {
-  // Two 2x1 one-channel per-pixel images with known samples: pixel 0 has samples {1, 3} in the
-  // reference and {2, 2} in the test; pixel 1 is empty in both (not compared).
-  McImage r(2, 1, 1, McImage::Statistics::PerPixel), t(2, 1, 1, McImage::Statistics::PerPixel);
-  r.add(0, 1.0);
-  r.add(0, 3.0);
-  r.addPixelCount(0, 2);
-  t.add(0, 2.0);
-  t.add(0, 2.0);
-  t.addPixelCount(0, 2);
-  const ImageComparison c = compareImages(r, t);
-  EXPECT_EQ(c.pixels, 1u);
-  EXPECT_DOUBLE_EQ(c.mean_reference, 2.0);
-  EXPECT_DOUBLE_EQ(c.mean_test, 2.0);
-  EXPECT_DOUBLE_EQ(c.rmse, 0.0);
-  // Reference: sample variance 2, standard error sqrt(2 / 2) = 1; test: 0.
-  EXPECT_DOUBLE_EQ(c.noise_rmse, 1.0);
-  EXPECT_DOUBLE_EQ(c.systematic_rmse, 0.0);
-  EXPECT_FLOAT_EQ(c.relative[0], 0.0f);
-  EXPECT_TRUE(std::isnan(c.relative[1]));
-  EXPECT_THROW(compareImages(r, McImage(1, 1, 1, McImage::Statistics::PerPixel)), ParameterError);
-}
-
-TEST(CompareImages, TwoEstimatesOfTheSameImageDifferByTheirNoiseAndAScaledOneByItsScale) {
-  // Two integrations of the same scene with different seeds estimate the same image: their RMSE
-  // must be explained by their standard errors (rmse² ≈ noise², within the spread of a mean of
-  // many squared normal deviates, here bounded at ±20%). A copy scaled by 1.5 differs
-  // systematically by 50% of every pixel.
-  const SphereScene scene = smallSphere(24);
-  IntegrationOptions o;
-  o.threads = 2;
-  o.seed = 1;
-  const auto& dipole = bssrdf::model("dipole");
-  SphereIntegrator a(dipole, scene, kMedium, o);
-  o.seed = 2;
-  SphereIntegrator b(dipole, scene, kMedium, o);
-  a.addPass(128);
-  b.addPass(128);
-  const ImageComparison same = compareImages(a.images().exitance, b.images().exitance);
-  ASSERT_GT(same.pixels, 300u);
-  EXPECT_NEAR(same.rmse / same.noise_rmse, 1.0, 0.2);
-  EXPECT_NEAR(same.mean_test / same.mean_reference, 1.0, 3.0 * same.noise_rmse / same.mean_reference / std::sqrt(static_cast<double>(same.pixels)));
-
-  // The independent estimate b scaled by 1.5 (mean and standard error by 1.5): now
-  // E[(1.5 t - r)²] = the standard errors' share + (0.5 r)², so the systematic part must be half
-  // the reference's RMS value, within the spread of its estimate (±15% at these counts, where the
-  // noise is about 40% of the offset).
-  const McImage scaled = scaledCopy(b.images().exitance, 1.5);
-  const ImageComparison off = compareImages(a.images().exitance, scaled);
-  EXPECT_NEAR(off.mean_test / off.mean_reference, 1.5,
-              3.0 * off.noise_rmse / off.mean_reference / std::sqrt(static_cast<double>(off.pixels)));
-  double rms = 0.0;
-  const McImage& ref = a.images().exitance;
-  for (int y = 0; y < ref.height(); ++y)
-    for (int x = 0; x < ref.width(); ++x) rms += ref.pixel(x, y, 0).value * ref.pixel(x, y, 0).value;
-  rms = std::sqrt(rms / static_cast<double>(off.pixels));
-  EXPECT_NEAR(off.systematic_rmse / (0.5 * rms), 1.0, 0.15)
-      << "rmse " << off.rmse << " noise " << off.noise_rmse << " systematic " << off.systematic_rmse;
-  // The scaled copy against its source: every compared pixel 50% brighter.
-  const ImageComparison self = compareImages(b.images().exitance, scaled);
-  for (size_t p = 0; p < self.relative.size(); ++p) {
-    if (std::isfinite(self.relative[p])) {
-      EXPECT_NEAR(self.relative[p], 0.5, 1e-5) << p;
-    }
-  }
-}
-
-TEST(DifferenceColor, WhiteAtZeroRedAboveBlueBelowGreyForNaN) {
-  EXPECT_EQ(differenceColor(0.0f, 0.5f), (std::array<unsigned char, 3>{255, 255, 255}));
-  EXPECT_EQ(differenceColor(0.5f, 0.5f), (std::array<unsigned char, 3>{255, 0, 0}));
-  EXPECT_EQ(differenceColor(2.0f, 0.5f), (std::array<unsigned char, 3>{255, 0, 0}));  // saturates
-  const auto below = differenceColor(-0.5f, 0.5f);
-  EXPECT_EQ(below[2], 255);
-  EXPECT_LT(below[0], 10);
-  EXPECT_EQ(differenceColor(std::nanf(""), 0.5f), (std::array<unsigned char, 3>{128, 128, 128}));
 }
 
 }  // namespace

@@ -22,6 +22,7 @@
 #include <exception>
 #include <utility>
 
+#include "analysis/colormap.h"
 #include "analysis/image_io.h"
 #include "bssrdf/registry.h"
 #include "core/explorer_state.h"
@@ -391,22 +392,20 @@ void LitSpheresDock::updateComparison() {
   if (a && b && a->exitance.width() == b->exitance.width() &&
       a->exitance.height() == b->exitance.height()) {
     const bool radiance = quantity_ == Quantity::Radiance;
-    comparison_ = reference::compareImages(radiance ? a->radiance : a->exitance,
-                                           radiance ? b->radiance : b->exitance);
+    comparison_ = analysis::compareImages(radiance ? a->radiance : a->exitance,
+                                          radiance ? b->radiance : b->exitance);
     const auto& c = *comparison_;
+    const std::vector<uint8_t> rgb =
+        analysis::falseColor(c.relative, c.width, c.height, analysis::ColorMap::Diverging,
+                             -static_cast<double>(kDifferenceRange),
+                             static_cast<double>(kDifferenceRange));
     difference_image_ = QImage(c.width, c.height, QImage::Format_RGB888);
-    for (int y = 0; y < c.height; ++y) {
-      uchar* line = difference_image_.scanLine(y);
-      for (int x = 0; x < c.width; ++x) {
-        const auto rgb = reference::differenceColor(
-            c.relative[static_cast<size_t>(y) * static_cast<size_t>(c.width) + static_cast<size_t>(x)],
-            kDifferenceRange);
-        std::copy(rgb.begin(), rgb.end(), line + 3 * x);
-      }
-    }
+    for (int y = 0; y < c.height; ++y)
+      std::copy_n(rgb.data() + 3 * static_cast<size_t>(y) * static_cast<size_t>(c.width),
+                  3 * c.width, difference_image_.scanLine(y));
   }
   difference_view_->setImage(difference_image_);
-  if (!comparison_ || comparison_->pixels == 0) {
+  if (!comparison_ || comparison_->metrics.pixels == 0) {
     summary_label_->setText(tr("Model against reference: waiting for both images."));
     return;
   }
@@ -416,11 +415,11 @@ void LitSpheresDock::updateComparison() {
       tr("%1 against the path-traced reference (%2 pixels): relative RMSE %3% = Monte Carlo noise "
          "%4% ⊕ systematic %5%; mean ratio %6%7")
           .arg(model)
-          .arg(c.pixels)
-          .arg(100.0 * c.relativeRmse(), 0, 'f', 1)
+          .arg(c.metrics.pixels)
+          .arg(100.0 * c.metrics.rel_rmse_raw, 0, 'f', 1)
           .arg(100.0 * c.relativeNoise(), 0, 'f', 1)
-          .arg(100.0 * c.relativeSystematic(), 0, 'f', 1)
-          .arg(c.mean_test / c.mean_reference, 0, 'f', 3)
+          .arg(100.0 * c.metrics.rel_rmse, 0, 'f', 1)
+          .arg(c.metrics.mean_test / c.metrics.mean_reference, 0, 'f', 3)
           .arg(pane(Pane::PathTraced).stale || pane(Pane::Integrated).stale
                    ? tr(" (one image is of the previous material)")
                    : QString()));

@@ -2,7 +2,7 @@
 // directional light, path traced (the volumetric reference, seed 3.2) and as the current BSSRDF
 // model predicts it (the model integrated over the sphere's surface, seed 3.5), in tabs or side by
 // side, with the per-pixel relative difference of the two and its RMSE split into Monte Carlo
-// noise and a systematic part (reference/mc_compare.h): the point of the widget is to see where
+// noise and a systematic part (analysis/mc_compare.h): the point of the widget is to see where
 // and by how much the model departs from the reference.
 //
 // The scene is the CLI's `translucent pathtrace sphere` / `integrate sphere` default (radius 1
@@ -29,7 +29,7 @@
 #include <string>
 #include <vector>
 
-#include "reference/mc_compare.h"
+#include "analysis/mc_compare.h"
 #include "spheres/sphere_run.h"
 
 class QCheckBox;
@@ -91,7 +91,7 @@ class LitSpheresDock : public QDockWidget {
   // Linear RGB of the displayed quantity (row by row from the top); empty before the first pass.
   std::vector<float> linearImage(Pane pane) const;
   // Integration against path tracing, displayed quantity; nullopt until both images exist.
-  const std::optional<reference::ImageComparison>& comparison() const { return comparison_; }
+  const std::optional<analysis::McComparison>& comparison() const { return comparison_; }
   // Range of the difference colour map: ± this relative difference saturates.
   static constexpr float kDifferenceRange = 0.5f;
   static constexpr int kRestartDelayMs = 40;
@@ -134,7 +134,7 @@ class LitSpheresDock : public QDockWidget {
     std::unique_ptr<SphereRun> run;
   };
   std::vector<Retiring> retiring_;
-  std::optional<reference::ImageComparison> comparison_;
+  std::optional<analysis::McComparison> comparison_;
   QTimer* restart_timer_ = nullptr;  // coalesces bursts of material changes (a slider drag)
   QImage difference_image_;
 

@@ -100,8 +100,9 @@ class TestLitSpheresDock : public QObject {
     // 1.05, about 0.71 kSize²) and the dipole is within a factor of two of the reference.
     QVERIFY(dock->comparison().has_value());
     const auto& c = *dock->comparison();
-    QVERIFY(c.pixels > static_cast<uint64_t>(0.6 * kSize * kSize));
-    QVERIFY(c.mean_test > 0.5 * c.mean_reference && c.mean_test < 2.0 * c.mean_reference);
+    QVERIFY(c.metrics.pixels > static_cast<uint64_t>(0.6 * kSize * kSize));
+    QVERIFY(c.metrics.mean_test > 0.5 * c.metrics.mean_reference &&
+            c.metrics.mean_test < 2.0 * c.metrics.mean_reference);
     QVERIFY(!dock->differenceImage().isNull());
   }
 
