@@ -173,6 +173,7 @@ void RenderWorker::run(std::stop_token stop) {
       techniques::FrameRequest fr;
       fr.width = r.width > 0 ? r.width : r.scene.camera.width;
       fr.height = r.height > 0 ? r.height : r.scene.camera.height;
+      fr.converge = r.converge;
       out->frame = technique->render(fr);
     } catch (const std::exception& e) {
       emit prepareFailed(r.id, QString::fromStdString(e.what()), nullptr);
@@ -185,6 +186,7 @@ void RenderWorker::run(std::stop_token stop) {
     out->prepare_ms = prepare_ms;
     out->request_id = r.id;
     out->technique = r.scene.technique;
+    out->convention = techniques::radianceConvention(*technique);
     out->faces = faces;
     out->vertices = vertices;
     out->continuous = r.continuous;

@@ -37,6 +37,7 @@ struct RenderRequest {
   scene::Scene scene;         // technique, settings, camera, lights, material: everything
   int width = 0, height = 0;  // image size [pixels] (the scene camera's size is not used)
   bool continuous = false;    // keep rendering frames (random lighting, benchmarks)
+  bool converge = false;      // finish progressive work in one frame (FrameRequest::converge)
   std::uint64_t id = 0;       // assigned by RenderWorker::request
 };
 
@@ -44,6 +45,8 @@ struct RenderedFrame {
   techniques::Frame frame;
   std::uint64_t request_id = 0;
   std::string technique;
+  // Of frame.rgb (techniques::radianceConvention), for comparisons with a reference.
+  bssrdf::ExitConvention convention = bssrdf::ExitConvention::Jensen;
   double render_ms = 0.0;   // wall time of render() (GPU work and read-back)
   double prepare_ms = 0.0;  // wall time of prepare() before it, 0 when none was needed
   std::size_t faces = 0, vertices = 0;
