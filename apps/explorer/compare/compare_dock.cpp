@@ -84,13 +84,21 @@ CompareDock::CompareDock(ExplorerState& state, QWidget* parent)
   restart_timer_->setInterval(kRestartDelayMs);
   connect(restart_timer_, &QTimer::timeout, this, [this] { restart(false); });
   connect(&state_, &ExplorerState::sceneChanged, this, [this] {
-    redraw();  // exposure and gamma: the display only
+    // Exposure and gamma change the display and SSIM/ꟻLIP (taken on the displayed images).
+    updateComparison();
     restart_timer_->start();
   });
-  // Nothing is computed before the dock is first shown (a tab behind the lit spheres costs no
-  // render thread, no technique prepare and no photons); then it follows the scene, shown or not.
+  // Nothing is computed while the dock is hidden (a tab behind the lit spheres costs no render
+  // thread, no technique prepare and no photons): hiding it stops a running reference (the last
+  // pass stays on screen), showing it again starts one for the current scene.
   connect(this, &QDockWidget::visibilityChanged, this, [this](bool visible) {
-    if (visible && !started_) restart(true);
+    if (visible) {
+      restart(!started_);
+    } else if (run_) {
+      stopRun();
+      run_key_.clear();
+      updateStatus();
+    }
   });
 }
 
@@ -284,8 +292,8 @@ scene::Scene CompareDock::compareScene() const {
 }
 
 void CompareDock::restart(bool force) {
+  if (!isVisible()) return;  // shown again: restart(false) then catches up
   if (!started_) {
-    if (!isVisible()) return;
     started_ = true;
     worker_->start();
     force = true;
@@ -438,7 +446,6 @@ void CompareDock::onFrame(std::shared_ptr<const RenderedFrame> frame) {
   if (!frame->frame.converged) return;  // the worker renders on until it is
   frame_ = std::move(frame);
   frame_scene_key_ = frame_request_scene_;
-  redraw();
   updateComparison();
   updateStatus();
   emit techniqueFrameReceived();
@@ -477,7 +484,7 @@ void CompareDock::redraw() {
             : r.radiance;  // Jensen; the converted one only differs by a constant
     const analysis::CompareImage shown =
         quantity_ == Quantity::Radiance && frame_
-            ? r.radianceFor(frame_->convention, state_.scene().medium.eta)
+            ? r.radianceFor(frame_->convention, snapshot_->eta)
             : img;
     reference_image_ = toneMappedImage(shown.rgb, shown.width, shown.height, exposure, gamma);
   }
@@ -510,7 +517,7 @@ void CompareDock::updateComparison() {
     switch (quantity_) {
       case Quantity::Radiance:
         test_ = {f.width, f.height, f.rgb, {}};
-        reference_ = r.radianceFor(frame_->convention, state_.scene().medium.eta);
+        reference_ = r.radianceFor(frame_->convention, snapshot_->eta);
         mask_ = snapshot_->masks.interior;
         break;
       case Quantity::ConeRadiance:

@@ -18,7 +18,8 @@
 // computes), the true cone-averaged radiance (physical reference only: what L should be), and
 // the exitance B (techniques with an exitance layer).
 //
-// Nothing runs until the dock is first shown (it starts as a tab behind the lit spheres).
+// Nothing runs while the dock is hidden (it starts as a tab behind the lit spheres): hiding it
+// stops the reference, showing it again catches up with the scene.
 // Restarts: any scene change (material, light, camera, mesh; coalesced over kRestartDelayMs)
 // restarts the reference when its inputs changed and asks for a new technique frame when the
 // frame's inputs changed (a technique setting needs no new reference). A scene the reference
@@ -58,7 +59,10 @@ class CompareDock : public QDockWidget {
   enum class Quantity { Radiance, ConeRadiance, Exitance };
 
   explicit CompareDock(ExplorerState& state, QWidget* parent = nullptr);
-  ~CompareDock() override;  // stops the reference run and the render thread, joins both
+  // Stops the reference run and the render thread and joins both: within about a tenth of a
+  // second, but a technique prepare in progress (the point cloud: about a second for the bunny on
+  // llvmpipe) is waited for (RenderWorker finishes the frame in hand).
+  ~CompareDock() override;
 
   // Each restarts what it affects at once.
   void setReferenceKind(analysis::ReferenceKind kind);

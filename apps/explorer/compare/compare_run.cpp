@@ -47,6 +47,7 @@ void CompareRun::run() {
       snap->computed = computed;
       snap->budget = budget;
       snap->seconds = elapsed();
+      snap->eta = s.medium.eta;
       snap->reference = std::move(reference);
       snap->masks = std::move(masks);
       callbacks_.pass(std::move(snap));

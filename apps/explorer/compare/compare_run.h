@@ -46,6 +46,7 @@ struct CompareSnapshot {
   uint64_t computed = 0;   // all photons per channel / samples computed so far
   uint64_t budget = 0;     // of `computed` at the end of the schedule
   double seconds = 0.0;    // since the run started (mesh loading and masks included)
+  double eta = 1.0;        // the medium's (for Reference::radianceFor)
   analysis::Reference reference;
   analysis::Masks masks;
 };
