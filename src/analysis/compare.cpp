@@ -82,6 +82,12 @@ std::string referenceKeyText(const scene::Scene& scene, const ReferenceRequest& 
   const fs::path canonical = fs::weakly_canonical(scene.mesh_file, ec);
   if (!ec && s.contains("mesh")) s["mesh"]["file"] = canonical.string();
   j["scene"] = s;
+  // The coefficients themselves: toJson writes a preset by name, and a caller may have changed
+  // the medium behind it.
+  const Medium& m = scene.medium;
+  j["medium"] = {{"sigma_a", {m.sigma_a[0], m.sigma_a[1], m.sigma_a[2]}},
+                 {"sigma_s", {m.sigma_s[0], m.sigma_s[1], m.sigma_s[2]}},
+                 {"g", m.g}, {"eta", m.eta}, {"scale", m.scale}};
   j["mesh_sha256"] = sha256Hex(readFileBytes(scene.mesh_file, "mesh file"));
   j["kind"] = toString(request.kind);
   j["count"] = request.count;

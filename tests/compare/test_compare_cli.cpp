@@ -179,11 +179,17 @@ TEST_F(CompareCli, SecondRunReusesTheReferencesAndAChangedSceneMisses) {
   text.replace(text.find(from), from.size(), "\"irradiance\": 1.5");
   const std::string mesh = "\"../meshes/cube.obj\"";
   ASSERT_NE(text.find(mesh), std::string::npos);
-  text.replace(text.find(mesh), mesh.size(),
-               "\"" + (fs::path(TRANSLUCENT_CUBE_SCENE).parent_path() / "../meshes/cube.obj").string() + "\"");
+  // The mesh by its absolute path (the copy lives elsewhere).
+  std::string absolute = "\"";
+  absolute += (fs::path(TRANSLUCENT_CUBE_SCENE).parent_path() / "../meshes/cube.obj").string();
+  absolute += "\"";
+  text.replace(text.find(mesh), mesh.size(), absolute);
   std::ofstream(kRoot / "brighter.json") << text;
-  const CliRun changed = run("'" + (kRoot / "brighter.json").string() + "' --techniques pointcloud " +
-                              common(kRoot / "report-brighter"), "changed");
+  std::string args = "'";
+  args += (kRoot / "brighter.json").string();
+  args += "' --techniques pointcloud ";
+  args += common(kRoot / "report-brighter");
+  const CliRun changed = run(args, "changed");
   ASSERT_EQ(changed.status, 0) << changed.output;
   EXPECT_EQ(changed.output.find("reused from the cache"), std::string::npos) << changed.output;
   EXPECT_NE(changed.output.find("physical reference: computed in"), std::string::npos) << changed.output;
