@@ -6,15 +6,20 @@
 //                                  (src/reference/mesh_tracer.h, mesh_scene.h)
 //   translucent integrate sphere   a BSSRDF model integrated over the lit sphere (seed 3.5;
 //                                  src/reference/sphere_integration.h)
+//   translucent integrate mesh     a BSSRDF model integrated over a mesh scene for every visible
+//                                  pixel: compare's "model" reference (src/reference/
+//                                  model_reference.h)
 //
 // The EXR holds the chosen quantity in R, G, B and its per-pixel standard error in the layer
 // "stderr" (stderr.R, ...), every quantity computed as layers "<name>" and "<name>_stderr"
-// (exitance, radiance, cone_radiance), and metadata saying what the pixels are. Passes accumulate into the
+// (exitance, radiance, cone_radiance), `integrate mesh` also the layer "coverage" (fraction of
+// the pixel's camera rays that hit the mesh, in R = G = B), and metadata saying what the pixels are. Passes accumulate into the
 // same images (which are rewritten after every pass); Ctrl-C or --time-limit stops the current
 // pass and writes what was computed so far, marked partial.
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -30,6 +35,7 @@
 #include "progress.h"
 #include "reference/mesh_scene.h"
 #include "reference/mesh_tracer.h"
+#include "reference/model_reference.h"
 #include "reference/sphere.h"
 #include "reference/sphere_integration.h"
 
@@ -120,24 +126,27 @@ const char* describe(const std::string& quantity) {
   return "true radiance towards the camera, cone-averaged [W/(unit^2 sr)] (pixel average)";
 }
 
-// The chosen quantity in R, G, B, its standard error in the layer "stderr", and every quantity
-// the run computed as a layer of its own (so one file holds B and both radiances).
-void writeImage(const RunArgs& a, const McImage& img,
-                const std::vector<std::pair<std::string, const McImage*>>& all,
-                const std::string& what, bool partial, const std::string& samples) {
-  const std::vector<float> rgb = img.rgb();
-  std::vector<std::vector<float>> data;
-  std::vector<std::string> names;
-  data.push_back(img.rgbStdError());
-  names.push_back("stderr");
-  for (const auto& [name, image] : all) {
-    data.push_back(image->rgb());
-    names.push_back(name);
-    data.push_back(image->rgbStdError());
-    names.push_back(name + "_stderr");
-  }
+// A quantity of a run: RGB values and their standard errors, interleaved, rows from the top.
+struct Quantity {
+  std::string name;
+  std::vector<float> value, stderr_;
+};
+
+// The chosen quantity in R, G, B, its standard error in the layer "stderr", every quantity the
+// run computed as layers "<name>" and "<name>_stderr" (so one file holds B and both radiances),
+// and any further RGB layers (`extra`, e.g. coverage).
+void writeImage(const RunArgs& a, int width, int height, const Quantity& chosen,
+                const std::vector<Quantity>& all, const std::string& what, bool partial,
+                const std::string& samples,
+                const std::vector<std::pair<std::string, std::vector<float>>>& extra = {}) {
+  const std::vector<float>& rgb = chosen.value;
   std::vector<analysis::ExrLayer> layers;
-  for (size_t i = 0; i < data.size(); ++i) layers.push_back({names[i], data[i]});
+  layers.push_back({"stderr", chosen.stderr_});
+  for (const Quantity& q : all) {
+    layers.push_back({q.name, q.value});
+    layers.push_back({q.name + "_stderr", q.stderr_});
+  }
+  for (const auto& [name, data] : extra) layers.push_back({name, data});
   const std::pair<std::string, std::string> attrs[] = {
       {"translucent:quantity", describe(a.quantity)},
       {"translucent:layers", "stderr: standard error of R,G,B; <quantity> and <quantity>_stderr "
@@ -146,9 +155,18 @@ void writeImage(const RunArgs& a, const McImage& img,
       {"translucent:samples", samples},
       {"translucent:seed", std::to_string(a.seed)},
       {"translucent:partial", partial ? "true" : "false"}};
-  analysis::writeExr(a.exr, img.width(), img.height(), rgb, layers, attrs);
-  if (!a.png.empty())
-    analysis::writePng(a.png, img.width(), img.height(), rgb, {a.exposure, a.gamma});
+  analysis::writeExr(a.exr, width, height, rgb, layers, attrs);
+  if (!a.png.empty()) analysis::writePng(a.png, width, height, rgb, {a.exposure, a.gamma});
+}
+
+void writeImage(const RunArgs& a, const McImage& img,
+                const std::vector<std::pair<std::string, const McImage*>>& all,
+                const std::string& what, bool partial, const std::string& samples) {
+  std::vector<Quantity> quantities;
+  for (const auto& [name, image] : all)
+    quantities.push_back({name, image->rgb(), image->rgbStdError()});
+  writeImage(a, img.width(), img.height(), {"", img.rgb(), img.rgbStdError()}, quantities, what,
+             partial, samples);
 }
 
 std::vector<std::pair<std::string, const McImage*>> layersOf(const reference::CameraImages& i) {
@@ -357,6 +375,85 @@ void runPathtraceMesh(const std::string& sceneFile, const RunArgs& a) {
              st.threads, tracer.body().triangleCount(), a.exr, a.png.empty() ? "" : " and " + a.png);
 }
 
+// Options of `integrate mesh` beyond RunArgs.
+struct ModelReferenceArgs {
+  std::string scene;
+  reference::ModelReferenceOptions options;
+  std::string convention = "jensen";
+  bool jitter = false;
+};
+
+// Per channel, the median over fully covered pixels of exitance_se / exitance: the noise level.
+std::vector<double> medianRelativeError(const reference::ModelReferenceImages& img) {
+  std::vector<double> out;
+  for (size_t c = 0; c < 3; ++c) {
+    std::vector<double> rel;
+    for (size_t p = 0; p < img.coverage.size(); ++p)
+      if (img.coverage[p] == 1.0f && img.exitance[3 * p + c] > 0.0f)
+        rel.push_back(double(img.exitance_se[3 * p + c]) / double(img.exitance[3 * p + c]));
+    if (rel.empty()) {
+      out.push_back(0.0);
+      continue;
+    }
+    std::nth_element(rel.begin(), rel.begin() + long(rel.size() / 2), rel.end());
+    out.push_back(rel[rel.size() / 2]);
+  }
+  return out;
+}
+
+void runIntegrateMesh(const ModelReferenceArgs& m, const RunArgs& a) {
+  a.validate();
+  if (a.passes != 1)
+    throw ParameterError(fmt::format("--passes is {}: `integrate mesh` renders in one pass (more "
+                                     "--samples give less noise)", a.passes));
+  const reference::MeshScene scene = reference::loadMeshScene(m.scene);
+  const geometry::TriangleMesh mesh = scene::loadSceneMesh(scene);  // normalised and placed
+  const std::vector<reference::Light> lights = scene::referenceLights(scene);
+  reference::ModelReferenceOptions o = m.options;
+  o.samples = parseCount(a.count, "--samples");
+  o.seed = a.seed;
+  o.threads = a.threads;
+  o.convention = bssrdf::parseExitConvention(m.convention);
+  o.jitter = m.jitter;
+  reference::ModelReferenceImages img;
+  auto pass = [&](const reference::ProgressCallback& cb) {
+    img = reference::renderModelReference(mesh, scene.medium, bssrdf::model(scene.model), lights,
+                                          scene.camera, o, cb);
+    return img.partial;
+  };
+  auto write = [&](bool partial) {
+    std::vector<float> coverage;
+    coverage.reserve(3 * img.coverage.size());
+    for (const float c : img.coverage) coverage.insert(coverage.end(), {c, c, c});
+    const std::vector<Quantity> all = {{"exitance", img.exitance, img.exitance_se},
+                                       {"radiance", img.radiance, img.radiance_se}};
+    writeImage(a, img.width, img.height, a.quantity == "radiance" ? all[1] : all[0], all,
+               fmt::format("translucent integrate mesh --scene {} (model {}, radiance convention "
+                           "{}, {} rays per pixel)", m.scene, scene.model, m.convention,
+                           o.subpixels * o.subpixels),
+               partial, fmt::format("{} surface samples", img.samples), {{"coverage", coverage}});
+    nlohmann::json j = {{"command", "integrate mesh"}, {"scene_file", m.scene},
+                        {"scene", nlohmann::json::parse(reference::toJson(scene))},
+                        {"triangles", mesh.triangleCount()}, {"samples", img.samples},
+                        {"lit_samples", img.lit_samples}, {"subpixels", o.subpixels},
+                        {"jitter", o.jitter}, {"convention", m.convention},
+                        {"area", img.area}, {"near_radius", img.near_radius},
+                        {"near_fraction", img.near_fraction}, {"prune_radius", img.prune_radius},
+                        {"tail_fraction", img.tail_fraction}, {"table_size", img.table_size},
+                        {"table_error", img.table_error},
+                        {"median_relative_stderr", medianRelativeError(img)},
+                        {"seconds", img.seconds},
+                        {"threads", img.threads}, {"partial", partial}};
+    writeJson(a, j);
+  };
+  runPasses(a, "integrate mesh", "pixels", pass, write);
+  fmt::print(stderr, "integrate mesh: {}{} ({}), {} surface samples ({} lit), {}x{} pixels, {} "
+                     "rays per pixel, in {:.2f} s ({} threads); wrote {}{}\n",
+             img.partial ? "stopped early, partial result: " : "", scene.model, m.convention,
+             img.samples, img.lit_samples, img.width, img.height, o.subpixels * o.subpixels,
+             img.seconds, img.threads, a.exr, a.png.empty() ? "" : " and " + a.png);
+}
+
 CLI::App* subcommand(CLI::App& app, const std::string& name, const std::string& help) {
   for (auto* sub : app.get_subcommands([](CLI::App*) { return true; }))
     if (sub->get_name() == name) return sub;
@@ -418,6 +515,35 @@ void addRenderReferenceCommands(CLI::App& app) {
     cmd->callback([s, a, model, sampling, defensive] {
       runIntegrateSphere(*s, *a, *model, *sampling, *defensive);
     });
+  }
+  {
+    auto m = std::make_shared<ModelReferenceArgs>();
+    auto a = std::make_shared<RunArgs>();
+    a->count = "200000";
+    auto* cmd = in->add_subcommand(
+        "mesh", "The scene's BSSRDF model integrated over the whole mesh for every visible pixel "
+                "(dense area-uniform samples, no hierarchy): the \"model\" reference of "
+                "`compare`; same scene file and pixels as `pathtrace mesh`");
+    cmd->add_option("--scene", m->scene, "Scene file (JSON)")->required();
+    cmd->add_option("--subpixels", m->options.subpixels,
+                    "Camera rays per pixel per axis (stratified)")->capture_default_str();
+    cmd->add_option("--convention", m->convention,
+                    "Radiance from B: jensen (Ft B/pi) or normalized (Ft B/(pi 4C_phi(1/eta)))")
+        ->check(CLI::IsMember(bssrdf::exitConventionNames()))
+        ->capture_default_str();
+    cmd->add_flag("--jitter", m->jitter,
+                  "Jitter the rays in their strata (unbiased pixel averages; the standard error "
+                  "then includes a conservative estimate of the rays' part). Default: strata "
+                  "centres (--subpixels 1: the pixel centre, where a rasteriser shades)");
+    cmd->add_option("--near-field", m->options.near_field,
+                    "Radius of the analytic disc about each shaded point [sample spacings]")
+        ->capture_default_str();
+    cmd->add_option("--tail", m->options.tail,
+                    "Fraction of Rd beyond the pruning radius (samples farther are skipped)")
+        ->capture_default_str();
+    a->add(*cmd, "--samples", "Surface samples (area-uniform, up to 2^24 - 1)",
+           {"exitance", "radiance"});
+    cmd->callback([m, a] { runIntegrateMesh(*m, *a); });
   }
 }
 

@@ -9,7 +9,7 @@ void addPresetsCommand(CLI::App& app);
 void addInvertCommand(CLI::App& app);
 void addProfileCommand(CLI::App& app);
 void addPathtraceCommand(CLI::App& app);
-void addRenderReferenceCommands(CLI::App& app);  // pathtrace sphere|mesh, integrate sphere
+void addRenderReferenceCommands(CLI::App& app);  // pathtrace sphere|mesh, integrate sphere|mesh
 void addRenderCommand(CLI::App& app);            // render (real-time techniques, GPU)
 void addCompareCommand(CLI::App& app);           // compare (techniques vs references, report)
 

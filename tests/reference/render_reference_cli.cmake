@@ -1,4 +1,4 @@
-# `translucent pathtrace sphere|mesh` and `translucent integrate sphere` through the real binary
+# `translucent pathtrace sphere|mesh` and `translucent integrate sphere|mesh` through the real binary
 # (tests/cli/check.cmake: runs and writes a well-formed file, or fails with a message naming the
 # problem). Included from CMakeLists.txt.
 if(TARGET translucent_cli)
@@ -29,6 +29,20 @@ if(TARGET translucent_cli)
   render_test(mesh_json ARGS pathtrace mesh --scene ${PROJECT_SOURCE_DIR}/data/scenes/cube.json
               --photons 2000 --threads 2 --quantity radiance --exr ${OUT}/rm.exr
               --json ${OUT}/rm.json FILE ${OUT}/rm.json MATCH "\"triangles\": 12")
+  render_test(integrate_mesh_json ARGS integrate mesh
+              --scene ${PROJECT_SOURCE_DIR}/data/scenes/cube.json --samples 20000 --threads 2
+              --quantity radiance --exr ${OUT}/rim.exr --png ${OUT}/rim.png --json ${OUT}/rim.json
+              FILE ${OUT}/rim.json MATCH "\"lit_samples\"")
+  render_test(integrate_mesh_exr ARGS integrate mesh
+              --scene ${PROJECT_SOURCE_DIR}/data/scenes/cube.json --samples 20000 --threads 2
+              --jitter --exr ${OUT}/rim2.exr --json ${OUT}/rim2.json
+              FILE ${OUT}/rim2.json MATCH "\"jitter\": true")
+  render_test(integrate_mesh_passes FAIL ARGS integrate mesh
+              --scene ${PROJECT_SOURCE_DIR}/data/scenes/cube.json --passes 2 --exr ${OUT}/x.exr
+              MATCH "one pass")
+  render_test(integrate_mesh_bad_convention FAIL ARGS integrate mesh
+              --scene ${PROJECT_SOURCE_DIR}/data/scenes/cube.json --convention foo
+              --exr ${OUT}/x.exr MATCH "--convention")
   render_test(sphere_nan FAIL ARGS pathtrace sphere --sigma-a nan --sigma-s 1 --exr ${OUT}/x.exr
               MATCH "sigma_a .red channel. is nan")
   render_test(sphere_bad_light FAIL ARGS pathtrace sphere --light-dir 0,0 --exr ${OUT}/x.exr
