@@ -329,10 +329,15 @@ void CompareDock::restart(bool force) {
     stale_ = snapshot_ != nullptr;
     updateStatus();
     updateComparison();
-    state_.error(tr("Compare: no %1 reference for this scene: %2")
-                     .arg(QString::fromLatin1(analysis::toString(kind_)), QString::fromUtf8(e.what())));
+    const QString message = tr("Compare: no %1 reference for this scene: %2")
+                                .arg(QString::fromLatin1(analysis::toString(kind_)),
+                                     QString::fromUtf8(e.what()));
+    // Once per reason: turning an environment light by dragging is one error, not hundreds.
+    if (message != last_error_) state_.error(message);
+    last_error_ = message;
     return;
   }
+  last_error_.clear();
   run_scene_key_ = sk;
   startRun(s, std::move(key));
 }
@@ -446,6 +451,7 @@ void CompareDock::onFrame(std::shared_ptr<const RenderedFrame> frame) {
   if (!frame->frame.converged) return;  // the worker renders on until it is
   frame_ = std::move(frame);
   frame_scene_key_ = frame_request_scene_;
+  last_technique_error_.clear();
   updateComparison();
   updateStatus();
   emit techniqueFrameReceived();
@@ -455,7 +461,9 @@ void CompareDock::onPrepareFailed(quint64 id, const QString& message) {
   failed_requests_.insert(id);
   if (id != frame_request_) return;
   technique_error_ = message;
-  state_.error(tr("Compare: the technique cannot render this scene: %1").arg(message));
+  if (message != last_technique_error_)
+    state_.error(tr("Compare: the technique cannot render this scene: %1").arg(message));
+  last_technique_error_ = message;
   updateStatus();
   updateComparison();
 }

@@ -146,6 +146,7 @@ class CompareDock : public QDockWidget {
   std::string run_key_;        // the run's inputs
   std::string run_scene_key_;  // the scene of the run (technique and display aside)
   bool stale_ = false;         // the last restart failed: the reference is of a previous scene
+  QString last_error_;         // of the last failed restart (not repeated while it persists)
   std::shared_ptr<const CompareSnapshot> snapshot_;
   int snapshot_generation_ = 0;
   std::string snapshot_scene_key_;
@@ -165,6 +166,7 @@ class CompareDock : public QDockWidget {
   std::shared_ptr<const RenderedFrame> frame_;
   std::string frame_scene_key_;      // scene key of frame_
   QString technique_error_;
+  QString last_technique_error_;  // reported once while it persists
 
   // What is shown.
   std::optional<analysis::Metrics> metrics_;

@@ -233,6 +233,13 @@ class TestCompareDock : public QObject {
     QVERIFY2(errors.join("\n").contains("Compare: no physical reference for this scene"),
              qPrintable(errors.join("\n")));
     QCOMPARE(dock->status().generation, generation);  // nothing started
+    // Turning the environment (a right drag) reports the same reason once, not per step.
+    const qsizetype reported = errors.filter("Compare: no physical reference").size();
+    QCOMPARE(reported, 1);
+    env.emitter = scene::EnvironmentLight{"/nonexistent/sky.exr", 1.0, 30.0, false};
+    state.setLights({env});
+    QTest::qWait(4 * CompareDock::kRestartDelayMs);
+    QCOMPARE(errors.filter("Compare: no physical reference").size(), reported);
     QVERIFY(!dock->status().running);
     QVERIFY(dock->findChild<QLabel*>("metrics")->text().contains("previous scene") ||
             !dock->metrics().has_value());
