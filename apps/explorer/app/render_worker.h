@@ -88,6 +88,12 @@ class RenderWorker : public QObject {
   std::jthread thread_;
 };
 
+// Destroys a worker without waiting for it: it is disconnected, detached from the GUI thread
+// (QObject::moveToThread(nullptr)) and destroyed on a thread of its own, which first finishes the
+// frame or prepare() in hand (a point cloud takes seconds on llvmpipe, a minute on a loaded
+// machine). For a dock that must close promptly; the threads are joined at program exit.
+void retireInBackground(std::unique_ptr<RenderWorker> worker);
+
 }  // namespace translucent::explorer
 
 Q_DECLARE_METATYPE(std::shared_ptr<const translucent::explorer::RenderedFrame>)

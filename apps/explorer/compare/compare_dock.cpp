@@ -91,7 +91,10 @@ CompareDock::CompareDock(ExplorerState& state, QWidget* parent)
   // Nothing is computed while the dock is hidden (a tab behind the lit spheres costs no render
   // thread, no technique prepare and no photons): hiding it stops a running reference (the last
   // pass stays on screen), showing it again starts one for the current scene.
+  // The signal's argument, not isVisible(): a dock raised in a tab group says so before it is
+  // shown.
   connect(this, &QDockWidget::visibilityChanged, this, [this](bool visible) {
+    visible_ = visible;
     if (visible) {
       restart(!started_);
     } else if (run_) {
@@ -108,7 +111,8 @@ CompareDock::~CompareDock() {
   for (auto& r : retiring_) r.run->requestStop();
   run_.reset();
   retiring_.clear();
-  worker_.reset();  // after the frame in progress (at the dock's size: milliseconds)
+  // Its frame or prepare in hand can take seconds: not waited for here.
+  retireInBackground(std::move(worker_));
   // Calls queued to this object by the threads before they ended are discarded with it.
 }
 
@@ -292,7 +296,7 @@ scene::Scene CompareDock::compareScene() const {
 }
 
 void CompareDock::restart(bool force) {
-  if (!isVisible()) return;  // shown again: restart(false) then catches up
+  if (!visible_) return;  // shown again: restart(false) then catches up
   if (!started_) {
     started_ = true;
     worker_->start();

@@ -59,9 +59,10 @@ class CompareDock : public QDockWidget {
   enum class Quantity { Radiance, ConeRadiance, Exitance };
 
   explicit CompareDock(ExplorerState& state, QWidget* parent = nullptr);
-  // Stops the reference run and the render thread and joins both: within about a tenth of a
-  // second, but a technique prepare in progress (the point cloud: about a second for the bunny on
-  // llvmpipe) is waited for (RenderWorker finishes the frame in hand).
+  // Stops the reference run and joins it (a tenth of a second once its passes run, the current
+  // setup step before: compare_run.h); the render thread is
+  // retired in the background (retireInBackground: a technique prepare in progress, seconds on
+  // llvmpipe, is not waited for).
   ~CompareDock() override;
 
   // Each restarts what it affects at once.
@@ -133,6 +134,7 @@ class CompareDock : public QDockWidget {
   void updateStatus();
 
   ExplorerState& state_;
+  bool visible_ = false;  // last visibilityChanged
   bool started_ = false;  // first shown: the render thread runs and the reference follows
   analysis::ReferenceKind kind_ = analysis::ReferenceKind::Physical;
   Quantity quantity_ = Quantity::Radiance;

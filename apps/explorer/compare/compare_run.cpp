@@ -9,6 +9,9 @@
 #include "reference/progressive.h"
 
 namespace translucent::explorer {
+namespace {
+struct Stopped {};  // a stop seen between setup steps
+}  // namespace
 
 std::vector<uint64_t> modelPasses(uint64_t first, uint64_t budget) {
   std::vector<uint64_t> passes;
@@ -36,7 +39,9 @@ void CompareRun::run() {
   std::string error;
   try {
     const scene::Scene& s = config_.scene;
+    // Setup (mesh, masks, BVH) cannot be interrupted: the stop flag is read between its steps.
     const geometry::TriangleMesh mesh = scene::loadSceneMesh(s);
+    if (stop_) throw Stopped{};
     auto report = [&](int pass, int passes, uint64_t count, uint64_t computed, uint64_t budget,
                       analysis::Reference reference, analysis::Masks masks) {
       if (!callbacks_.pass) return;
@@ -64,6 +69,7 @@ void CompareRun::run() {
       uint64_t total = 0;
       for (uint64_t n : passes) total += n;
       const analysis::Masks masks = analysis::compareMasks(s, mesh, {});
+      if (stop_) throw Stopped{};
       reference::MeshPathTracer tracer(mesh, s.medium, lights, s.camera, s.cone_angle,
                                        {config_.seed, config_.threads});
       const int count = static_cast<int>(passes.size());
@@ -124,6 +130,8 @@ void CompareRun::run() {
                std::move(r), std::move(masks));
       }
     }
+  } catch (const Stopped&) {
+    stopped = true;
   } catch (const std::exception& e) {
     error = e.what();
   }

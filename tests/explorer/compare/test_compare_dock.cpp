@@ -282,14 +282,19 @@ class TestCompareDock : public QObject {
     QTest::qWait(50);  // queued calls from the threads must not reach the destroyed dock
 
     // Right after being shown, before the first frame or pass: the render thread is creating its
-    // context or preparing the technique (about a second here), which it finishes first.
+    // context or preparing the technique (seconds), which the dock does not wait for.
     auto fresh = smallDock(state);
-    QTest::qWait(10);
+    QTRY_VERIFY(fresh->status().running);
+    QTest::qWait(200);
+    const bool preparing = !fresh->techniqueFrame();
     timer.restart();
     fresh.reset();
-    qInfo("dock destroyed during the technique's prepare in %lld ms",
+    qInfo("dock destroyed %s in %lld ms", preparing ? "during the technique's prepare" : "",
           static_cast<long long>(timer.elapsed()));
-    QVERIFY2(timer.elapsed() < 15000, qPrintable(QString("%1 ms").arg(timer.elapsed())));
+    // The reference run is in its setup (mesh load, masks, BVH: read the stop flag between
+    // steps only), the render thread in its prepare (not waited for): the slowest setup step
+    // bounds it, about a second on a loaded machine.
+    QVERIFY2(timer.elapsed() < 3000, qPrintable(QString("%1 ms").arg(timer.elapsed())));
   }
 };
 
