@@ -60,15 +60,6 @@ double median(std::vector<double> v) {
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-// The technique's radiance convention: its `radiance_convention` parameter, else Jensen (the
-// techniques without one compute no radiance from an exitance, or compute Ft B / π).
-bssrdf::ExitConvention conventionOf(const techniques::Technique& t) {
-  for (const auto& p : t.parameters())
-    if (p.name == "radiance_convention")
-      return bssrdf::parseExitConvention(std::get<std::string>(t.parameter(p.name)));
-  return bssrdf::ExitConvention::Jensen;
-}
-
 // One converged frame read back (the images), then `warmup` + `frames` frames kept on the GPU
 // (read-back stalls the pipeline, techniques/technique.h), of which the last `frames` are timed.
 struct Rendered {
@@ -89,7 +80,7 @@ Rendered renderTimed(techniques::Technique& t, const scene::Scene& s, int warmup
                                          t.name(), f.width, f.height, s.camera.width,
                                          s.camera.height));
   r.images.name = std::string(t.name());
-  r.images.convention = conventionOf(t);
+  r.images.convention = techniques::radianceConvention(t);
   r.images.radiance = {f.width, f.height, std::move(f.rgb), {}};
   if (auto it = f.layers.find("exitance"); it != f.layers.end())
     r.images.exitance = {f.width, f.height, std::move(it->second), {}};

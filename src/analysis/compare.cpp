@@ -247,13 +247,9 @@ void ReferenceCache::store(Reference& r) const {
 
 // ---- Computing references ------------------------------------------------------------------
 
-namespace {
-
-CompareImage fromMc(const reference::McImage& m) {
+CompareImage toCompareImage(const reference::McImage& m) {
   return {m.width(), m.height(), m.rgb(), m.rgbStdError()};
 }
-
-}  // namespace
 
 Reference computeReference(const scene::Scene& scene, const geometry::TriangleMesh& mesh,
                            const ReferenceRequest& request,
@@ -270,9 +266,9 @@ Reference computeReference(const scene::Scene& scene, const geometry::TriangleMe
     reference::MeshPathTracer tracer(mesh, scene.medium, lights, scene.camera, scene.cone_angle,
                                      {request.seed, request.threads});
     const reference::TransportStats st = tracer.addPass(request.count, progress);
-    r.exitance = fromMc(tracer.images().exitance);
-    r.radiance = fromMc(tracer.images().radiance);
-    r.cone_radiance = fromMc(tracer.images().cone_radiance);
+    r.exitance = toCompareImage(tracer.images().exitance);
+    r.radiance = toCompareImage(tracer.images().radiance);
+    r.cone_radiance = toCompareImage(tracer.images().cone_radiance);
     r.count_done = st.photons.empty() ? 0 : st.photons[0];
     r.seconds = st.seconds;
     r.partial = st.partial;

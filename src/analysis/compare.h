@@ -44,6 +44,10 @@
 #include "reference/slab.h"  // ProgressCallback
 #include "scene/scene.h"
 
+namespace translucent::reference {
+class McImage;
+}
+
 namespace translucent::analysis {
 
 // Bumped whenever a reference computed from the same inputs would change (tracer, model
@@ -59,6 +63,10 @@ struct CompareImage {
   // The image (and its error) times `factor`.
   CompareImage scaled(double factor) const;
 };
+
+// A Monte Carlo image with its standard error (what the physical reference stores, also for a
+// path tracer refined pass by pass, as the explorer's Compare dock does).
+CompareImage toCompareImage(const reference::McImage& image);
 
 enum class ReferenceKind { Physical, Model };
 const char* toString(ReferenceKind kind);  // "physical", "model"

@@ -190,4 +190,11 @@ void applySettings(Technique& technique, const scene::Scene& scene) {
   }
 }
 
+bssrdf::ExitConvention radianceConvention(const Technique& technique) {
+  for (const auto& p : technique.parameters())
+    if (p.name == "radiance_convention")
+      return bssrdf::parseExitConvention(std::get<std::string>(technique.parameter(p.name)));
+  return bssrdf::ExitConvention::Jensen;
+}
+
 }  // namespace translucent::techniques

@@ -23,6 +23,7 @@
 #include <variant>
 #include <vector>
 
+#include "bssrdf/exit_radiance.h"
 #include "gpu/context.h"
 #include "optics/medium.h"
 #include "scene/scene.h"
@@ -139,5 +140,10 @@ class Technique {
 
 // Applies a scene's technique settings (scene.settings) with setParameter.
 void applySettings(Technique& technique, const scene::Scene& scene);
+
+// The convention of the technique's radiance (Frame::rgb): its `radiance_convention` parameter,
+// else Jensen (the techniques without one compute no radiance from an exitance, or compute
+// Ft B / π). `translucent compare` and the explorer's Compare dock convert the reference by it.
+bssrdf::ExitConvention radianceConvention(const Technique& technique);
 
 }  // namespace translucent::techniques

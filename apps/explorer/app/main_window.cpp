@@ -23,6 +23,7 @@
 
 #include "material/parameters_dock.h"
 #include "material/pencil_plot_dock.h"
+#include "compare/compare_dock.h"
 #include "spheres/lit_spheres_dock.h"
 
 namespace translucent::explorer {
@@ -71,8 +72,11 @@ MainWindow::MainWindow(ExplorerState& state, MainWindowOptions options, QWidget*
   // The plot and the spheres share a tabbed dock by default: one column of docks beside the
   // viewport leaves the picture room for a landscape view (the field of view is vertical).
   tabifyDockWidget(plot, spheres);
+  auto* compare = new CompareDock(state_, this);
+  addDockWidget(Qt::RightDockWidgetArea, compare);
+  tabifyDockWidget(spheres, compare);
   plot->raise();
-  docks << spheres;
+  docks << spheres << compare;
   resize(1600, 1000);
   default_state_ = saveState();  // dock sizes: applyDefaultSizes() once the window is shown
 

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <exception>
 #include <string>
+#include <vector>
 
 #include "gpu/context.h"
 #include "techniques/registry.h"
@@ -26,7 +27,34 @@ std::string preparedKey(scene::Scene s) {
   return scene::toJson(s);
 }
 
+// Threads destroying retired workers; joined when the program ends (after main returns, so a
+// prepare still in progress then delays the exit, never a window).
+struct RetiredWorkers {
+  std::mutex mutex;
+  std::vector<std::thread> threads;
+  ~RetiredWorkers() {
+    for (auto& t : threads)
+      if (t.joinable()) t.join();
+  }
+};
+
+RetiredWorkers& retiredWorkers() {
+  static RetiredWorkers r;
+  return r;
+}
+
 }  // namespace
+
+void retireInBackground(std::unique_ptr<RenderWorker> worker) {
+  if (!worker) return;
+  worker->disconnect();            // its last signals reach nobody
+  worker->moveToThread(nullptr);   // no thread's events: it may be destroyed on any thread
+  auto& r = retiredWorkers();
+  std::lock_guard lock(r.mutex);
+  // Finished threads go now, so that a long session does not pile them up.
+  std::erase_if(r.threads, [](std::thread& t) { return !t.joinable(); });
+  r.threads.emplace_back([w = std::move(worker)]() mutable { w.reset(); });
+}
 
 RenderWorker::RenderWorker(QObject* parent) : QObject(parent) {
   qRegisterMetaType<std::shared_ptr<const RenderedFrame>>();
@@ -173,6 +201,7 @@ void RenderWorker::run(std::stop_token stop) {
       techniques::FrameRequest fr;
       fr.width = r.width > 0 ? r.width : r.scene.camera.width;
       fr.height = r.height > 0 ? r.height : r.scene.camera.height;
+      fr.converge = r.converge;
       out->frame = technique->render(fr);
     } catch (const std::exception& e) {
       emit prepareFailed(r.id, QString::fromStdString(e.what()), nullptr);
@@ -185,6 +214,7 @@ void RenderWorker::run(std::stop_token stop) {
     out->prepare_ms = prepare_ms;
     out->request_id = r.id;
     out->technique = r.scene.technique;
+    out->convention = techniques::radianceConvention(*technique);
     out->faces = faces;
     out->vertices = vertices;
     out->continuous = r.continuous;

@@ -37,6 +37,7 @@ struct RenderRequest {
   scene::Scene scene;         // technique, settings, camera, lights, material: everything
   int width = 0, height = 0;  // image size [pixels] (the scene camera's size is not used)
   bool continuous = false;    // keep rendering frames (random lighting, benchmarks)
+  bool converge = false;      // finish progressive work in one frame (FrameRequest::converge)
   std::uint64_t id = 0;       // assigned by RenderWorker::request
 };
 
@@ -44,6 +45,8 @@ struct RenderedFrame {
   techniques::Frame frame;
   std::uint64_t request_id = 0;
   std::string technique;
+  // Of frame.rgb (techniques::radianceConvention), for comparisons with a reference.
+  bssrdf::ExitConvention convention = bssrdf::ExitConvention::Jensen;
   double render_ms = 0.0;   // wall time of render() (GPU work and read-back)
   double prepare_ms = 0.0;  // wall time of prepare() before it, 0 when none was needed
   std::size_t faces = 0, vertices = 0;
@@ -84,6 +87,12 @@ class RenderWorker : public QObject {
   std::uint64_t next_id_ = 1;
   std::jthread thread_;
 };
+
+// Destroys a worker without waiting for it: it is disconnected, detached from the GUI thread
+// (QObject::moveToThread(nullptr)) and destroyed on a thread of its own, which first finishes the
+// frame or prepare() in hand (a point cloud takes seconds on llvmpipe, a minute on a loaded
+// machine). For a dock that must close promptly; the threads are joined at program exit.
+void retireInBackground(std::unique_ptr<RenderWorker> worker);
 
 }  // namespace translucent::explorer
 

@@ -26,41 +26,10 @@
 #include "analysis/image_io.h"
 #include "bssrdf/registry.h"
 #include "core/explorer_state.h"
+#include "core/pixel_image_view.h"
 #include "reference/slab.h"  // kBlockPhotons
 
 namespace translucent::explorer {
-
-// An image scaled to the widget, keeping its aspect ratio, nearest-neighbour (the pixels of a
-// Monte Carlo image are worth seeing), centred on a dark background.
-class SphereImageView : public QWidget {
- public:
-  explicit SphereImageView(QWidget* parent = nullptr) : QWidget(parent) {
-    setMinimumSize(96, 96);
-    setSizePolicy(QSizePolicy::Expanding, QSizePolicy::Expanding);
-  }
-  void setImage(QImage image) {
-    image_ = std::move(image);
-    update();
-  }
-  QSize sizeHint() const override { return {256, 256}; }
-
- protected:
-  void paintEvent(QPaintEvent*) override {
-    QPainter p(this);
-    p.fillRect(rect(), QColor(24, 24, 24));
-    if (image_.isNull()) {
-      p.setPen(QColor(160, 160, 160));
-      p.drawText(rect(), Qt::AlignCenter, tr("computing…"));
-      return;
-    }
-    const QSize s = image_.size().scaled(size(), Qt::KeepAspectRatio);
-    const QRect target(QPoint((width() - s.width()) / 2, (height() - s.height()) / 2), s);
-    p.drawImage(target, image_);
-  }
-
- private:
-  QImage image_;
-};
 
 struct LitSpheresDock::PaneData {
   QString title;
@@ -74,7 +43,7 @@ struct LitSpheresDock::PaneData {
   double fraction = 0.0;
   QImage image;
   QWidget* widget = nullptr;
-  SphereImageView* view = nullptr;
+  PixelImageView* view = nullptr;
   QProgressBar* progress = nullptr;
   QLabel* status = nullptr;
 };
@@ -89,17 +58,6 @@ constexpr uint64_t kFirstPhotons = 8 * reference::kBlockPhotons;
 // material (about 10^5 photons/s and 2·10^5 samples/s at 128² on two cores).
 constexpr uint64_t kCapPhotons = 128 * reference::kBlockPhotons;
 constexpr uint64_t kCapSamples = 16;
-
-QImage toneMapped(const std::vector<float>& rgb, int w, int h, double exposure, double gamma) {
-  QImage img(w, h, QImage::Format_RGB888);
-  const analysis::ToneMap tm{exposure, gamma};
-  for (int y = 0; y < h; ++y) {
-    uchar* line = img.scanLine(y);
-    for (int x = 0; x < w * 3; ++x)
-      line[x] = analysis::toneMap(rgb[static_cast<size_t>(y) * static_cast<size_t>(w) * 3 + static_cast<size_t>(x)], tm);
-  }
-  return img;
-}
 
 // A run's inputs. The path tracer's do not include the model's name: only its medium matters.
 std::string key(const SphereRunConfig& c, const std::string& model) {
@@ -212,14 +170,14 @@ void LitSpheresDock::buildUi() {
   controls->setColumnStretch(4, 1);
   layout->addLayout(controls);
 
-  auto makePane = [&](const QString& title, SphereImageView*& view, QProgressBar** progress,
+  auto makePane = [&](const QString& title, PixelImageView*& view, QProgressBar** progress,
                       QLabel*& status) {
     auto* w = new QWidget(root);
     auto* l = new QVBoxLayout(w);
     l->setContentsMargins(0, 0, 0, 0);
     auto* heading = new QLabel(QStringLiteral("<b>%1</b>").arg(title), w);
     l->addWidget(heading);
-    view = new SphereImageView(w);
+    view = new PixelImageView(w);
     l->addWidget(view, 1);
     if (progress) {
       *progress = new QProgressBar(w);
@@ -341,7 +299,7 @@ void LitSpheresDock::redraw() {
     PaneData& d = pane(p);
     if (!d.snapshot) continue;
     const auto& img = quantity_ == Quantity::Radiance ? d.snapshot->radiance : d.snapshot->exitance;
-    d.image = toneMapped(img.rgb(), img.width(), img.height(), exposure_, gamma_);
+    d.image = toneMappedImage(img.rgb(), img.width(), img.height(), exposure_, gamma_);
     d.view->setImage(d.image);
   }
   emit displayChanged();
@@ -399,10 +357,7 @@ void LitSpheresDock::updateComparison() {
         analysis::falseColor(c.relative, c.width, c.height, analysis::ColorMap::Diverging,
                              -static_cast<double>(kDifferenceRange),
                              static_cast<double>(kDifferenceRange));
-    difference_image_ = QImage(c.width, c.height, QImage::Format_RGB888);
-    for (int y = 0; y < c.height; ++y)
-      std::copy_n(rgb.data() + 3 * static_cast<size_t>(y) * static_cast<size_t>(c.width),
-                  3 * c.width, difference_image_.scanLine(y));
+    difference_image_ = rgb8Image(rgb, c.width, c.height);
   }
   difference_view_->setImage(difference_image_);
   if (!comparison_ || comparison_->metrics.pixels == 0) {

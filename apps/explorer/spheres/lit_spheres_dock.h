@@ -45,7 +45,7 @@ class QTimer;
 namespace translucent::explorer {
 
 class ExplorerState;
-class SphereImageView;
+class PixelImageView;
 
 class LitSpheresDock : public QDockWidget {
   Q_OBJECT
@@ -143,7 +143,7 @@ class LitSpheresDock : public QDockWidget {
   QTabWidget* tabs_ = nullptr;
   QWidget* side_ = nullptr;
   QWidget* difference_pane_ = nullptr;
-  SphereImageView* difference_view_ = nullptr;
+  PixelImageView* difference_view_ = nullptr;
   QLabel* difference_label_ = nullptr;
   QLabel* summary_label_ = nullptr;
   QCheckBox* side_by_side_ = nullptr;
