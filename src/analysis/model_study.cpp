@@ -77,7 +77,8 @@ double linearStdError(const Annuli& a, const std::vector<double>& h) {
     m2 += h[i] * h[i] * a.m2[i];
     mean += h[i] * a.c[i];
   }
-  return std::sqrt(std::max(0.0, m2 - mean * mean) / static_cast<double>(a.n));
+  // Sample variance (N - 1), as the tracer's own standard errors (walk.h).
+  return std::sqrt(std::max(0.0, m2 - mean * mean) / static_cast<double>(a.n - 1));
 }
 
 // R95 of the reference and its standard error (delta method on C(R) - 0.95 T = 0).
