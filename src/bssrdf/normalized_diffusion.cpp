@@ -32,14 +32,16 @@
 //   with the diffuse-transmission scaling s = 1.9 - A + 3.5 (A - 0.8)²): that fit reproduces the
 //   albedo of an index-matched half-space under *diffuse* illumination,
 //   1 - 2 sqrt(1 - α) ∫0^1 H(μ) μ dμ (within 0.5% for α <= 0.99), not the searchlight albedo
-//   1 - H(1) sqrt(1 - α), which is lower (α = 0.5: 0.1465 against 0.1152), and it ignores η. With it, this model's Rd over the 11 traceable presets was +49% on average
-//   (up to +177%) against the path-traced searchlight reference (docs/model-error.md).
+//   1 - H(1) sqrt(1 - α), which is lower (α = 0.5: 0.1465 against 0.1152), and it ignores η.
+//   With it, this model's Rd over the 11 traceable presets was +48% on average (up to +157%)
+//   against the path-traced searchlight reference and its mean photon-weighted L1 error 69%;
+//   with the searchlight albedo: Rd within 0.4%, L1 15.5% (docs/model-fixes.md).
 //   One adjustment, a documented limit of the profile rather than new physics:
 //   - σa = 0 makes ℓd infinite and the profile degenerate (all energy at infinity). ℓd is capped
 //     at that of a medium with σa = 10⁻⁶ σt' (ℓd <= ℓ'/sqrt(3·10⁻⁶) ≈ 577 ℓ'), an absorption far
 //     below what the presets' measured table resolves (for Spectralon 10⁻⁶ σt' is 1.2e-5 to
 //     2.0e-5/mm; the table gives σa to 1e-4/mm), so the profile stays a proper, sampleable
-//     density; A is still A(α').
+//     density; A is still A(α', η).
 #include <algorithm>
 #include <cmath>
 #include <limits>
