@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <memory>
 
+#include "analysis/model_study.h"
 #include "analysis/pencil_reference.h"
 #include "analysis/profile_curves.h"
 #include "bssrdf_models.h"
@@ -39,6 +40,9 @@ struct ProfileArgs {
   int height = plot::PlotOptions{}.height;
   std::string title;
   bool reference = false;
+  bool study = false;
+  std::string csv, json;
+  std::vector<std::string> study_presets;
   double photons = 1e6;
   uint64_t seed = 1;
   int threads = 0;
@@ -103,6 +107,46 @@ analysis::Curve referenceCurve(const Medium& medium, analysis::Channel ch, doubl
                                         needed[1] ? &results[1] : nullptr,
                                         needed[2] ? &results[2] : nullptr},
                                        ch, a.times_r);
+}
+
+// --study: every model against the path-traced reference for every traceable preset and RGB
+// channel (analysis/model_study.h), written as Markdown (--out), CSV and JSON.
+void runStudy(const ProfileArgs& a, const std::string& command) {
+  if (a.out.empty() && a.csv.empty() && a.json.empty())
+    throw ParameterError("--study: give at least one of --out FILE.md, --csv FILE, --json FILE");
+  if (!a.out.empty() && extensionOf(a.out) != ".md")
+    throw ParameterError(fmt::format("--study --out '{}': expected a Markdown file (.md)", a.out));
+  if (!(a.photons >= 1000.0 && a.photons <= 1e12))
+    throw ParameterError(
+        fmt::format("--photons is {}: expected between 1e3 and 1e12 per channel", a.photons));
+  analysis::ModelStudyOptions o;
+  if (a.models != "all") o.models = splitList(a.models);
+  o.presets = a.study_presets;
+  o.photons = static_cast<uint64_t>(a.photons);
+  o.seed = a.seed;
+  o.threads = a.threads;
+  InterruptGuard guard;
+  std::unique_ptr<ProgressBar> bar;
+  size_t current = static_cast<size_t>(-1);
+  const analysis::ModelStudy study = analysis::runModelStudy(o, [&](const analysis::StudyProgress& p) {
+    if (p.index != current) {
+      if (bar) bar->end();
+      current = p.index;
+      bar = std::make_unique<ProgressBar>(
+          fmt::format("study {} {} ({}/{})", p.preset, kChannelNames[p.channel], p.index + 1,
+                      p.total),
+          "photons");
+    }
+    return (*bar)(p.trace);
+  });
+  if (bar) bar->end();
+  if (study.partial) fmt::print(stderr, "profile --study: stopped early, the outputs are partial\n");
+  if (!a.out.empty()) analysis::writeModelStudyMarkdown(a.out, study, command);
+  if (!a.csv.empty()) analysis::writeModelStudyCsv(a.csv, study);
+  if (!a.json.empty()) analysis::writeModelStudyJson(a.json, study);
+  fmt::print(stderr, "profile --study: {} models x {} channels in {:.0f} s\n", study.models.size(),
+             study.references.size(), study.seconds);
+  fmt::print("{}", analysis::modelStudySummaryMarkdown(study));
 }
 
 void runProfile(const ProfileArgs& a) {
@@ -216,8 +260,9 @@ void addProfileCommand(CLI::App& app) {
       ->check(CLI::IsMember({"lin", "log", "sqrt"}))
       ->capture_default_str();
   cmd->add_flag("--times-r", args->times_r, "Plot r·R(r) instead of R(r)");
-  cmd->add_option("--out", args->out, "Output file: .csv (model,channel,r,value), .png or .svg")
-      ->required();
+  cmd->add_option("--out", args->out,
+                  "Output file: .csv (model,channel,r,value), .png or .svg; with --study a .md "
+                  "report");
   cmd->add_option("--width", args->width, "Plot width [pixels] (.png/.svg)")->capture_default_str();
   cmd->add_option("--height", args->height, "Plot height [pixels] (.png/.svg)")
       ->capture_default_str();
@@ -227,9 +272,31 @@ void addProfileCommand(CLI::App& app) {
                 "bars");
   cmd->add_option("--photons", args->photons, "Reference photons per channel")
       ->capture_default_str();
+  cmd->add_flag("--study", args->study,
+                "Error study: every model (or --model list) against the path-traced reference for "
+                "every traceable preset and RGB channel: L1 of 2πrR(r), Rd error, R95 ratio "
+                "(Markdown --out, --csv, --json)");
+  cmd->add_option("--csv", args->csv, "With --study: per model and channel results as CSV");
+  cmd->add_option("--json", args->json, "With --study: the full study as JSON");
+  cmd->add_option("--study-presets", args->study_presets,
+                  "With --study: comma-separated presets (default: every traceable one)")
+      ->delimiter(',');
   cmd->add_option("--seed", args->seed, "Reference random seed")->capture_default_str();
   cmd->add_option("--threads", args->threads, "Reference threads (0: all)")->capture_default_str();
-  cmd->callback([args] { runProfile(*args); });
+  cmd->callback([args, cmd] {
+    if (args->study) {
+      std::string command = "translucent profile --study";
+      for (const auto& opt : cmd->get_options())
+        if (opt->count() > 0 && opt->get_name() != "--study" && opt->get_name() != "--help")
+          command += " " + opt->get_name() + " " + fmt::format("{}", fmt::join(opt->results(), ","));
+      runStudy(*args, command);
+      return;
+    }
+    if (!args->csv.empty() || !args->json.empty() || !args->study_presets.empty())
+      throw ParameterError("--csv, --json and --study-presets need --study");
+    if (args->out.empty()) throw ParameterError("--out is required");
+    runProfile(*args);
+  });
 }
 
 }  // namespace translucent::cli

@@ -10,6 +10,7 @@ namespace translucent::bssrdf {
 std::unique_ptr<Model> makeDipole();
 std::unique_ptr<Model> makeBetterDipole();
 std::unique_ptr<Model> makeNormalizedDiffusion();
+std::unique_ptr<Model> makeNormalizedDiffusionFit();
 std::unique_ptr<Model> makeQuantizedDiffusion();
 std::unique_ptr<Model> makePhotonBeam();
 

@@ -15,6 +15,7 @@ constexpr Factory kFactories[] = {
     &makeDipole,
     &makeBetterDipole,
     &makeNormalizedDiffusion,
+    &makeNormalizedDiffusionFit,
     &makeQuantizedDiffusion,
     &makePhotonBeam,
 };

@@ -105,21 +105,38 @@ struct ImprovedConstants {
   }
 };
 
-// The steady-state beam integral ∫ σt' e^{-σt' z} α'² [κ] E(r, z) dz at r > 0, with or without the
-// photon-beam correction κ = 1 - e^{-2σt'(d_r + z)}.
-inline LD beamIntegral(LD r, const ScalarMedium& m, bool kappa) {
-  const ImprovedConstants c(m);
-  auto f = [&](LD z) {
-    const LD k = kappa ? -std::expm1(-2.0L * c.st * (std::sqrt(r * r + z * z) + z)) : 1.0L;
-    return c.st * std::exp(-c.st * z) * c.alpha * c.alpha * k * c.dipole(r, z);
-  };
-  return gauss20().graded(f, 1e-3L * std::min(r, 1.0L / c.st), 80.0L / c.st);
-}
-
 // Henyey-Greenstein phase function of the scattering cosine.
 inline LD henyeyGreensteinL(LD cosScatter, LD g) {
   const LD d = 1.0L + g * g - 2.0L * g * cosScatter;
   return (1.0L - g * g) / (4.0L * kPiL * d * std::sqrt(d));
+}
+
+// U(x) = 2π ∫_{μc}^1 p(-μ) T(μ) e^{-x/μ} dμ, x = σt t: the once-scattered light from depth t on the
+// beam that leaves uncollided, with μ = μc + (1 - μc) s² for the square-root onset of T at μc.
+inline LD uncollidedEscape(LD x, const ScalarMedium& m) {
+  const LD muC = m.eta > 1.0 ? std::sqrt(1.0L - 1.0L / (LD(m.eta) * m.eta)) : 0.0L;
+  return gauss20().graded(
+      [&](LD s) {
+        const LD mu = muC + (1.0L - muC) * s * s;
+        return 4.0L * kPiL * (1.0L - muC) * s * henyeyGreensteinL(-mu, m.g) *
+               (1.0L - LD(fresnelReflectance(-double(mu), m.eta))) * std::exp(-x / mu);
+      },
+      0.05L, 1.0L, 1.5L);
+}
+
+// The steady-state beam integral ∫ σt' e^{-σt' z} α'² [c(z)] [κ] E(r, z) dz at r > 0, with or
+// without the photon-beam corrections: the collided fraction c(z) = 1 - σs e^{-σt z} U(σt z) /
+// (σs' e^{-σt' z}) (photon_beam.cpp) and κ = 1 - e^{-2σt'(d_r + z)}.
+inline LD beamIntegral(LD r, const ScalarMedium& m, bool kappa, bool escape = false) {
+  const ImprovedConstants c(m);
+  const LD st = LD(m.sigma_a) + m.sigma_s, ss = m.sigma_s, ssp = (1.0L - m.g) * m.sigma_s;
+  auto f = [&](LD z) {
+    const LD k = kappa ? -std::expm1(-2.0L * c.st * (std::sqrt(r * r + z * z) + z)) : 1.0L;
+    const LD e = escape ? 1.0L - ss * std::exp(-(st - c.st) * z) * uncollidedEscape(st * z, m) / ssp
+                        : 1.0L;
+    return c.st * std::exp(-c.st * z) * c.alpha * c.alpha * e * k * c.dipole(r, z);
+  };
+  return gauss20().graded(f, 1e-3L * std::min(r, 1.0L / c.st), 80.0L / c.st);
 }
 
 // Single scattering of a normally incident pencil beam at r > 0, straight from its definition:

@@ -196,6 +196,29 @@ TEST_P(EveryModel, TotalReflectanceIncreasesWithAlbedo) {
   }
 }
 
+TEST_P(EveryModel, ConservesEnergy) {
+  // No model may reflect more light than enters (Rd <= 1 per unit flux entering), whatever the
+  // albedo and index, and without scattering nothing comes back (Rd = 0 at α' = 0). Both the
+  // α'-only form that inversion solves and the profile's own Rd (with anisotropy, which the
+  // single-scattering term of photon beam diffusion sees) are checked. The slack 1e-12 is
+  // rounding of quadratures whose exact value is 1 at α' = 1.
+  const auto& m = model(GetParam());
+  for (double eta : {0.8, 1.0, 1.1, 1.3, 1.5, 1.8}) {
+    EXPECT_EQ(m.totalReflectance(0.0, eta), 0.0) << "eta " << eta;
+    for (double a : {1e-4, 0.01, 0.1, 0.3, 0.5, 0.7, 0.8, 0.9, 0.95, 0.99, 0.999, 0.9999, 1.0})
+      EXPECT_LE(m.totalReflectance(a, eta), 1.0 + 1e-12) << "alpha' " << a << " eta " << eta;
+    // Profiles (the slower path) where an excess would show first: high albedo, and forward or
+    // backward scattering (σt' = 1: σs' = α', σs = σs'/(1 - g)).
+    for (double a : {0.99, 1.0})
+      for (double g : {0.0, 0.5, -0.3}) {
+        const ScalarMedium med{1.0 - a, a / (1.0 - g), g, eta};
+        EXPECT_LE(m.profile(med)->Rd(), 1.0 + 1e-12)
+            << "alpha' " << a << " eta " << eta << " g " << g;
+      }
+    EXPECT_EQ(m.profile(ScalarMedium{1.0, 0.0, 0.0, eta})->Rd(), 0.0) << "eta " << eta;
+  }
+}
+
 TEST_P(EveryModel, RejectsInvalidMedium) {
   const auto& m = model(GetParam());
   EXPECT_THROW((void)m.profile(ScalarMedium{-1.0, 1.0, 0.0, 1.3}), ParameterError);

@@ -1,6 +1,9 @@
 // Normalized diffusion (Christensen & Burley 2015) against its published formulas, evaluated
-// independently here in long double: the profile, its CDF, the dmfp scaling factor s(A) and the
-// albedo fit of Chiang et al. 2016 that maps α' to the surface albedo A.
+// independently here in long double: the profile, its CDF and the dmfp scaling factor s(A); the
+// surface albedo A is the searchlight Rd of the medium (bssrdf/half_space.h, tested in
+// test_half_space.cpp and against the slab tracer in tests/reference). The production variant
+// normalized-diffusion-fit: the same profile with A from the (rescaled) albedo fit of Chiang et
+// al. 2016.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -8,6 +11,7 @@
 #include <limits>
 #include <numbers>
 
+#include "bssrdf/half_space.h"
 #include "bssrdf/registry.h"
 #include "optics/inversion.h"
 #include "optics/presets.h"
@@ -18,20 +22,33 @@ namespace {
 using ld = long double;
 constexpr ld kPi = 3.141592653589793238462643383279502884L;
 
-// Published fit: α = 1 - exp(-5.09406 A + 2.61188 A² - 4.31805 A³).
+// The surface albedo the model must use: the searchlight Rd of the half-space (α', η).
+ld surfaceAlbedo(const ScalarMedium& m) {
+  return static_cast<ld>(halfSpaceAlbedo(m.reducedAlbedo(), m.eta));
+}
+// α' with halfSpaceAlbedo(α', η) = A, by bisection (it is increasing in α').
+double alphaOfA(double A, double eta) {
+  double lo = 0.0, hi = 1.0;
+  for (int i = 0; i < 60; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (halfSpaceAlbedo(mid, eta) < A ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+// Published fit (normalized-diffusion-fit): α = 1 - exp(-5.09406 A + 2.61188 A² - 4.31805 A³).
 ld alphaFit(ld A) {
   return 1.0L - std::exp(-5.09406L * A + 2.61188L * A * A - 4.31805L * A * A * A);
 }
-// The model's relation (fit rescaled so that A = 1 <-> α' = 1): α'(A) = α_fit(A) / α_fit(1).
-ld alphaOfA(ld A) {
+// That variant's relation (fit rescaled so that A = 1 <-> α' = 1): α'(A) = α_fit(A) / α_fit(1).
+ld fitAlphaOfA(ld A) {
   return alphaFit(A) / alphaFit(1.0L);
 }
-// A(α') by bisection (α_fit is increasing).
-ld surfaceAlbedo(ld alpha) {
+// Its A(α') by bisection (α_fit is increasing).
+ld fitSurfaceAlbedo(ld alpha) {
   ld lo = 0.0L, hi = 1.0L;
   for (int i = 0; i < 80; ++i) {
     const ld mid = 0.5L * (lo + hi);
-    (alphaOfA(mid) < alpha ? lo : hi) = mid;
+    (fitAlphaOfA(mid) < alpha ? lo : hi) = mid;
   }
   return 0.5L * (lo + hi);
 }
@@ -75,7 +92,7 @@ TEST(NormalizedDiffusion, MatchesPublishedProfileAtSeveralRadii) {
     for (int ch = 0; ch < 3; ++ch) {
       const auto med = p.medium().channel(ch);
       const auto prof = m.profile(med);
-      const ld A = surfaceAlbedo(med.reducedAlbedo());
+      const ld A = surfaceAlbedo(med);
       const ld l = diffuseMeanFreePath(med);
       EXPECT_NEAR(prof->Rd(), static_cast<double>(A), 1e-13) << p.name << " channel " << ch;
       for (double r : {0.001, 0.01, 0.1, 0.5, 1.0, 3.0, 10.0, 30.0}) {
@@ -95,7 +112,7 @@ TEST(NormalizedDiffusion, CumulativeIsThePublishedClosedForm) {
   // 2π∫0^r R r' dr' = A (1 - e^{-r/d}/4 - 3 e^{-r/(3d)}/4), d = ℓd/s: the profile integrates to A.
   const ScalarMedium med{0.02, 1.5, 0.0, 1.3};
   const auto prof = model("normalized-diffusion").profile(med);
-  const ld A = surfaceAlbedo(med.reducedAlbedo());
+  const ld A = surfaceAlbedo(med);
   const ld d = diffuseMeanFreePath(med) / scalingFactor(A);
   double acc = 0.0, prev = 0.0;
   for (double r : {0.05, 0.2, 1.0, 4.0, 20.0, 100.0, 400.0}) {
@@ -114,7 +131,7 @@ TEST(NormalizedDiffusion, ScalingFactorFitValues) {
   const ld xHalf = inverseCdf(0.5L);
   for (ld A : {0.05L, 0.2L, 0.33L, 0.6L, 0.8L, 0.95L}) {
     // A medium with σt' = 1 whose α' gives this A.
-    const double alpha = static_cast<double>(alphaOfA(A));
+    const double alpha = alphaOfA(static_cast<double>(A), 1.3);
     const ScalarMedium med{1.0 - alpha, alpha, 0.0, 1.3};
     const auto prof = model("normalized-diffusion").profile(med);
     ASSERT_NEAR(prof->Rd(), static_cast<double>(A), 1e-12);
@@ -125,29 +142,29 @@ TEST(NormalizedDiffusion, ScalingFactorFitValues) {
   EXPECT_NEAR(static_cast<double>(scalingFactor(1.0L)), 3.5 + 100.0 * 0.20151121, 1e-9);
 }
 
-TEST(NormalizedDiffusion, AlbedoFitValues) {
+TEST(NormalizedDiffusion, SurfaceAlbedoIsTheSearchlightReflectance) {
+  // Christensen & Burley fitted s(A) to searchlight profiles with A their total reflectance, so
+  // the model's Rd is the searchlight Rd of the medium at its η (not a diffuse-illumination fit).
   const auto& m = model("normalized-diffusion");
-  for (ld A : {0.01L, 0.1L, 0.33L, 0.5L, 0.8L, 0.95L, 0.999L}) {
-    // The model inverts the (rescaled) published fit exactly...
-    EXPECT_NEAR(m.totalReflectance(static_cast<double>(alphaOfA(A)), 1.3), static_cast<double>(A),
-                1e-13)
-        << A;
-    // ...and the rescaling moves α by at most α_fit(A)(1/α_fit(1) - 1) < 0.112%.
-    EXPECT_LT(std::abs(static_cast<double>(alphaOfA(A) - alphaFit(A))), 1.12e-3) << A;
-  }
-  // Values of the published fit itself (the numbers the rescaling starts from).
-  EXPECT_NEAR(static_cast<double>(alphaFit(0.5L)), 1.0 - std::exp(-2.43381625), 1e-9);
-  EXPECT_NEAR(static_cast<double>(alphaFit(1.0L)), 1.0 - std::exp(-6.80023), 1e-9);
-  // Ends: no scattering reflects nothing, no absorption reflects everything; η does not enter.
+  for (double eta : {1.0, 1.3, 1.5})
+    for (double a : {0.01, 0.1, 0.5, 0.8, 0.95, 0.999})
+      EXPECT_EQ(m.totalReflectance(a, eta), halfSpaceAlbedo(a, eta)) << a << " " << eta;
+  // Index matched: the exact 1 - H(1) sqrt(1 - α'); α' = 0.5 gives 0.1152 (H(1) = 1.2512), not the
+  // 0.1442 of the diffuse-illumination fit the model used before.
+  EXPECT_NEAR(m.totalReflectance(0.5, 1.0), 1.0 - chandrasekharH(1.0, 0.5) * std::sqrt(0.5), 1e-12);
+  EXPECT_NEAR(m.totalReflectance(0.5, 1.0), 0.1152, 1e-4);
+  // η enters: a mismatched boundary traps light inside, which is then absorbed.
+  EXPECT_GT(m.totalReflectance(0.7, 1.0), m.totalReflectance(0.7, 1.3));
+  EXPECT_GT(m.totalReflectance(0.7, 1.3), m.totalReflectance(0.7, 1.5));
+  // Ends: no scattering reflects nothing, no absorption reflects everything.
   EXPECT_EQ(m.totalReflectance(0.0, 1.3), 0.0);
   EXPECT_EQ(m.totalReflectance(1.0, 1.3), 1.0);
-  EXPECT_EQ(m.totalReflectance(0.7, 1.0), m.totalReflectance(0.7, 1.5));
 }
 
 TEST(NormalizedDiffusion, SamplerInvertsTheClosedFormCdf) {
   const ScalarMedium med{0.01, 2.0, 0.0, 1.3};
   const auto prof = model("normalized-diffusion").profile(med);
-  const ld A = surfaceAlbedo(med.reducedAlbedo());
+  const ld A = surfaceAlbedo(med);
   const ld d = diffuseMeanFreePath(med) / scalingFactor(A);
   for (double u : {1e-12, 1e-6, 0.01, 0.3, 0.5, 0.75, 0.9, 0.999999, 1.0 - 1e-12}) {
     const auto s = prof->sample(u);
@@ -188,6 +205,54 @@ TEST(NormalizedDiffusion, ReproducesRequestedReflectanceAndDiffuseMeanFreePath) 
       EXPECT_NEAR(prof->Rd(), rd, 1e-10);
       const double r50 = static_cast<double>(l * xHalf / scalingFactor(rd));
       EXPECT_NEAR(prof->radiusForFraction(0.5), r50, 1e-8 * r50) << rd << " " << l;
+    }
+  }
+}
+
+TEST(NormalizedDiffusionFit, AlbedoFitValues) {
+  const auto& m = model("normalized-diffusion-fit");
+  for (ld A : {0.01L, 0.1L, 0.33L, 0.5L, 0.8L, 0.95L, 0.999L}) {
+    // The model inverts the (rescaled) published fit exactly...
+    EXPECT_NEAR(m.totalReflectance(static_cast<double>(fitAlphaOfA(A)), 1.3),
+                static_cast<double>(A), 1e-13)
+        << A;
+    // ...and the rescaling moves α by at most α_fit(A)(1/α_fit(1) - 1) < 0.112%.
+    EXPECT_LT(std::abs(static_cast<double>(fitAlphaOfA(A) - alphaFit(A))), 1.12e-3) << A;
+  }
+  // Values of the published fit itself (the numbers the rescaling starts from).
+  EXPECT_NEAR(static_cast<double>(alphaFit(0.5L)), 1.0 - std::exp(-2.43381625), 1e-9);
+  EXPECT_NEAR(static_cast<double>(alphaFit(1.0L)), 1.0 - std::exp(-6.80023), 1e-9);
+  // Ends: no scattering reflects nothing, no absorption reflects everything; η does not enter.
+  EXPECT_EQ(m.totalReflectance(0.0, 1.3), 0.0);
+  EXPECT_EQ(m.totalReflectance(1.0, 1.3), 1.0);
+  EXPECT_EQ(m.totalReflectance(0.7, 1.0), m.totalReflectance(0.7, 1.5));
+  // It is the diffuse-illumination albedo, above the searchlight Rd that normalized-diffusion
+  // uses: at α' = 0.5, index matched, 0.1439 against 0.1152. (The published fit alone gives
+  // 0.1442 at α = 0.5, α_fit(0.1442) = 0.50003; the rescaling by α_fit(1) lowers A by 0.0003.)
+  EXPECT_NEAR(static_cast<double>(alphaFit(0.1442L)), 0.5, 1e-4);
+  EXPECT_NEAR(m.totalReflectance(0.5, 1.0), 0.1439, 1e-4);
+  for (double eta : {1.0, 1.3})
+    for (double a : {0.1, 0.5, 0.8, 0.95})
+      EXPECT_GT(m.totalReflectance(a, eta), model("normalized-diffusion").totalReflectance(a, eta))
+          << a << " " << eta;
+}
+
+TEST(NormalizedDiffusionFit, SameProfileAsNormalizedDiffusionWithTheFitAlbedo) {
+  // Only A differs between the two variants: the profile is the published two-exponential form
+  // with the fit's A, for every preset channel (1e-12 relative, as for normalized-diffusion).
+  const auto& m = model("normalized-diffusion-fit");
+  for (const auto& p : presets()) {
+    for (int ch = 0; ch < 3; ++ch) {
+      const auto med = p.medium().channel(ch);
+      const auto prof = m.profile(med);
+      const ld A = fitSurfaceAlbedo(med.reducedAlbedo());
+      const ld l = diffuseMeanFreePath(med);
+      EXPECT_NEAR(prof->Rd(), static_cast<double>(A), 1e-13) << p.name << " channel " << ch;
+      for (double r : {0.001, 0.01, 0.1, 0.5, 1.0, 3.0, 10.0, 30.0}) {
+        const double expected = static_cast<double>(profileR(r, A, l));
+        EXPECT_NEAR(prof->R(r), expected, 1e-12 * expected)
+            << p.name << " channel " << ch << " r " << r;
+      }
     }
   }
 }

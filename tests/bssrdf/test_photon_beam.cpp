@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "beam_reference.h"
+#include "bssrdf/half_space.h"
 #include "bssrdf/photon_beam.h"
 #include "bssrdf/registry.h"
 #include "optics/presets.h"
@@ -36,7 +37,7 @@ TEST(PhotonBeam, MultipleScatteringMatchesBruteForceBeamIntegral) {
     const double lp = m.reducedMeanFreePath();
     for (double x : {1e-6, 1e-3, 0.05, 0.3, 1.0, 3.0, 30.0, 300.0}) {
       const double r = x * lp;
-      const double expected = double(test::beamIntegral(r, m, true));
+      const double expected = double(test::beamIntegral(r, m, true, true));
       EXPECT_NEAR(photonBeamMultiple(r, m), expected, 2e-7 * expected)
           << "sigma_a " << m.sigma_a << " r/l' " << x;
     }
@@ -143,16 +144,44 @@ TEST(PhotonBeam, FarFieldDecaysLikeTheBetterDipole) {
 }
 
 TEST(PhotonBeam, NonAbsorbingLimit) {
-  // κ only removes light, so the diffusion part returns at most everything (α' = 1); single
-  // scattering comes on top, so the model's total exceeds 1 there by less than the single part.
+  // Without absorption the collided light (1 - U of each source) all returns through the dipole,
+  // less what κ removes near the source, and the escaping part U is the single-scattering term:
+  // the total stays below 1 (no light is created), by κ's share (0.960 at η = 1, 0.965 at 1.3).
   for (double eta : {1.0, 1.3, 1.6}) {
     const ScalarMedium m{0.0, 1.0, 0.0, eta};
     const double ms = photonBeamMultipleRd(m), ss = photonBeamSingleRd(m);
-    EXPECT_LT(ms, 1.0) << eta;
-    EXPECT_GT(ms, 0.9) << eta;
     EXPECT_NEAR(model("photon-beam").totalReflectance(1.0, eta), ms + ss, 1e-15) << eta;
-    EXPECT_LT(ms + ss - 1.0, ss) << eta;
+    EXPECT_LT(ms + ss, 1.0) << eta;
+    EXPECT_GT(ms + ss, 0.95) << eta;
   }
+}
+
+TEST(PhotonBeam, EscapingLightIsTheSingleScatteringTerm) {
+  // The light the multiple-scattering term leaves out of its sources, ∫ σs e^{-σt t} U(σt t) dt
+  // (U by the long-double quadrature of beam_reference.h), is exactly the single-scattering
+  // total 2π α ∫ p T μ/(1 + μ) dμ of the model, for any g: the two terms share the once-scattered
+  // light without counting it twice.
+  for (double eta : {1.0, 1.3, 1.6})
+    for (double g : {0.0, 0.6, -0.3})
+      for (double a : {0.2, 0.8, 1.0}) {
+        const ScalarMedium m{1.0 - a, a, g, eta};  // σt = 1
+        const LD removed = test::gauss20().graded(
+            [&](LD t) { return LD(a) * std::exp(-t) * test::uncollidedEscape(t, m); }, 1e-8L, 80.0L);
+        EXPECT_NEAR(photonBeamSingleRd(m), double(removed), 1e-9) << eta << " " << g << " " << a;
+      }
+}
+
+TEST(PhotonBeam, TotalReflectanceNearTheExactHalfSpace) {
+  // Against the exact Rd of an isotropic half-space (half_space.h): within 4.5% from α' = 0.8 to 1
+  // at η = 1 and 1.3 (the largest gap, -4.0%, is α' = 1 at η = 1: what κ removes), and 6% at low
+  // albedo, where the diffusion part is least accurate. (Before the
+  // escape factor: +7% to +15% at η = 1, above 1 at α' = 1.)
+  for (double eta : {1.0, 1.3})
+    for (double a : {0.3, 0.5, 0.8, 0.9, 0.95, 0.99, 0.999, 1.0}) {
+      const double exact = halfSpaceAlbedo(a, eta);
+      const double rd = model("photon-beam").totalReflectance(a, eta);
+      EXPECT_NEAR(rd / exact, 1.0, a < 0.6 ? 0.06 : 0.045) << "alpha' " << a << " eta " << eta;
+    }
 }
 
 TEST(PhotonBeam, RejectsBadInput) {

@@ -84,16 +84,17 @@ TEST_F(GpuTest, DipoleBssrdfMatchesTheCppDipoleForEveryPreset) {
               a.where.c_str());
 }
 
-TEST_F(GpuTest, NormalizedDiffusionBssrdfMatchesTheCppModelForEveryPreset) {
+TEST_F(GpuTest, NormalizedDiffusionFitBssrdfMatchesTheCppModelForEveryPreset) {
   // R(0) is infinite (1/r singularity): start at 0.01 ld. Far out, e^(-s r/3ld) with s up to 24
   // leaves the float range; those points are skipped (the test checks that most are compared).
-  auto gpu = BssrdfEvaluator::builtin("normalized-diffusion");
-  const Agreement a = compareProfiles(gpu, bssrdf::model("normalized-diffusion"), 1e-3, 1e-30);
+  auto gpu = BssrdfEvaluator::builtin("normalized-diffusion-fit");
+  const Agreement a = compareProfiles(gpu, bssrdf::model("normalized-diffusion-fit"), 1e-3, 1e-30);
   EXPECT_LE(a.worst, 1e-4) << "worst at " << a.where;
   EXPECT_GT(a.compared, 3 * a.skipped);
-  std::printf("normalized-diffusion.bssrdf vs C++: worst relative difference %.3g at %s "
-              "(%zu compared, %zu below 1e-30 skipped)\n",
-              a.worst, a.where.c_str(), a.compared, a.skipped);
+  std::printf(
+      "normalized-diffusion-fit.bssrdf vs C++: worst relative difference %.3g at %s "
+      "(%zu compared, %zu below 1e-30 skipped)\n",
+      a.worst, a.where.c_str(), a.compared, a.skipped);
 }
 
 TEST_F(GpuTest, BetterDipoleBssrdfMatchesTheCppModelForEveryPreset) {
@@ -108,7 +109,7 @@ TEST_F(GpuTest, BetterDipoleBssrdfMatchesTheCppModelForEveryPreset) {
 TEST_F(GpuTest, DiffuseReflectanceOfEveryBuiltinMatchesTheCppModel) {
   const std::vector<float> albedos{0.01f, 0.05f, 0.25f, 0.5f, 0.75f, 0.9f,
                                    0.99f, 0.999f, 0.99999f, 1.0f};
-  for (const char* name : {"dipole", "normalized-diffusion", "better-dipole"}) {
+  for (const char* name : {"dipole", "normalized-diffusion-fit", "better-dipole"}) {
     auto gpu = BssrdfEvaluator::builtin(name);
     ASSERT_TRUE(gpu.hasDiffuseReflectance()) << name;
     for (double eta : {1.0, 1.25, 1.5}) {  // exactly representable in float

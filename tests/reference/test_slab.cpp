@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "bssrdf/half_space.h"
 #include "bssrdf/registry.h"
 #include "optics/fresnel.h"
 #include "optics/medium.h"
@@ -146,6 +147,27 @@ TEST(Slab, MatchesChandrasekharPlaneAlbedo) {
     const SlabResult r = traceSlab(s, opts(omega > 0.95 ? 400'000 : 1'000'000, 5));
     const double exact = 1.0 - chandrasekharH1(omega) * std::sqrt(1.0 - omega);
     expectAgrees(r.diffuse_reflectance, exact, 0.0, "plane albedo");
+  }
+}
+
+TEST(Slab, MatchesExactHalfSpaceAlbedoWithFresnelBoundary) {
+  // Isotropic scattering under a Fresnel boundary: bssrdf::halfSpaceAlbedo solves the transport
+  // exactly (Chandrasekhar's reflection function plus the interface by the adding method, a
+  // deterministic quadrature). Per unit flux entering = diffuse reflectance / (1 - Rsp).
+  struct Case {
+    double omega, eta;
+    uint64_t photons;
+  };
+  for (const Case c : {Case{0.5, 1.3, 1'000'000}, Case{0.9, 1.5, 1'000'000},
+                       Case{0.99, 1.3, 300'000}, Case{0.95, 1.1, 300'000}}) {
+    SlabSetup s;
+    s.sigma_s = c.omega;
+    s.sigma_a = 1.0 - c.omega;
+    s.n_inside = c.eta;
+    const SlabResult r = traceSlab(s, opts(c.photons, 11));
+    const double entering = 1.0 - r.specular_reflectance.value;
+    expectAgrees({r.diffuse_reflectance.value / entering, r.diffuse_reflectance.std_error / entering},
+                 bssrdf::halfSpaceAlbedo(c.omega, c.eta), 0.0, "half-space albedo");
   }
 }
 

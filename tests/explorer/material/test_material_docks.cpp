@@ -241,7 +241,7 @@ class MaterialDocksTest : public QObject {
     QTemporaryDir dir;
     const QString nd = dir.filePath("nd.bssrdf");
     const QString source = qEnvironmentVariable("TRANSLUCENT_SOURCE_DIR", TRANSLUCENT_SOURCE) +
-                           "/data/bssrdf/normalized-diffusion.bssrdf";
+                           "/data/bssrdf/normalized-diffusion-fit.bssrdf";
     QVERIFY(QFile::copy(source, nd));
     QSignalSpy loaded(&f.params, &ParametersDock::bssrdfLoaded);
     f.params.loadBssrdf(nd);
@@ -252,7 +252,7 @@ class MaterialDocksTest : public QObject {
 
     // The GPU curve against the C++ model on the same grid: the file is written for single
     // precision (~1e-6 relative), 1e-5 leaves room for float radii and the luminance sum.
-    const auto cpp = analysis::profileCurves({"normalized-diffusion"}, f.state.medium(),
+    const auto cpp = analysis::profileCurves({"normalized-diffusion-fit"}, f.state.medium(),
                                              {analysis::Channel::Luminance},
                                              {f.plot.radiusMax(), 200, false})[0];
     auto pts = linePoints(f.plot.chart(), "nd");
