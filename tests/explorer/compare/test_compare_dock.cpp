@@ -186,6 +186,29 @@ class TestCompareDock : public QObject {
     QVERIFY(once.exitance.se == dock->comparedReference().se);
   }
 
+  void techniqueSettingRendersAgainWithoutANewReference() {
+    ExplorerState state;
+    auto dock = smallDock(state, 16 * 1024);
+    QSignalSpy frames(dock.get(), &CompareDock::techniqueFrameReceived);
+    QTRY_VERIFY_WITH_TIMEOUT(!dock->status().running && dock->metrics().has_value(), kWaitMs);
+    const std::vector<float> jensen = dock->comparedReference().rgb;
+    QCOMPARE(dock->techniqueFrame()->convention, bssrdf::ExitConvention::Jensen);
+
+    // The normalized convention (Eq. 2.16): the technique's L changes, the reference does not,
+    // and L's reference is the same image over 4C_φ(1/η) (Reference::radianceFor).
+    state.setTechniqueSetting("radiance_convention", std::string("normalized"));
+    QTRY_VERIFY_WITH_TIMEOUT(frames.count() == 2 && dock->metrics().has_value(), kWaitMs);
+    QVERIFY(!dock->metricsText().contains("previous settings"));
+    QCOMPARE(dock->status().generation, 1);  // no new reference
+    QCOMPARE(dock->techniqueFrame()->convention, bssrdf::ExitConvention::Normalized);
+    const double scale =
+        bssrdf::exitConventionScale(bssrdf::ExitConvention::Normalized, state.scene().medium.eta);
+    const std::vector<float>& normalized = dock->comparedReference().rgb;
+    QCOMPARE(normalized.size(), jensen.size());
+    for (size_t i = 0; i < jensen.size(); ++i)
+      QCOMPARE(normalized[i], static_cast<float>(static_cast<double>(jensen[i]) * scale));
+  }
+
   void materialChangeRestartsTheReference() {
     ExplorerState state;
     auto dock = smallDock(state, 4096 * 1024);  // far more than the test waits for
