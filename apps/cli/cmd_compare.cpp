@@ -41,7 +41,7 @@ struct CompareArgs {
   std::string techniques = "all";
   std::string references = "physical,model";
   std::string photons = "1e6", samples = "200000";
-  int subpixels = 2;
+  int subpixels = 1;  // pixel centres, as the techniques shade them
   bool sweep = false;
   std::string out = "compare-report";
   bool force = false;
@@ -186,6 +186,20 @@ void runCompare(const CompareArgs& a) {
   if (a.no_cache) cmd += " --no-cache";
   else if (!a.cache.empty()) cmd += " --cache " + quoted(cacheDir.string());
   report.command = cmd;
+  report.settings = {{"techniques", fmt::format("{}", fmt::join(names, ","))},
+                     {"reference", a.references},
+                     {"photons_per_channel", std::to_string(photons)},
+                     {"samples", std::to_string(samples)},
+                     {"subpixels", std::to_string(a.subpixels)},
+                     {"seed", std::to_string(a.seed)},
+                     {"threads", std::to_string(a.threads)},
+                     {"width", std::to_string(s.camera.width)},
+                     {"height", std::to_string(s.camera.height)},
+                     {"frames", std::to_string(a.frames)},
+                     {"warmup", std::to_string(a.warmup)},
+                     {"sweep", a.sweep ? "true" : "false"},
+                     {"cache", a.no_cache ? "off" : cacheDir.string()},
+                     {"out", out.string()}};
 
   // ---- References --------------------------------------------------------------------------
   InterruptGuard guard;
@@ -222,7 +236,7 @@ void runCompare(const CompareArgs& a) {
                                                                    ? std::string("not cached")
                                                                    : ref.cache_note)
                                                             : "cached as " + ref.cache_file.string());
-    fmt::print(stderr, "  {}\n", what);
+    fmt::print(stderr, "{} reference: {}\n", toString(kind), what);
     report.notes.push_back(fmt::format("{} reference: {}", toString(kind), what));
     report.partial = report.partial || ref.partial;
     report.references.push_back(std::move(ref));
@@ -284,8 +298,7 @@ void runCompare(const CompareArgs& a) {
           for (const PairMetrics& m : point.metrics) {
             if (m.quantity != "radiance") continue;
             auto& xy = series[m.reference];
-            xy.label = fmt::format("{} ({} {}) vs {}", name, p.name,
-                                   fmt::join(p.sweep, "/"), m.reference);
+            xy.label = fmt::format("{} {} vs {}", name, p.name, m.reference);
             xy.x.push_back(sr.frame_ms);
             xy.y.push_back(100.0 * m.metrics.rel_rmse);
           }
@@ -355,7 +368,9 @@ void addCompareCommand(CLI::App& app) {
   cmd->add_option("--samples", a->samples, "Model reference: surface samples (e.g. 2e5)")
       ->capture_default_str();
   cmd->add_option("--subpixels", a->subpixels,
-                  "Model reference: camera rays per pixel per axis (stratified)")
+                  "Model reference: camera rays per pixel per axis (strata centres). 1: the pixel "
+                  "centre, where the techniques shade, so that technique vs model carries no "
+                  "pixel-filter difference; more: pixel averages like the physical reference")
       ->capture_default_str();
   cmd->add_flag("--sweep", a->sweep,
                 "Also render each technique's quality parameter over its sweep values and plot "

@@ -141,7 +141,7 @@ void runRender(const RenderArgs& a) {
         {"translucent:technique", s.technique},
         {"translucent:source", what}};
     analysis::writeExr(a.exr, frame.width, frame.height, frame.rgb, layers, attrs);
-    fmt::print("wrote {}\n", a.exr);
+    fmt::print("wrote {}: {}\n", a.exr, quantity);
   }
   if (!a.out.empty()) {
     analysis::writePng(a.out, frame.width, frame.height, frame.rgb, {s.exposure, s.gamma});

@@ -190,8 +190,10 @@ nlohmann::json fluxJson(const reference::TransportStats& s) {
     const auto em = s.emitted[c].estimate(s.photons[c]);
     const auto en = s.entered[c].estimate(s.photons[c]);
     const auto ex = s.exited[c].estimate(s.photons[c]);
+    const auto es = s.escaped[c].estimate(s.photons[c]);
     j.push_back({{"emitted", em.value}, {"entered", en.value}, {"entered_stderr", en.std_error},
-                 {"exited", ex.value}, {"exited_stderr", ex.std_error}});
+                 {"exited", ex.value}, {"exited_stderr", ex.std_error},
+                 {"escaped", es.value}, {"escaped_stderr", es.std_error}});
   }
   return j;
 }
@@ -362,6 +364,8 @@ void runPathtraceMesh(const std::string& sceneFile, const RunArgs& a) {
                         {"triangles", tracer.body().triangleCount()},
                         {"photons_per_channel", st.photons.empty() ? 0 : st.photons[0]},
                         {"seconds", st.seconds}, {"photons_per_second", st.photonsPerSecond()},
+                        {"scattering_events", st.scattering_events},
+                        {"photons_in_several_pixels", tracer.severalPixelPhotons()},
                         {"threads", st.threads}, {"flux_per_channel", fluxJson(st)},
                         {"partial", partial}};
     writeJson(a, j);

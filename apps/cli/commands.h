@@ -12,5 +12,6 @@ void addPathtraceCommand(CLI::App& app);
 void addRenderReferenceCommands(CLI::App& app);  // pathtrace sphere|mesh, integrate sphere|mesh
 void addRenderCommand(CLI::App& app);            // render (real-time techniques, GPU)
 void addCompareCommand(CLI::App& app);           // compare (techniques vs references, report)
+void addConventionStudyCommand(CLI::App& app);   // convention-study (exit-radiance conventions)
 
 }  // namespace translucent::cli

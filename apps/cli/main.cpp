@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
   translucent::cli::addRenderReferenceCommands(app);  // after pathtrace: adds to it
   translucent::cli::addRenderCommand(app);
   translucent::cli::addCompareCommand(app);
+  translucent::cli::addConventionStudyCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -78,7 +78,7 @@ struct ReferenceRequest {
   uint64_t count = 0;  // photons per channel (physical) or samples (model)
   uint64_t seed = 1;
   int threads = 0;     // 0: all cores (results do not depend on it)
-  int subpixels = 2;   // model: subpixels per side
+  int subpixels = 1;   // model: rays per pixel per axis (1: the pixel centre, as techniques shade)
 };
 
 struct Reference {

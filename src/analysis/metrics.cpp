@@ -240,6 +240,12 @@ std::vector<float> ssimMap(const ImageRef& test, const ImageRef& reference,
 
 Metrics computeMetrics(const ImageRef& test, const ImageRef& reference,
                        const MetricOptions& options) {
+  PerceptualMaps maps;
+  return computeMetrics(test, reference, options, maps);
+}
+
+Metrics computeMetrics(const ImageRef& test, const ImageRef& reference,
+                       const MetricOptions& options, PerceptualMaps& maps) {
   validateOptions(options);
   const std::vector<uint8_t> compared = comparedPixels(test, reference, options.mask);
   Metrics m;
@@ -295,9 +301,14 @@ Metrics computeMetrics(const ImageRef& test, const ImageRef& reference,
   }
 
   m.ssim = m.flip = kNaN;
-  if (options.perceptual && m.pixels > 0) {
-    m.ssim = maskedMean(ssimMap(test, reference, options), compared);
-    m.flip = maskedMean(flipMap(test, reference, options), compared);
+  maps = {};
+  if (options.perceptual) {
+    maps.ssim = ssimMap(test, reference, options);
+    maps.flip = flipMap(test, reference, options);
+    if (m.pixels > 0) {
+      m.ssim = maskedMean(maps.ssim, compared);
+      m.flip = maskedMean(maps.flip, compared);
+    }
   }
   return m;
 }

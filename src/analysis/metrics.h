@@ -32,7 +32,8 @@
 //         window (σ = 1.5, unit sum), K1 = 0.01, K2 = 0.03, L = 1; statistics are weighted
 //         means over the window; at the border the window is truncated to the image and its
 //         weights rescaled to unit sum (nothing outside the image is made up)
-//   flip  LDR-ꟻLIP (flip.h) with the tone-mapped values taken as sRGB-encoded
+//   flip  LDR-ꟻLIP (flip.h) with the tone-mapped values taken as sRGB-encoded (ꟻLIP decodes them
+//         with the sRGB curve, the display's, whatever gamma produced them)
 // both computed on the whole image (the windows see the neighbours of a compared pixel) and
 // averaged over the compared pixels.
 #pragma once
@@ -72,7 +73,7 @@ struct Metrics {
   double rel_rmse = 0.0;
   double rel_rmse_raw = 0.0;      // sqrt(MSE) / mean_reference, nothing subtracted
   double noise_mse = 0.0;         // MSE - mean(se²) (may be negative: the difference is all noise)
-  double noise_mse_stderr = 0.0;  // standard error of noise_mse over the pixels
+  double noise_mse_stderr = 0.0;  // standard error of noise_mse over the pixels (NaN if < 2)
   double noise_variance = 0.0;    // mean(se_ref² + se_test²) over compared pixels and channels
   double bias = 0.0;              // (Σ t - Σ r) / Σ r over compared pixels and channels
   double bias_stderr = 0.0;       // from se of both images
@@ -89,6 +90,14 @@ struct Metrics {
 // or an option is out of range (exposure finite, gamma > 0, pixels per degree > 0).
 Metrics computeMetrics(const ImageRef& test, const ImageRef& reference,
                        const MetricOptions& options = {});
+// The same, also handing back the per-pixel ꟻLIP and SSIM maps it computes on the way (as
+// flipMap and ssimMap would return them; left empty when options.perceptual is false), so that a
+// caller that shows the maps does not compute them twice.
+struct PerceptualMaps {
+  std::vector<float> flip, ssim;
+};
+Metrics computeMetrics(const ImageRef& test, const ImageRef& reference,
+                       const MetricOptions& options, PerceptualMaps& maps);
 
 // Per-pixel maps (width*height floats, rows from the top); an empty mask means the default one
 // (MetricOptions::mask).

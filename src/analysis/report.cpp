@@ -37,6 +37,7 @@ std::string html(const std::string& s) {
 
 std::string num(double v) { return std::isfinite(v) ? fmt::format("{:.4g}", v) : "–"; }
 std::string pct(double v) { return std::isfinite(v) ? fmt::format("{:+.2f}%", 100.0 * v) : "–"; }
+std::string pctU(double v) { return std::isfinite(v) ? fmt::format("{:.2f}%", 100.0 * v) : "–"; }
 
 // JSON has no NaN or infinity: such values are written as null.
 json number(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
@@ -69,6 +70,12 @@ json pairJson(const PairMetrics& p) {
 std::string pairStem(const PairMetrics& p) {
   return fmt::format("err-{}-vs-{}-{}{}", p.test, p.reference, p.quantity,
                      p.convention.empty() ? "" : "-" + p.convention);
+}
+
+int modelSubpixels(const CompareReport& r) {
+  for (const Reference& ref : r.references)
+    if (ref.kind == ReferenceKind::Model) return ref.request.subpixels;
+  return 0;
 }
 
 const Reference* findReference(const CompareReport& r, const std::string& kind) {
@@ -155,11 +162,13 @@ std::string maskPng(Writer& w, const std::string& name, const std::vector<uint8_
 }
 
 std::string sceneSummary(const scene::Scene& s) {
-  return fmt::format("{} ({}x{}), medium σa = ({:.4g}, {:.4g}, {:.4g}), σs = ({:.4g}, {:.4g}, "
-                     "{:.4g}) per {} scene units, g = {}, η = {}, model {}",
-                     s.mesh_file.string(), s.camera.width, s.camera.height, s.medium.sigma_a[0],
+  return fmt::format("{} ({}x{}), medium{} σa = ({:.4g}, {:.4g}, {:.4g}), σs = ({:.4g}, {:.4g}, "
+                     "{:.4g}) per medium unit, {} medium units per scene unit, g = {}, η = {}, "
+                     "model {}",
+                     s.mesh_file.string(), s.camera.width, s.camera.height,
+                     s.preset.empty() ? "" : " " + s.preset, s.medium.sigma_a[0],
                      s.medium.sigma_a[1], s.medium.sigma_a[2], s.medium.sigma_s[0],
-                     s.medium.sigma_s[1], s.medium.sigma_s[2], 1.0 / s.medium.scale, s.medium.g,
+                     s.medium.sigma_s[1], s.medium.sigma_s[2], s.medium.scale, s.medium.g,
                      s.medium.eta, s.model);
 }
 
@@ -227,6 +236,10 @@ std::vector<std::string> writeReport(const fs::path& dir, const CompareReport& r
   json j;
   j["generator"] = kGenerator;
   j["version"] = r.version;
+  j["versions"] = {{"translucent", r.version}, {"gl", r.gpu},
+                   {"compiler", __VERSION__},
+                   {"reference_code_version", kReferenceCodeVersion}};
+  for (const auto& [k, v] : r.settings) j["settings"][k] = v;
   j["created"] = r.created;
   j["command"] = r.command;
   j["scene_file"] = r.scene_file;
@@ -390,7 +403,17 @@ std::vector<std::string> writeReport(const fs::path& dir, const CompareReport& r
        "noise removed: sqrt(max(0, MSE − noise MSE)) / mean reference); raw: without; bias: "
        "mean(test − reference) / mean reference ± its standard error; |z|: per pixel and channel "
        "|test − reference| / combined standard error (≈ 0.8 for agreement within noise); FLIP "
-       "and SSIM of the tone-mapped images over the mask.</p>\n";
+       "and SSIM of the tone-mapped images over the mask.</p>\n<p>Caveats: standard errors "
+       "are per pixel and channel and the aggregate ones assume independent pixels and channels. "
+       "The model reference's pixels and channels share its surface samples, so for pairs with "
+       "the model reference the bias ± stderr and z understate the uncertainty (per pixel, up to "
+       "√3 in z). A pixel that no photon reached has a standard error of 0: at low photon counts "
+       "(the cone radiance needs about 1/sin²θc times more photons than B) z and the noise-aware "
+       "RMSE are unreliable; raise --photons until they settle. Pixel filters: the techniques "
+       "shade the pixel centre; the model reference traces " + (modelSubpixels(r) > 0 ? fmt::format("{0}x{0}", modelSubpixels(r)) : std::string("(none here)")) +
+       " rays per pixel (1x1: the centre, so technique vs model has no filter difference); the "
+       "physical reference is a pixel average (box filter), so pairs with it include the "
+       "difference between point and box sampling, which grows with the detail per pixel.</p>\n";
   h += "<table><tr><th class=\"l\">test</th><th class=\"l\">reference</th><th class=\"l\">quantity"
        "</th><th class=\"l\">L convention</th><th>pixels</th><th>mean ref.</th><th>mean test</th>"
        "<th>rel. RMSE</th><th>rel. RMSE raw</th><th>bias</th><th>± stderr</th><th>SSIM</th>"
@@ -402,9 +425,9 @@ std::vector<std::string> writeReport(const fs::path& dir, const CompareReport& r
                      "<td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
                      html(p.test), html(p.reference), html(p.quantity),
                      p.convention.empty() ? "–" : html(p.convention), m.pixels,
-                     num(m.mean_reference), num(m.mean_test), pct(m.rel_rmse), pct(m.rel_rmse_raw),
-                     pct(m.bias), pct(m.bias_stderr), num(m.ssim), num(m.flip), num(m.mean_abs_z),
-                     pct(m.fraction_abs_z_above_3));
+                     num(m.mean_reference), num(m.mean_test), pctU(m.rel_rmse), pctU(m.rel_rmse_raw),
+                     pct(m.bias), pctU(m.bias_stderr), num(m.ssim), num(m.flip), num(m.mean_abs_z),
+                     pctU(m.fraction_abs_z_above_3));
   }
   h += "</table>\n<h3>Error maps</h3>\n<p>Relative difference (test − reference) / reference: " +
        figure(barRel, fmt::format("−{0:g}% … +{0:g}%", 100 * kRelativeRange), " class=\"bar\"") +
@@ -464,7 +487,7 @@ std::vector<std::string> writeReport(const fs::path& dir, const CompareReport& r
       std::string errs;
       for (const PairMetrics& p : s.metrics)
         errs += fmt::format("{}{} vs {}: {}", errs.empty() ? "" : "; ", p.quantity, p.reference,
-                            pct(p.metrics.rel_rmse));
+                            pctU(p.metrics.rel_rmse));
       h += fmt::format("<tr><td class=\"l\">{}</td><td class=\"l\">{}</td><td>{}</td><td>{}</td>"
                        "<td class=\"l\">{}</td></tr>\n", html(s.technique), html(s.parameter),
                        num(s.value), num(s.frame_ms), html(errs));

@@ -58,6 +58,7 @@ struct CompareReport {
   std::string gpu;         // renderer and GL version
   std::string version;     // translucent version
   std::string created;     // UTC time
+  std::vector<std::pair<std::string, std::string>> settings;  // the command's options, as used
   std::vector<TechniqueRun> techniques;
   std::vector<Reference> references;
   std::vector<PairMetrics> metrics;

@@ -38,6 +38,17 @@ double diffuseTransmittanceFromOutside(double eta);
 double exitRadianceFactor(ExitConvention convention, double eta, double cos_o, double norm);
 double exitRadianceFactor(ExitConvention convention, double eta, double cos_o);
 
+// What the mesh and sphere tracers' cone_radiance (reference/camera.h) would be, divided by B,
+// if the exit radiance followed the convention exactly: the cosine-weighted average of
+// exitRadianceFactor over the cone of half-angle `cone_half_angle` [radians, (0, π/2]] about a
+// view direction with cosine cos_o (> 0) to the outward normal,
+//     ∫cone f(n·ω) max(n·ω, 0) dω / (π sin²θc (n·v)),
+// the tracer's own normalisation (the part of the cone below the horizon receives no light, as in
+// the tracer). Comparing the tracer's cone radiance with this rather than with the factor at the
+// cone's axis removes the cone's averaging from the comparison. Quadrature: ~1e-7 relative.
+double coneAveragedExitRadianceFactor(ExitConvention convention, double eta, double cos_o,
+                                      double cone_half_angle);
+
 // L_convention / L_Jensen, independent of the exit direction: 1 (Jensen) or
 // 1 / diffuseTransmittanceFromOutside(eta) (Normalized). The constant by which a renderer that
 // computes Ft B / π turns it into the chosen convention (pointcloud radiance pass).

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -124,13 +125,35 @@ class ImageTally::Deposits final : public ExitTally::Block {
     d.exitance = score;
     d.radiance = score * ft / std::numbers::pi;
     d.cone = glm::dot(e.direction, v) >= t_.cosCone_ ? score / (cosO * t_.coneMeasure_) : 0.0;
-    deposits.push_back(d);
+    photon_.push_back(d);
   }
 
-  std::vector<Deposit> deposits;
+  // A photon's scores into one (pixel, channel) are summed into one sample before the image
+  // squares it (the per-photon second moment, transport.h). A photon rarely scores more than
+  // twice, so the quadratic search is cheaper than sorting.
+  void endPhoton() override {
+    const size_t first = deposits.size();
+    for (const Deposit& d : photon_) {
+      auto same = std::find_if(deposits.begin() + static_cast<std::ptrdiff_t>(first),
+                               deposits.end(), [&](const Deposit& o) { return o.index == d.index; });
+      if (same == deposits.end()) {
+        deposits.push_back(d);
+      } else {
+        same->exitance += d.exitance;
+        same->radiance += d.radiance;
+        same->cone += d.cone;
+      }
+    }
+    if (deposits.size() - first > 1) ++severalPixels;
+    photon_.clear();
+  }
+
+  std::vector<Deposit> deposits;  // per photon, per (pixel, channel): the summed scores
+  uint64_t severalPixels = 0;     // photons that scored into more than one (pixel, channel)
 
  private:
   const ImageTally& t_;
+  std::vector<Deposit> photon_;  // the current photon's scores
 };
 
 ImageTally::ImageTally(const Body& body, const Camera& camera, std::vector<double> etas,
@@ -160,7 +183,9 @@ std::unique_ptr<ExitTally::Block> ImageTally::newBlock() const {
 }
 
 void ImageTally::merge(Block& block) {
-  for (const auto& d : static_cast<Deposits&>(block).deposits) {
+  auto& deposits = static_cast<Deposits&>(block);
+  severalPixelPhotons_ += deposits.severalPixels;
+  for (const auto& d : deposits.deposits) {
     images_.exitance.add(d.index, d.exitance);
     images_.radiance.add(d.index, d.radiance);
     if (d.cone != 0.0) images_.cone_radiance.add(d.index, d.cone);

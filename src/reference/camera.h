@@ -12,6 +12,13 @@
 // area is involved, so silhouettes need no special care). Visibility: n·v > 0 and no surface
 // between x and the camera (a shadow ray).
 //
+// Every exit of a photon is scored (a photon that leaves a non-convex body, re-enters it and
+// leaves again is exitance at both points, transport.h). Scores of one photon into the same
+// pixel and channel are summed before they enter the image, so each pixel's standard error is
+// the per-photon one. Light mirrored off the outside of the body at a re-entry is not exitance
+// and is in none of the images (cone_radiance is the radiance of the light leaving the
+// subsurface; specular reflections, of the lights or of the body's own glow, are not included).
+//
 // Three images are scored for every photon (for the lights as given: a directional light of
 // irradiance 1 gives B per unit irradiance):
 //   exitance       B(x), radiant exitance [W/unit²];
@@ -94,6 +101,9 @@ class ImageTally final : public ExitTally {
   const CameraImages& images() const { return images_; }
   const CameraModel& camera() const { return camera_; }
   double coneHalfAngle() const { return coneHalfAngle_; }
+  // Photons (all channels) that scored into more than one pixel: the cross terms of McImage::
+  // average's standard error are missing for them (mc_image.h); 0 for a convex body.
+  uint64_t severalPixelPhotons() const { return severalPixelPhotons_; }
 
  private:
   class Deposits;
@@ -103,6 +113,7 @@ class ImageTally final : public ExitTally {
   double coneHalfAngle_, cosCone_, coneMeasure_;
   std::vector<double> measure_;  // per pixel
   CameraImages images_;
+  uint64_t severalPixelPhotons_ = 0;
 };
 
 }  // namespace translucent::reference

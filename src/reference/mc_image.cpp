@@ -46,8 +46,9 @@ Estimate McImage::average(std::span<const uint32_t> pixels, int c) const {
   }
   const uint64_t n = count(c);
   if (n == 0) return {};
-  // Shared photons, at most one pixel each: the group's per-photon contribution is the pixel's
-  // contribution / k, so its second moment is the sum of the pixels' second moments / k².
+  // Shared photons, one pixel each (see mc_image.h for those that reached several): the group's
+  // per-photon contribution is the pixel's contribution / k, so its second moment is the sum of
+  // the pixels' second moments / k².
   double s = 0.0, s2 = 0.0;
   for (uint32_t p : pixels) {
     const size_t i = static_cast<size_t>(p) * static_cast<size_t>(channels_) + static_cast<size_t>(c);

@@ -4,8 +4,14 @@
 //
 // Two kinds of estimates fill images:
 //   - PerPhoton (the photon tracers): N photons per channel are shared by all pixels; a photon
-//     adds to at most one pixel, so pixels are negatively correlated and the error of a group
-//     average comes from the per-photon second moment of the group;
+//     adds one sample (its summed scores, camera.h) to each pixel it reaches, usually one pixel,
+//     so pixels are negatively correlated and the error of a group average comes from the
+//     per-photon second moment of the group. A photon that scored into several pixels of a group
+//     (it left a non-convex body, re-entered it and left again, transport.h) has cross terms in
+//     that moment which the per-pixel sums do not hold: average() then leaves them out, which
+//     underestimates the variance by at most a factor m for photons that reached m pixels of the
+//     group (Cauchy-Schwarz: (Σ x_i)² <= m Σ x_i²), and by nothing for a convex body.
+//     ImageTally::severalPixelPhotons() counts such photons;
 //   - PerPixel (the sphere integrator): every pixel has its own samples (its own count, so a
 //     stopped pass may leave some pixels with more samples than others); pixels are independent.
 #pragma once
@@ -52,7 +58,8 @@ class McImage {
 
   // Mean (per photon or per sample) and standard error of one pixel and channel.
   Estimate pixel(int x, int y, int c) const;
-  // Average of the pixel means over `pixels` (indices y * width + x) and its standard error.
+  // Average of the pixel means over `pixels` (indices y * width + x) and its standard error
+  // (PerPhoton: exact when no photon scored into two of the pixels; see the header comment).
   Estimate average(std::span<const uint32_t> pixels, int c) const;
 
   // Interleaved RGB floats, row by row from the top (a one-channel image is repeated as grey).

@@ -275,13 +275,13 @@ struct Rgbf {
           inside * e2 * (T[j + 2] + u * (T[j + 6] - T[j + 2]))};
 }
 
-// One group over samples [0, count) of a chunk: R of the four hits, per-ray sums into `ray`, and
+// One group over samples [first, count) of a chunk: R of the four hits, per-ray sums into `ray`, and
 // either the second moments directly (kFused: the group is all the pixel's hits) or Σ_s v and
 // Σ_s f_s v per sample added into wB / wL for a later pass. (Always inlined, so that
 // accumulate's AVX2 build compiles it for AVX2 too.)
 template <bool kFused>
 [[gnu::always_inline]] inline void groupPass(const float* px, const float* py, const float* pz,
-                                             const float* const* e, uint32_t count,
+                                             const float* const* e, uint32_t first, uint32_t count,
                                              const HitGroup& g, const TableView& tv,
                                              float (*wB)[kChunk], float (*wL)[kChunk],
                                              float* ray, float* sq) {
@@ -296,7 +296,7 @@ template <bool kFused>
   const float x2 = g.x[2], y2 = g.y[2], z2 = g.z[2], f2 = g.f[2];
   const float x3 = g.x[3], y3 = g.y[3], z3 = g.z[3], f3 = g.f[3];
 #pragma omp simd reduction(+ : r00, r01, r02, r10, r11, r12, r20, r21, r22, r30, r31, r32, b0, b1, b2, l0, l1, l2)
-  for (uint32_t k = 0; k < count; ++k) {
+  for (uint32_t k = first; k < count; ++k) {
     const Rgbf v0 = kernel(px[k], py[k], pz[k], x0, y0, z0, e0[k], e1[k], e2[k], tv);
     const Rgbf v1 = kernel(px[k], py[k], pz[k], x1, y1, z1, e0[k], e1[k], e2[k], tv);
     const Rgbf v2 = kernel(px[k], py[k], pz[k], x2, y2, z2, e0[k], e1[k], e2[k], tv);
@@ -340,7 +340,8 @@ __attribute__((target("avx2,fma"))) inline float horizontalSum(__m256 v) {
 template <bool kFused>
 __attribute__((target("avx2,fma"))) void groupPassAvx2(const float* px, const float* py,
                                                        const float* pz, const float* const* e,
-                                                       uint32_t count, const HitGroup& g,
+                                                       uint32_t first, uint32_t count,
+                                                       const HitGroup& g,
                                                        const TableView& tv, float (*wB)[kChunk],
                                                        float (*wL)[kChunk], float* ray, float* sq) {
   __m256 r[12], q[6];
@@ -356,7 +357,7 @@ __attribute__((target("avx2,fma"))) void groupPassAvx2(const float* px, const fl
     hz[h] = _mm256_set1_ps(g.z[h]);
     hf[h] = _mm256_set1_ps(g.f[h]);
   }
-  uint32_t k = 0;
+  uint32_t k = first;
   for (; k + 8 <= count; k += 8) {
     const __m256 x = _mm256_loadu_ps(px + k), y = _mm256_loadu_ps(py + k), z = _mm256_loadu_ps(pz + k);
     const __m256 ec[3] = {_mm256_loadu_ps(e[0] + k), _mm256_loadu_ps(e[1] + k), _mm256_loadu_ps(e[2] + k)};
@@ -392,29 +393,26 @@ __attribute__((target("avx2,fma"))) void groupPassAvx2(const float* px, const fl
   }
   for (int j = 0; j < 12; ++j) ray[j] += horizontalSum(r[j]);
   for (int j = 0; j < 6; ++j) sq[j] += horizontalSum(q[j]);
-  if (k < count) {
-    const float* et[3] = {e[0] + k, e[1] + k, e[2] + k};
-    groupPass<kFused>(px + k, py + k, pz + k, et, count - k, g, tv,
-                      reinterpret_cast<float (*)[kChunk]>(&wB[0][k]),
-                      reinterpret_cast<float (*)[kChunk]>(&wL[0][k]), ray, sq);
-  }
+  if (k < count) groupPass<kFused>(px, py, pz, e, k, count, g, tv, wB, wL, ray, sq);
 }
 #endif
 
-using GroupPass = void (*)(const float*, const float*, const float*, const float* const*, uint32_t,
+using GroupPass = void (*)(const float*, const float*, const float*, const float* const*, uint32_t, uint32_t,
                            const HitGroup&, const TableView&, float (*)[kChunk], float (*)[kChunk],
                            float*, float*);
 struct GroupPasses {
   GroupPass fused = &groupPass<true>, split = &groupPass<false>;
 };
 
-GroupPasses groupPasses() {
+GroupPasses groupPasses(bool portable) {
   GroupPasses p;
 #ifdef TRANSLUCENT_MODEL_REFERENCE_AVX2
-  if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")) {
+  if (!portable && __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")) {
     p.fused = &groupPassAvx2<true>;
     p.split = &groupPassAvx2<false>;
   }
+#else
+  (void)portable;
 #endif
   return p;
 }
@@ -435,14 +433,14 @@ void accumulate(const SampleGrid& grid, uint32_t begin, uint32_t end, int half,
     float sq[6] = {0, 0, 0, 0, 0, 0};
     if (groups.size() == 1) {
       float ray[12] = {};
-      passes.fused(px, py, pz, e, count, groups[0], tv, wB, wL, ray, sq);
+      passes.fused(px, py, pz, e, 0, count, groups[0], tv, wB, wL, ray, sq);
       for (int j = 0; j < 12; ++j) sums.ray[half][j / 3][j % 3] += double(ray[j]);
     } else {
       for (int c = 0; c < 3; ++c)
         for (uint32_t k = 0; k < count; ++k) wB[c][k] = wL[c][k] = 0.0f;
       for (size_t gi = 0; gi < groups.size(); ++gi) {
         float ray[12] = {};
-        passes.split(px, py, pz, e, count, groups[gi], tv, wB, wL, ray, sq);
+        passes.split(px, py, pz, e, 0, count, groups[gi], tv, wB, wL, ray, sq);
         for (int j = 0; j < 12; ++j) sums.ray[half][4 * gi + size_t(j / 3)][j % 3] += double(ray[j]);
       }
       for (int c = 0; c < 3; ++c) {
@@ -580,7 +578,7 @@ ModelReferenceImages renderModelReference(const geometry::TriangleMesh& meshIn, 
   out.radiance_se.assign(3 * npix, 0.0f);
   out.coverage.assign(npix, 0.0f);
   const double N = double(options.samples);
-  const GroupPasses passes = groupPasses();
+  const GroupPasses passes = groupPasses(options.portable);
   TableView tv;
   tv.T = table.values.data();
   tv.s0 = static_cast<float>(table.s0);
@@ -601,7 +599,8 @@ ModelReferenceImages renderModelReference(const geometry::TriangleMesh& meshIn, 
     std::vector<HitGroup> groups;
     for (int i = 0; i < w; ++i) {
       if (stop.load(std::memory_order_relaxed)) return false;
-      // Camera rays: stratified over the pixel, jittered from the pixel's own stream.
+      // Camera rays: stratified over the pixel, at the strata's centres or jittered from the
+      // pixel's own stream.
       hits.clear();
       Rng rng(options.seed, uint64_t(j) * uint64_t(w) + uint64_t(i));
       std::vector<int> rayOf;  // hit index -> ray index (misses have none)

@@ -51,8 +51,9 @@
 // Standard error. The per-sample terms t_k = A · (1/S) Σ_s R(|x_s - x_k|) E(x_k) (S rays of a
 // pixel, misses 0) are iid, so the sample variance of t_k over N gives the standard error of the
 // surface integration for the pixel value (the sub-rays share the samples, hence one term per
-// sample, not per ray); over 8 seeds the measured variance of the pixels is 1.10x the reported
-// one (tests). With jitter, the variance from the ray positions is estimated as if the rays were
+// sample, not per ray); over 8 seeds the measured variance of the pixels is 1.1-1.2x the
+// reported one (tests; the per-sample terms are heavy-tailed, so the sample variance tends to
+// fall a little short of the true one at these sample counts). With jitter, the variance from the ray positions is estimated as if the rays were
 // independent and uniform in the pixel: the spread of the per-ray values over S(S - 1), the
 // spread taken as the product of the deviations computed from the even- and the odd-indexed
 // samples (independent halves, so the samples' noise adds nothing to it in expectation). That
@@ -90,6 +91,7 @@ struct ModelReferenceOptions {
   bool jitter = false;        // true: rays jittered in their strata (false: at the strata's centres)
   double near_field = 3.0;    // ρ in sample spacings sqrt(A/N), > 0
   double tail = 1e-4;         // fraction of Rd beyond the pruning radius r_max, in (0, 0.01]
+  bool portable = false;      // the baseline-ISA inner loop even where AVX2 + FMA is available
 
   // Throws ParameterError naming the bad field.
   void validate() const;

@@ -22,9 +22,11 @@
 
 namespace translucent::reference {
 
-// The analytic sphere as a Body (final, so that the templated walk inlines its queries).
+// The analytic sphere as a Body (final, so that the templated walk inlines its queries; convex,
+// so that it skips the re-entry query after an exit, transport.h).
 class SphereBody final : public Body {
  public:
+  static constexpr bool kConvex = true;
   explicit SphereBody(double radius, const glm::dvec3& center = glm::dvec3(0.0))
       : radius_(radius), center_(center), eps_(1e-9 * (radius + glm::length(center))) {}
 

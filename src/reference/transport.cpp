@@ -83,6 +83,7 @@ void TransportStats::merge(const TransportStats& o) {
     emitted[c].merge(o.emitted[c]);
     entered[c].merge(o.entered[c]);
     exited[c].merge(o.exited[c]);
+    escaped[c].merge(o.escaped[c]);
   }
   scattering_events += o.scattering_events;
   next_block = std::max(next_block, o.next_block);

@@ -12,13 +12,35 @@
 //   - free flights with density σt e^{-σt s}, boundary found by the body's ray query;
 //   - at the boundary, exact Fresnel reflectance F seen from inside: internal reflection with
 //     probability F (the rest of the flight continues along the mirrored direction, Algorithm 1
-//     line 8), else the photon leaves, refracted, and is handed to the tally;
+//     line 8), else the photon leaves, refracted, and is handed to the tally (every exit is
+//     scored: it is exitance at that point);
+//   - after an exit the photon flies on in air along the refracted ray (from the exit point, hits
+//     closer than epsilon() ignored). If that ray meets the body again (a non-convex body: ear to
+//     head, a fin, the two arms of a U), the photon re-enters there and its walk goes on; it ends
+//     when an exit ray escapes (nothing hit) or the photon is absorbed. At a re-entry the
+//     transmitted part is treated as at the first entry: Snell refraction, Fresnel transmittance
+//     Ft(η, cos θi). The reflected part is traced, not dropped: with probability F the photon is
+//     mirrored off the outside of the surface, keeping its weight, and flies on in air (it may
+//     re-enter elsewhere or escape); else it is refracted in, also keeping its weight. The first
+//     entry drops its F because that is the specular reflection of the light source, which every
+//     renderer adds as its own surface term; the F at a re-entry is subsurface light (the glow of
+//     the ear seen in the head) that no other term accounts for, so dropping it would lose flux
+//     (with it, every entered photon is absorbed or escapes: entered = absorbed + escaped for any
+//     η). That mirrored light is not exitance and is scored nowhere (camera.h). The remaining
+//     free path at an exit carries over to the re-entry (exponential flights are memoryless), so
+//     η = 1 needs no random number there. Bodies that declare themselves convex (a static
+//     `kConvex = true`, e.g. SphereBody) skip the re-entry query; for a convex mesh the exit ray
+//     never hits, so nothing is drawn and results are those of a walk without re-entry (up to
+//     the rare photons that slip through the mesh at an edge, mesh_tracer.h);
 //   - analog absorption with probability 1 - α at each collision (Algorithm 1 line 15), then
 //     Henyey-Greenstein scattering (phase.h);
 //   - the seed's long-path roulette after `long_path_roulette` scattering events (keep with
 //     probability 1/10, weight x10): unbiased, and it guarantees that every walk ends.
-// Everything is unbiased; a photon leaves at most once, so a tally adding its weight w and w² at
-// the exit gets the per-photon second moment, hence a standard error for every estimate.
+// Everything is unbiased. A photon may leave several times (and score several times, even into
+// the same pixel): a standard error needs the per-photon second moment, so tallies must sum a
+// photon's scores before squaring. ExitTally::Block::endPhoton() marks the end of each photon
+// for that; TransportStats::exited adds one per-photon total (all its exits), escaped the weight
+// of its final departure.
 //
 // Units: positions in scene units, coefficients per scene unit (Medium::channel applies the
 // scale). Light fluxes in watts (or any unit; results are linear in it): a directional light's
@@ -55,7 +77,9 @@ struct BoundingSphere {
 
 // A closed body whose inside is the medium. The transport never relies on the orientation of
 // the normals: a ray from outside enters at its first hit, a ray from inside leaves at its first
-// hit. Implementations must be safe to query from several threads at once.
+// hit. Implementations must be safe to query from several threads at once. A final class that is
+// convex may declare `static constexpr bool kConvex = true;` so that the templated walk
+// (transport_impl.h) skips the re-entry query after an exit.
 class Body {
  public:
   virtual ~Body() = default;
@@ -108,12 +132,18 @@ struct ExitRecord {
 
 // Where exiting photons go. Each block of photons is recorded into its own Block by one worker
 // thread, then merged into the tally in block order (so sums do not depend on thread timing).
+// A photon's exits are recorded in order, then endPhoton() is called once for it (also for a
+// photon that never exited). A block that keeps second moments must add the photon's summed
+// score per bin there, not w² per record: a photon that left twice through one bin would
+// otherwise count as two independent samples (an underestimated standard error). A block that
+// scores into bins every photon can reach at most once (a face of a convex body) may ignore it.
 class ExitTally {
  public:
   class Block {
    public:
     virtual ~Block() = default;
     virtual void record(const ExitRecord& e) = 0;
+    virtual void endPhoton() {}
   };
   virtual ~ExitTally() = default;
   virtual std::unique_ptr<Block> newBlock() const = 0;
@@ -159,7 +189,10 @@ struct TransportStats {
   std::vector<uint64_t> photons;  // photons traced, per channel
   std::vector<Moments> emitted;   // flux sent towards the body
   std::vector<Moments> entered;   // flux transmitted into the body
-  std::vector<Moments> exited;    // flux leaving it
+  std::vector<Moments> exited;    // flux leaving it, summed over every exit of a photon (a
+                                  // photon that re-enters and leaves again counts twice)
+  std::vector<Moments> escaped;   // flux of the final departures (entered = absorbed + escaped;
+                                  // equals exited for a convex body)
   uint64_t scattering_events = 0;
   uint64_t next_block = 0;  // first block a following pass should use
   double seconds = 0.0;
@@ -172,7 +205,8 @@ struct TransportStats {
 };
 
 // Traces options.photons photons per channel (channels: 1 or 3 media, same η expected but not
-// required) from `lights` into `body` and records every exit in `tally`. The progress callback
+// required) from `lights` into `body` and records every exit in `tally` (a photon that leaves,
+// re-enters and leaves again is recorded at both exits, then endPhoton()). The progress callback
 // counts photons over all channels; returning false stops the run (blocks already traced are
 // kept; partial = true). Throws ParameterError for bad media, lights or options.
 TransportStats tracePhotons(const Body& body, std::span<const ScalarMedium> channels,

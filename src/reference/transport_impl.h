@@ -31,11 +31,21 @@ struct ChannelWalk {
 
 // Per-block counters (per channel).
 struct BlockCounters {
-  std::vector<Moments> emitted, entered, exited;
+  std::vector<Moments> emitted, entered, exited, escaped;
   uint64_t events = 0;
   explicit BlockCounters(size_t channels)
-      : emitted(channels), entered(channels), exited(channels) {}
+      : emitted(channels), entered(channels), exited(channels), escaped(channels) {}
 };
+
+// Whether the body type declares itself convex (transport.h: `static constexpr bool kConvex`):
+// then an exit ray cannot meet the body again and the re-entry query is skipped.
+template <class BodyT>
+constexpr bool convexBody() {
+  if constexpr (requires { BodyT::kConvex; })
+    return BodyT::kConvex;
+  else
+    return false;
+}
 
 // Refraction of unit `d` through a surface with unit normal `n` on the transmitted side
 // (d·n > 0), cos_t from refractedCosine and ratio = n_incident / n_transmitted.
@@ -89,15 +99,41 @@ inline Emission emit(const Light& light, const BoundingSphere& b, Rng& rng) {
   return e;
 }
 
-// One photon of channel `c`: emission, entry, walk, exit (Algorithm 1).
+// The flight in air of a photon that left the body at x along d (transport.h): true if it meets
+// the body again and is refracted in, with x, d the re-entry point and the inward direction;
+// false if it escapes. At each hit the outside Fresnel reflectance F decides, with probability F,
+// a mirror reflection that keeps the photon in air (traced, not dropped: transport.h says why).
+template <class BodyT>
+bool reenter(const BodyT& body, const ChannelWalk& W, double eps, glm::dvec3& x, glm::dvec3& d,
+             Rng& rng) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  SurfaceHit hit;
+  for (;;) {
+    if (!body.intersect(x, d, eps, kInf, hit)) return false;
+    x += hit.t * d;
+    if (W.matched) return true;
+    const glm::dvec3 inward = glm::dot(hit.normal, d) > 0.0 ? hit.normal : -hit.normal;
+    const double cosI = glm::dot(d, inward);
+    const double F = fresnelReflectance(cosI, W.eta);
+    if (uniform01(rng) < F) {
+      d = glm::normalize(d - 2.0 * cosI * inward);
+      continue;
+    }
+    d = refract(d, inward, 1.0 / W.eta, refractedCosine(cosI, W.eta));
+    return true;
+  }
+}
+
+// One photon of channel `c`: emission, entry, walk, exits and re-entries (Algorithm 1).
 template <class BodyT>
 void tracePhoton(const BodyT& body, const BoundingSphere& bounds, std::span<const Light> lights,
                  const ChannelWalk& W, int c, uint64_t longPath, Rng& rng, BlockCounters& k,
                  ExitTally::Block& tally) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
+  const size_t ci = static_cast<size_t>(c);
   const double eps = body.epsilon();
   double w = W.totalFlux;
-  k.emitted[static_cast<size_t>(c)].add(w);
+  k.emitted[ci].add(w);
 
   // Choose the light (probability ∝ its flux, so every photon carries the total).
   size_t li = 0;
@@ -112,8 +148,10 @@ void tracePhoton(const BodyT& body, const BoundingSphere& bounds, std::span<cons
   // Entry at the first hit: Fresnel transmittance as a weight, Snell refraction.
   SurfaceHit hit;
   if (!body.intersect(em.origin, em.direction, 0.0, kInf, hit)) {
-    k.entered[static_cast<size_t>(c)].add(0.0);
-    k.exited[static_cast<size_t>(c)].add(0.0);
+    k.entered[ci].add(0.0);
+    k.exited[ci].add(0.0);
+    k.escaped[ci].add(0.0);
+    tally.endPhoton();
     return;
   }
   glm::dvec3 x = em.origin + hit.t * em.direction;
@@ -124,13 +162,16 @@ void tracePhoton(const BodyT& body, const BoundingSphere& bounds, std::span<cons
     w *= 1.0 - fresnelReflectance(cosI, W.eta);
     d = refract(d, inward, 1.0 / W.eta, refractedCosine(cosI, W.eta));
   }
-  k.entered[static_cast<size_t>(c)].add(w);
+  k.entered[ci].add(w);
   bool onSurface = true;  // the next ray starts on the boundary: ignore hits closer than eps
   uint64_t scatters = 0;
+  double exitedSum = 0.0;  // this photon's exits, summed before squaring (transport.h)
+  double escapedWeight = 0.0;
 
   for (;;) {
     // Free flight (line 3), then advance or meet the boundary (lines 4-14).
     double s = -std::log(1.0 - uniform01(rng)) / W.sigmaT;
+    bool escaped = false;
     for (;;) {
       if (!body.intersect(x, d, onSurface ? eps : 0.0, s, hit)) {
         x += s * d;
@@ -138,14 +179,14 @@ void tracePhoton(const BodyT& body, const BoundingSphere& bounds, std::span<cons
         break;
       }
       x += hit.t * d;
+      s = std::max(0.0, s - hit.t);
       const glm::dvec3 outward = glm::dot(hit.normal, d) > 0.0 ? hit.normal : -hit.normal;
       const double cosIn = glm::dot(d, outward);
+      onSurface = true;
       // Line 6: leave with probability Ft = 1 - F, else reflect (line 7) and go on (line 8).
       const double F = W.matched ? 0.0 : fresnelReflectance(cosIn, 1.0 / W.eta);
       if (F > 0.0 && uniform01(rng) < F) {
         d = glm::normalize(d - 2.0 * cosIn * outward);
-        s = std::max(0.0, s - hit.t);
-        onSurface = true;
         continue;
       }
       ExitRecord e;
@@ -155,10 +196,18 @@ void tracePhoton(const BodyT& body, const BoundingSphere& bounds, std::span<cons
       e.weight = w;
       e.channel = c;
       tally.record(e);
-      k.exited[static_cast<size_t>(c)].add(w);
-      k.events += scatters;
-      return;
+      exitedSum += w;
+      // The exit ray, in air, may meet the body again; the rest of the free path s goes on from
+      // the re-entry point (memoryless flights, transport.h).
+      if constexpr (!convexBody<BodyT>()) {
+        d = e.direction;
+        if (reenter(body, W, eps, x, d, rng)) continue;
+      }
+      escaped = true;
+      escapedWeight = w;
+      break;
     }
+    if (escaped) break;
     // Absorption (line 15).
     if (uniform01(rng) < W.absorbProbability) break;
     // Scattering (line 16): Henyey-Greenstein cosine (phase.h), uniform azimuth.
@@ -175,8 +224,10 @@ void tracePhoton(const BodyT& body, const BoundingSphere& bounds, std::span<cons
       w *= kSurviveBoost;
     }
   }
-  k.exited[static_cast<size_t>(c)].add(0.0);
+  k.exited[ci].add(exitedSum);
+  k.escaped[ci].add(escapedWeight);
   k.events += scatters;
+  tally.endPhoton();
 }
 
 std::vector<Light> validatedLights(std::span<const Light> lights);
@@ -205,6 +256,7 @@ TransportStats traceBlocks(const BodyT& body, std::span<const ScalarMedium> chan
   stats.emitted.assign(nc, {});
   stats.entered.assign(nc, {});
   stats.exited.assign(nc, {});
+  stats.escaped.assign(nc, {});
 
   auto make = [&] { return Result{tally.newBlock(), BlockCounters(nc)}; };
   auto work = [&](uint64_t b, Result& r, const std::atomic<bool>& stop) {
@@ -225,6 +277,7 @@ TransportStats traceBlocks(const BodyT& body, std::span<const ScalarMedium> chan
       stats.emitted[c].merge(r.counters.emitted[c]);
       stats.entered[c].merge(r.counters.entered[c]);
       stats.exited[c].merge(r.counters.exited[c]);
+      stats.escaped[c].merge(r.counters.escaped[c]);
     }
     stats.scattering_events += r.counters.events;
   };

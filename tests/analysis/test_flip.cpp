@@ -136,8 +136,11 @@ TEST(Flip, MatchesTheAuthorsImplementationOnSyntheticPairs) {
   // Mean ꟻLIP printed by the authors' C++ tool (github.com/NVlabs/flip, v1.6, commit 1eb247c,
   // `flip -r ref.png -t test.png [-ppd 20]`) for 32x24 PNGs with exactly these 8-bit pixels:
   // a red 6x6 square on a gradient (0.085154; at 20 px/°: 0.055603), an edge moved by one pixel
-  // (0.069814), a texture with small perturbations (0.032146). Their tool filters separably in
-  // float, as we do in a different order; tolerance 2e-5 (a few float roundings of values ~1).
+  // (0.069814), a texture with small perturbations (0.032146). Their tool works in float
+  // throughout: for the uniform black/white pair it prints a minimum of 0.967388 and a mean of
+  // 0.967391 (float accumulation), 8e-6 and 1.1e-5 from the exact 0.967380. We store float but
+  // compute in double; the means here differ from theirs by 1.4e-5 at most: tolerance 2e-5.
+  // The PNGs: scripts/flip_reference_pairs.py (which also says how to run their tool).
   const int w = 32, h = 24;
   struct Case {
     const char* name;

@@ -305,9 +305,12 @@ TEST(Metrics, SameResultWithOneThreadOrMany) {
     flipOne = flipMap(ti, ri, {});
     ssimOne = ssimMap(ti, ri, {});
   }
-  many = computeMetrics(ti, ri);
+  PerceptualMaps maps;
+  many = computeMetrics(ti, ri, {}, maps);
   EXPECT_EQ(flipOne, flipMap(ti, ri, {}));
   EXPECT_EQ(ssimOne, ssimMap(ti, ri, {}));
+  EXPECT_EQ(flipOne, maps.flip);  // the maps handed back are those of flipMap and ssimMap
+  EXPECT_EQ(ssimOne, maps.ssim);
   EXPECT_EQ(one.flip, many.flip);
   EXPECT_EQ(one.ssim, many.ssim);
   EXPECT_EQ(one.rel_rmse, many.rel_rmse);

@@ -54,6 +54,36 @@ TEST(ExitRadiance, ConventionScaleTurnsJensenIntoEachConvention) {
               1.0 / diffuseTransmittanceFromOutside(1.3), 1e-15);
 }
 
+// The cone average of the exit law that the tracer's cone_radiance estimates:
+//   - η = 1 (Ft = 1) and a cone above the horizon: the cosine-weighted average of a constant 1/π;
+//   - a vanishing cone: the factor on its axis;
+//   - the whole hemisphere about the normal: ∫ f μ dω / π, which is 1/π for the normalized
+//     convention (it carries out exactly B) and (1 - 2 C1_ext)/π for Jensen's.
+TEST(ExitRadiance, ConeAveragedFactorHasItsLimits) {
+  const double pi = std::numbers::pi, deg = pi / 180.0;
+  for (ExitConvention c : {ExitConvention::Jensen, ExitConvention::Normalized}) {
+    for (double mu : {1.0, 0.8, 0.5})
+      EXPECT_NEAR(coneAveragedExitRadianceFactor(c, 1.0, mu, 15.0 * deg), 1.0 / pi, 1e-9) << mu;
+    for (double mu : {1.0, 0.7, 0.3})
+      EXPECT_NEAR(coneAveragedExitRadianceFactor(c, 1.3, mu, 0.01 * deg),
+                  exitRadianceFactor(c, 1.3, mu), 1e-6 * exitRadianceFactor(c, 1.3, mu)) << mu;
+  }
+  for (double eta : {1.3, 1.5}) {
+    EXPECT_NEAR(coneAveragedExitRadianceFactor(ExitConvention::Normalized, eta, 1.0, 90.0 * deg),
+                1.0 / pi, 1e-6 / pi) << eta;
+    EXPECT_NEAR(coneAveragedExitRadianceFactor(ExitConvention::Jensen, eta, 1.0, 90.0 * deg),
+                diffuseTransmittanceFromOutside(eta) / pi, 1e-6 / pi) << eta;
+  }
+  // A cone of 15° at 60° from the normal lies below the axis value (Ft falls towards grazing) but
+  // within a few percent of it.
+  const double axis = exitRadianceFactor(ExitConvention::Jensen, 1.3, 0.5);
+  const double cone = coneAveragedExitRadianceFactor(ExitConvention::Jensen, 1.3, 0.5, 15.0 * deg);
+  EXPECT_LT(cone, axis);
+  EXPECT_GT(cone, 0.95 * axis);
+  EXPECT_THROW((void)coneAveragedExitRadianceFactor(ExitConvention::Jensen, 1.3, 0.0, 0.1), ParameterError);
+  EXPECT_THROW((void)coneAveragedExitRadianceFactor(ExitConvention::Jensen, 1.3, 0.5, 2.0), ParameterError);
+}
+
 TEST(ExitRadiance, ParsingNamesTheValidConventions) {
   EXPECT_EQ(parseExitConvention("jensen"), ExitConvention::Jensen);
   EXPECT_EQ(parseExitConvention("normalized"), ExitConvention::Normalized);

@@ -29,6 +29,10 @@ if(TARGET translucent_cli)
   render_test(mesh_json ARGS pathtrace mesh --scene ${PROJECT_SOURCE_DIR}/data/scenes/cube.json
               --photons 2000 --threads 2 --quantity radiance --exr ${OUT}/rm.exr
               --json ${OUT}/rm.json FILE ${OUT}/rm.json MATCH "\"triangles\": 12")
+  # A convex mesh: no photon re-enters, so none scores into two pixels.
+  render_test(mesh_convex_json ARGS pathtrace mesh --scene ${PROJECT_SOURCE_DIR}/data/scenes/cube.json
+              --photons 2000 --threads 2 --exr ${OUT}/rm2.exr --json ${OUT}/rm2.json
+              FILE ${OUT}/rm2.json MATCH "\"photons_in_several_pixels\": 0,")
   render_test(integrate_mesh_json ARGS integrate mesh
               --scene ${PROJECT_SOURCE_DIR}/data/scenes/cube.json --samples 20000 --threads 2
               --quantity radiance --exr ${OUT}/rim.exr --png ${OUT}/rim.png --json ${OUT}/rim.json

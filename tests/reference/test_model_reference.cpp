@@ -44,7 +44,7 @@ std::vector<Light> lightFrom(const glm::dvec3& direction, double irradiance = 1.
 // ~10 reduced mean free paths, where the noise comes from (the profile's peak): their errors are
 // nearly independent, so their mean is tested to ~se/4 (with a factor 1.5 for the correlation
 // the shared tails leave).
-void expectFlatSlab(const std::string& modelName) {
+void expectFlatSlab(const std::string& modelName, int subpixels = 2) {
   const Medium medium = shortRangeMedium();
   const auto mesh = geometry::makeBox({-1.8, -1.8, -0.5}, {1.8, 1.8, 0.0});
   Camera cam;
@@ -57,6 +57,7 @@ void expectFlatSlab(const std::string& modelName) {
   o.samples = 1000000;
   o.tail = 1e-3;
   o.threads = 2;
+  o.subpixels = subpixels;
   const bssrdf::Model& model = bssrdf::model(modelName);
   const auto img = renderModelReference(mesh, medium, model, lightFrom({0, 0, 1}), cam, o);
   ASSERT_FALSE(img.partial);
@@ -87,10 +88,48 @@ void expectFlatSlab(const std::string& modelName) {
 
 TEST(ModelReference, FlatSlabGivesFresnelTimesIrradianceTimesRdDipole) { expectFlatSlab("dipole"); }
 
+// 3x3 rays per pixel: more than one group of four hits (the two-pass sums of the inner loop).
+TEST(ModelReference, FlatSlabWithNineRaysPerPixel) { expectFlatSlab("dipole", 3); }
+
 // Normalized diffusion has R ~ 1/r at the source: the analytic near-field disc is what keeps its
 // variance finite.
 TEST(ModelReference, FlatSlabGivesFresnelTimesIrradianceTimesRdNormalizedDiffusion) {
   expectFlatSlab("normalized-diffusion");
+}
+
+// The other lights on the flat slab, against the directional light of irradiance 1 with the same
+// samples: a beam wider than the window plus r_max gives exactly its irradiance P/(π r²) (here
+// 2) times the directional result; a distant point light straight above gives I/D² (here 1) times
+// it, less the fall-off of I cos θ / d² within r_max of the window (at most 1.5 r²/D² ≈ 1.4e-3).
+TEST(ModelReference, BeamAndPointLightsScaleTheDirectionalResult) {
+  const Medium medium = shortRangeMedium();
+  const auto mesh = geometry::makeBox({-1.8, -1.8, -0.5}, {1.8, 1.8, 0.0});
+  Camera cam;
+  cam.projection = Camera::Projection::Orthographic;
+  cam.position = {0.0, 0.0, 3.0};
+  cam.view_height = 0.4;
+  cam.width = cam.height = 3;
+  ModelReferenceOptions o;
+  o.samples = 300000;
+  o.tail = 1e-3;
+  o.threads = 2;
+  const bssrdf::Model& model = bssrdf::model("dipole");
+  const auto dir = renderModelReference(mesh, medium, model, lightFrom({0, 0, 1}), cam, o);
+  const double radius = 1.7, D = 50.0;
+  ASSERT_LT(dir.prune_radius + 0.3, radius);
+  const std::vector<Light> beam{Light{BeamLight{{0, 0, 5}, {0, 0, -1}, radius,
+                                                2.0 * std::numbers::pi * radius * radius}, {1, 1, 1}}};
+  const std::vector<Light> point{Light{PointLight{{0, 0, D}, D * D}, {1, 1, 1}}};
+  const auto b = renderModelReference(mesh, medium, model, beam, cam, o);
+  const auto p = renderModelReference(mesh, medium, model, point, cam, o);
+  for (size_t k = 0; k < dir.exitance.size(); ++k) {
+    const double d = dir.exitance[k];
+    ASSERT_GT(d, 0.0);
+    EXPECT_NEAR(double(b.exitance[k]) / d, 2.0, 2e-6) << k;
+    const double ratio = double(p.exitance[k]) / d;
+    EXPECT_LE(ratio, 1.0 + 1e-6) << k;
+    EXPECT_GE(ratio, 1.0 - 1.5 * std::pow(dir.prune_radius + 0.3, 2) / (D * D)) << k;
+  }
 }
 
 // The lit sphere of sphere.h (radius 1, light and camera along +z) and an icosphere mesh of it.
@@ -231,6 +270,27 @@ TEST(ModelReference, SameSeedIsBitIdenticalOnAnyThreadCount) {
     EXPECT_EQ(one.radiance_se, two.radiance_se);
     EXPECT_EQ(one.coverage, two.coverage);
   }
+}
+
+// The AVX2 inner loop and the portable one compute the same sums (to float rounding).
+TEST(ModelReference, PortableAndVectorKernelsAgree) {
+  const Medium medium = shortRangeMedium();
+  const SphereScene scene = litSphere(8);
+  const auto mesh = geometry::makeIcosphere(4, scene.radius);
+  const std::vector<Light> lights{scene.light()};
+  ModelReferenceOptions o;
+  o.samples = 50000;
+  o.subpixels = 3;  // 9 rays: three groups of four, the split (non-fused) path too
+  const auto fast = renderModelReference(mesh, medium, bssrdf::model("dipole"), lights,
+                                         scene.camera(), o);
+  o.portable = true;
+  const auto portable = renderModelReference(mesh, medium, bssrdf::model("dipole"), lights,
+                                             scene.camera(), o);
+  for (size_t k = 0; k < fast.exitance.size(); ++k) {
+    EXPECT_NEAR(fast.exitance[k], portable.exitance[k], 1e-5 * std::abs(double(portable.exitance[k])) + 1e-12) << k;
+    EXPECT_NEAR(fast.exitance_se[k], portable.exitance_se[k], 1e-4 * double(portable.exitance_se[k]) + 1e-12) << k;
+  }
+  EXPECT_EQ(fast.coverage, portable.coverage);
 }
 
 // Different seeds: the images differ by noise only, as their standard errors say. Over 8 seeds,
