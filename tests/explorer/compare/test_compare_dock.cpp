@@ -181,7 +181,7 @@ class TestCompareDock : public QObject {
     s.camera.width = kWidth;
     s.camera.height = dock->imageHeight();
     const analysis::Reference once = analysis::computeReference(
-        s, scene::loadSceneMesh(s), {analysis::ReferenceKind::Physical, 48 * 1024, 1, 0, 2});
+        s, scene::loadSceneMesh(s), {analysis::ReferenceKind::Physical, 48 * 1024, 1, 0});
     QVERIFY(once.exitance.rgb == dock->comparedReference().rgb);
     QVERIFY(once.exitance.se == dock->comparedReference().se);
   }
