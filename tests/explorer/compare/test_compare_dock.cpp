@@ -301,6 +301,8 @@ class TestCompareDock : public QObject {
     }
     QTRY_VERIFY_WITH_TIMEOUT(dock->metrics().has_value(), kWaitMs);
     QVERIFY(dock->metricsText().contains("model reference"));
+    qInfo("after 40000 samples (%.2f s): %s", dock->status().seconds,
+          qPrintable(dock->metricsText()));
     QVERIFY(dock->metrics()->pixels > 100);
   }
 
