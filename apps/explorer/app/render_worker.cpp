@@ -1,9 +1,10 @@
 #include "app/render_worker.h"
 
+#include <QtCore/QCoreApplication>
+
 #include <chrono>
 #include <exception>
 #include <string>
-#include <vector>
 
 #include "gpu/context.h"
 #include "techniques/registry.h"
@@ -27,33 +28,20 @@ std::string preparedKey(scene::Scene s) {
   return scene::toJson(s);
 }
 
-// Threads destroying retired workers; joined when the program ends (after main returns, so a
-// prepare still in progress then delays the exit, never a window).
-struct RetiredWorkers {
-  std::mutex mutex;
-  std::vector<std::thread> threads;
-  ~RetiredWorkers() {
-    for (auto& t : threads)
-      if (t.joinable()) t.join();
-  }
-};
-
-RetiredWorkers& retiredWorkers() {
-  static RetiredWorkers r;
-  return r;
-}
-
 }  // namespace
 
 void retireInBackground(std::unique_ptr<RenderWorker> worker) {
   if (!worker) return;
-  worker->disconnect();            // its last signals reach nobody
-  worker->moveToThread(nullptr);   // no thread's events: it may be destroyed on any thread
-  auto& r = retiredWorkers();
-  std::lock_guard lock(r.mutex);
-  // Finished threads go now, so that a long session does not pile them up.
-  std::erase_if(r.threads, [](std::thread& t) { return !t.joinable(); });
-  r.threads.emplace_back([w = std::move(worker)]() mutable { w.reset(); });
+  worker->disconnect();  // its last signals reach nobody
+  worker->requestStop();
+  // Joined with the application's children, on the GUI thread while Qt is alive (not on another
+  // thread: a QObject is destroyed on its own); without an application, here.
+  if (QCoreApplication* app = QCoreApplication::instance()) worker.release()->setParent(app);
+}
+
+void RenderWorker::requestStop() {
+  thread_.request_stop();
+  wake_.notify_all();
 }
 
 RenderWorker::RenderWorker(QObject* parent) : QObject(parent) {

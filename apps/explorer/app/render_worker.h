@@ -63,6 +63,9 @@ class RenderWorker : public QObject {
   // Starts the thread (creates the context); connect the signals first.
   void start();
 
+  // Ends the thread after the frame in hand (the destructor then only joins).
+  void requestStop();
+
   // Replaces any request not started yet; returns its id.
   std::uint64_t request(RenderRequest request);
   // The scene the technique was last prepared with successfully (empty before the first).
@@ -88,10 +91,11 @@ class RenderWorker : public QObject {
   std::jthread thread_;
 };
 
-// Destroys a worker without waiting for it: it is disconnected, detached from the GUI thread
-// (QObject::moveToThread(nullptr)) and destroyed on a thread of its own, which first finishes the
-// frame or prepare() in hand (a point cloud takes seconds on llvmpipe, a minute on a loaded
-// machine). For a dock that must close promptly; the threads are joined at program exit.
+// Lets a worker go without waiting for it: it is disconnected and asked to stop, and its thread
+// ends after the frame or prepare() in hand (a point cloud takes seconds on llvmpipe, a minute on
+// a loaded machine), releasing its context and technique; the object itself stays, a child of
+// the application, joined when the application is destroyed. For a dock that must close
+// promptly (docks are destroyed with the window, so few ever retire).
 void retireInBackground(std::unique_ptr<RenderWorker> worker);
 
 }  // namespace translucent::explorer

@@ -408,6 +408,7 @@ void CompareDock::requestFrame(const scene::Scene& scene, std::string fk, std::s
   frame_request_scene_ = std::move(sk);
   technique_error_.clear();
   frame_request_ = worker_->request(std::move(r));
+  if (metrics_) metrics_label_->setText(metricsText());  // marks the frame shown as previous
   updateStatus();
 }
 
@@ -441,8 +442,10 @@ void CompareDock::onFinished(int generation, bool stopped, const QString& error)
   if (!error.isEmpty()) {
     stale_ = snapshot_ != nullptr;
     run_key_.clear();  // the same scene again is a new try
-    state_.error(tr("Compare (%1 reference): %2")
-                     .arg(QString::fromLatin1(analysis::toString(kind_)), error));
+    const QString message = tr("Compare (%1 reference): %2")
+                                .arg(QString::fromLatin1(analysis::toString(kind_)), error);
+    if (message != last_error_) state_.error(message);
+    last_error_ = message;
   }
   updateStatus();
   emit runFinished();
@@ -455,6 +458,7 @@ void CompareDock::onFrame(std::shared_ptr<const RenderedFrame> frame) {
   if (!frame->frame.converged) return;  // the worker renders on until it is
   frame_ = std::move(frame);
   frame_scene_key_ = frame_request_scene_;
+  shown_frame_key_ = frame_key_;
   last_technique_error_.clear();
   updateComparison();
   updateStatus();
@@ -582,6 +586,10 @@ QString CompareDock::metricsText() const {
           .arg(percent(m.rel_rmse), percent(m.rel_rmse_raw), percent(m.bias), percent(m.bias_stderr))
           .arg(number(m.ssim, 4), number(m.flip, 4), percent(m.fraction_abs_z_above_3, 1));
   if (stale_) text += tr(" (the reference is of the previous scene: see the console)");
+  if (!technique_error_.isEmpty())
+    text += tr(" (the technique frame is of the previous settings: see the console)");
+  else if (shown_frame_key_ != frame_key_)
+    text += tr(" (the technique frame is of the previous settings: rendering the new ones)");
   return text;
 }
 
@@ -633,7 +641,7 @@ void CompareDock::updateStatus() {
             .arg(frame_->render_ms, 0, 'f', 1)
             .arg(frame_->prepare_ms / 1000.0, 0, 'f', 2);
   if (!technique_error_.isEmpty()) t += tr(" (this scene failed: see the console)");
-  else if (frame_ && frame_scene_key_ != frame_request_scene_) t += tr(" (rendering the new scene…)");
+  else if (frame_ && shown_frame_key_ != frame_key_) t += tr(" (rendering the new scene…)");
   else if (!frame_) t = tr("rendering…");
   technique_label_->setText(t);
 }

@@ -167,6 +167,7 @@ class CompareDock : public QDockWidget {
   std::set<uint64_t> failed_requests_;
   std::shared_ptr<const RenderedFrame> frame_;
   std::string frame_scene_key_;      // scene key of frame_
+  std::string shown_frame_key_;      // frame key of frame_ (!= frame_key_: a newer one is coming)
   QString technique_error_;
   QString last_technique_error_;  // reported once while it persists
 

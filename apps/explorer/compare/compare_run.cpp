@@ -78,8 +78,10 @@ void CompareRun::run() {
                     [&](int k, uint64_t done) {
                       analysis::Reference r;
                       r.kind = analysis::ReferenceKind::Physical;
-                      r.request = {analysis::ReferenceKind::Physical, done, config_.seed,
-                                   config_.threads, 2};
+                      r.request.kind = analysis::ReferenceKind::Physical;
+                      r.request.count = done;
+                      r.request.seed = config_.seed;
+                      r.request.threads = config_.threads;
                       r.exitance = analysis::toCompareImage(tracer.images().exitance);
                       r.radiance = analysis::toCompareImage(tracer.images().radiance);
                       r.cone_radiance = analysis::toCompareImage(tracer.images().cone_radiance);
@@ -107,8 +109,12 @@ void CompareRun::run() {
           stopped = true;
           break;
         }
-        const analysis::ReferenceRequest request{analysis::ReferenceKind::Model, passes[k],
-                                                 config_.seed, config_.threads, 2};
+        // Subpixels: the library's (and the CLI's) default, so that the images are the CLI's.
+        analysis::ReferenceRequest request;
+        request.kind = analysis::ReferenceKind::Model;
+        request.count = passes[k];
+        request.seed = config_.seed;
+        request.threads = config_.threads;
         const uint64_t before = computed;
         analysis::Reference r = analysis::computeReference(
             s, mesh, request, [&](const reference::TraceProgress& p) {

@@ -181,9 +181,46 @@ class TestCompareDock : public QObject {
     s.camera.width = kWidth;
     s.camera.height = dock->imageHeight();
     const analysis::Reference once = analysis::computeReference(
-        s, scene::loadSceneMesh(s), {analysis::ReferenceKind::Physical, 48 * 1024, 1, 0, 2});
+        s, scene::loadSceneMesh(s), {analysis::ReferenceKind::Physical, 48 * 1024, 1, 0});
     QVERIFY(once.exitance.rgb == dock->comparedReference().rgb);
     QVERIFY(once.exitance.se == dock->comparedReference().se);
+  }
+
+  void techniqueSettingRendersAgainWithoutANewReference() {
+    ExplorerState state;
+    auto dock = smallDock(state, 16 * 1024);
+    QSignalSpy frames(dock.get(), &CompareDock::techniqueFrameReceived);
+    QTRY_VERIFY_WITH_TIMEOUT(!dock->status().running && dock->metrics().has_value(), kWaitMs);
+    const std::vector<float> before = dock->comparedReference().rgb;
+    // QVERIFY, not QCOMPARE: QTest would free the static string of bssrdf::toString.
+    const bssrdf::ExitConvention from = dock->techniqueFrame()->convention;
+    const bssrdf::ExitConvention to = from == bssrdf::ExitConvention::Jensen
+                                          ? bssrdf::ExitConvention::Normalized
+                                          : bssrdf::ExitConvention::Jensen;
+
+    // The other convention (Eq. 2.16): the technique's L changes, the reference does not, and
+    // L's reference is the same image times the ratio of the conventions' scales
+    // (Reference::radianceFor).
+    state.setTechniqueSetting("radiance_convention", std::string(bssrdf::toString(to)));
+    QTRY_VERIFY_WITH_TIMEOUT(frames.count() == 2 && dock->metrics().has_value(), kWaitMs);
+    QVERIFY(!dock->metricsText().contains("previous settings"));
+    QCOMPARE(dock->status().generation, 1);  // no new reference
+    QVERIFY(dock->techniqueFrame()->convention == to);
+    const double eta = state.scene().medium.eta;
+    const double jensenToNormalized =
+        bssrdf::exitConventionScale(bssrdf::ExitConvention::Normalized, eta);
+    QVERIFY(jensenToNormalized > 1.0);  // 1 / 4C_φ(1/η), 4C_φ < 1
+    const std::vector<float>& after = dock->comparedReference().rgb;
+    QCOMPARE(after.size(), before.size());
+    // radianceFor scales the stored Jensen image once (in double, rounded to float): compare
+    // the ratio to the conventions' ratio within float rounding (2 ulp of each value).
+    const double ratio = to == bssrdf::ExitConvention::Normalized ? jensenToNormalized
+                                                                  : 1.0 / jensenToNormalized;
+    for (size_t i = 0; i < before.size(); ++i) {
+      const double expected = static_cast<double>(before[i]) * ratio;
+      QVERIFY2(std::abs(static_cast<double>(after[i]) - expected) <= 2.5e-7 * std::abs(expected),
+               qPrintable(QString("value %1: %2 vs %3").arg(i).arg(after[i]).arg(expected)));
+    }
   }
 
   void materialChangeRestartsTheReference() {
@@ -264,6 +301,8 @@ class TestCompareDock : public QObject {
     }
     QTRY_VERIFY_WITH_TIMEOUT(dock->metrics().has_value(), kWaitMs);
     QVERIFY(dock->metricsText().contains("model reference"));
+    qInfo("after 40000 samples (%.2f s): %s", dock->status().seconds,
+          qPrintable(dock->metricsText()));
     QVERIFY(dock->metrics()->pixels > 100);
   }
 
