@@ -21,6 +21,7 @@
 #include <optional>
 #include <set>
 
+#include "analysis/leaderboard.h"
 #include "analysis/report.h"
 #include "commands.h"
 #include "gpu/context.h"
@@ -38,6 +39,7 @@ using analysis::PairMetrics;
 
 struct CompareArgs {
   std::string scene;
+  std::string suite;  // --suite DIR: every *.json in it
   std::string techniques = "all";
   std::string references = "physical,model";
   std::string photons = "1e6", samples = "200000";
@@ -138,19 +140,26 @@ std::string utcNow() {
   return buf;
 }
 
-void runCompare(const CompareArgs& a) {
-  // ---- Options -----------------------------------------------------------------------------
-  const std::vector<std::string> names = techniqueList(a.techniques);
+// The options that apply to every scene, checked once (before a suite's first scene).
+struct Parsed {
+  std::vector<std::string> names;
   std::vector<analysis::ReferenceKind> kinds;
+  uint64_t photons = 0, samples = 0;
+  fs::path cacheDir;  // "" : caching off
+};
+
+Parsed parseOptions(const CompareArgs& a) {
+  Parsed p;
+  p.names = techniqueList(a.techniques);
   for (const std::string& k : splitList(a.references)) {
     const auto kind = analysis::parseReferenceKind(k, "--reference");
-    if (std::find(kinds.begin(), kinds.end(), kind) == kinds.end()) kinds.push_back(kind);
+    if (std::find(p.kinds.begin(), p.kinds.end(), kind) == p.kinds.end()) p.kinds.push_back(kind);
   }
-  if (kinds.empty())
+  if (p.kinds.empty())
     throw ParameterError(fmt::format("--reference '{}': expected physical, model or both",
                                      a.references));
-  const uint64_t photons = parseCount(a.photons, "--photons");
-  const uint64_t samples = parseCount(a.samples, "--samples");
+  p.photons = parseCount(a.photons, "--photons");
+  p.samples = parseCount(a.samples, "--samples");
   if (a.subpixels < 1 || a.subpixels > 16)
     throw ParameterError(fmt::format("--subpixels {}: expected 1 to 16", a.subpixels));
   if (a.frames < 1) throw ParameterError(fmt::format("--frames {}: expected at least 1", a.frames));
@@ -158,26 +167,35 @@ void runCompare(const CompareArgs& a) {
   if (a.threads < 0) throw ParameterError(fmt::format("--threads {}: expected >= 0", a.threads));
   if (!a.cache.empty() && a.no_cache)
     throw ParameterError("--cache and --no-cache: expected one of them");
+  p.cacheDir = a.no_cache ? fs::path()
+               : a.cache.empty() ? analysis::defaultReferenceCacheDirectory()
+                                 : fs::absolute(a.cache);
+  return p;
+}
 
-  scene::Scene s = a.scene.empty() ? scene::defaultScene() : scene::loadScene(a.scene);
+// One scene's compare into the report folder `out` (the caller holds the InterruptGuard, so that
+// a suite sees one Ctrl-C across its scenes). Returns whether the report is partial.
+bool compareScene(const CompareArgs& a, const Parsed& parsed, const std::string& sceneFile,
+                  const fs::path& out) {
+  const std::vector<std::string>& names = parsed.names;
+  const std::vector<analysis::ReferenceKind>& kinds = parsed.kinds;
+  const uint64_t photons = parsed.photons, samples = parsed.samples;
+  const fs::path& cacheDir = parsed.cacheDir;
+  scene::Scene s = sceneFile.empty() ? scene::defaultScene() : scene::loadScene(sceneFile);
   if (a.width) s.camera.width = *a.width;
   if (a.height) s.camera.height = *a.height;
   s.camera.validate();
-  const fs::path out = fs::absolute(a.out);
-  const fs::path cacheDir = a.no_cache ? fs::path()
-                            : a.cache.empty() ? analysis::defaultReferenceCacheDirectory()
-                                              : fs::absolute(a.cache);
   analysis::prepareReportDirectory(out, a.force, cacheDir, "--out");
   const geometry::TriangleMesh mesh = scene::loadSceneMesh(s);
 
   analysis::CompareReport report;
-  report.scene_file = a.scene;
+  report.scene_file = sceneFile;
   report.scene = s;
   report.version = "translucent 0.1.0";
   report.created = utcNow();
   report.cache_dir = cacheDir;
   std::string cmd = "translucent compare";
-  if (!a.scene.empty()) cmd += " " + quoted(fs::absolute(a.scene).string());
+  if (!sceneFile.empty()) cmd += " " + quoted(fs::absolute(sceneFile).string());
   cmd += fmt::format(" --techniques {} --reference {} --photons {} --samples {} --subpixels {} "
                      "--seed {} --width {} --height {} --frames {} --warmup {}{} --out {}",
                      fmt::join(names, ","), quoted(a.references), photons, samples, a.subpixels,
@@ -202,7 +220,6 @@ void runCompare(const CompareArgs& a) {
                      {"out", out.string()}};
 
   // ---- References --------------------------------------------------------------------------
-  InterruptGuard guard;
   const std::optional<analysis::ReferenceCache> cache =
       a.no_cache ? std::nullopt : std::optional<analysis::ReferenceCache>(cacheDir);
   for (const auto kind : kinds) {
@@ -344,6 +361,91 @@ void runCompare(const CompareArgs& a) {
                t.timed_frames);
   fmt::print("wrote {} ({} files){}\n", (out / "index.html").string(), files.size(),
              report.partial ? " (partial: stopped early)" : "");
+  return report.partial;
+}
+
+std::string sceneStem(const fs::path& file) { return file.stem().string(); }
+
+// --suite: every scene of the folder into OUT/<scene>/, then the leaderboard (analysis/
+// leaderboard.h). A scene that fails is a row with its error; Ctrl-C ends the scene being
+// compared (its report partial, as a single compare) and skips the rest.
+void runSuite(const CompareArgs& a, const Parsed& o) {
+  const auto started = std::chrono::steady_clock::now();
+  const fs::path suiteDir = fs::absolute(a.suite);
+  const std::vector<fs::path> files = analysis::suiteSceneFiles(suiteDir, "--suite");
+  std::vector<std::string> stems;
+  for (const fs::path& f : files) stems.push_back(sceneStem(f));
+  const fs::path out = fs::absolute(a.out);
+  analysis::prepareSuiteDirectory(out, a.force, o.cacheDir, stems, "--out");
+
+  analysis::SuiteInfo info;
+  info.version = "translucent 0.1.0";
+  info.created = utcNow();
+  info.suite_dir = suiteDir;
+  std::string cmd = fmt::format(
+      "translucent compare --suite {} --techniques {} --reference {} --photons {} --samples {} "
+      "--subpixels {} --seed {}{}{} --frames {} --warmup {}{} --out {}", quoted(suiteDir.string()),
+      fmt::join(o.names, ","), quoted(a.references), o.photons, o.samples, a.subpixels, a.seed,
+      a.width ? fmt::format(" --width {}", *a.width) : "",
+      a.height ? fmt::format(" --height {}", *a.height) : "", a.frames, a.warmup,
+      a.sweep ? " --sweep" : "", quoted(out.string()));
+  if (a.no_cache) cmd += " --no-cache";
+  else if (!a.cache.empty()) cmd += " --cache " + quoted(o.cacheDir.string());
+  info.command = cmd;
+
+  std::vector<analysis::SuiteScene> scenes;
+  InterruptGuard guard;
+  for (size_t i = 0; i < files.size(); ++i) {
+    analysis::SuiteScene sc;
+    sc.name = stems[i];
+    sc.scene_file = files[i];
+    if (InterruptGuard::interrupted()) {
+      sc.status = analysis::SuiteScene::Status::NotRun;
+      sc.error = "not run (Ctrl-C)";
+      info.partial = true;
+      scenes.push_back(sc);
+      continue;
+    }
+    fmt::print(stderr, "==== suite {}/{}: {}\n", i + 1, files.size(), files[i].string());
+    const auto t0 = std::chrono::steady_clock::now();
+    try {
+      const bool partial = compareScene(a, o, files[i].string(), out / sc.name);
+      sc.status = partial ? analysis::SuiteScene::Status::Partial
+                          : analysis::SuiteScene::Status::Done;
+    } catch (const std::exception& e) {
+      sc.status = analysis::SuiteScene::Status::Failed;
+      // Named by its file, as a single compare's error would be from its command line.
+      const std::string what = e.what();
+      sc.error = what.find(files[i].string()) == std::string::npos
+                     ? fmt::format("{}: {}", files[i].string(), what)
+                     : what;
+      fmt::print(stderr, "{}: failed: {}\n", files[i].string(), e.what());
+    }
+    sc.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (InterruptGuard::interrupted()) info.partial = true;
+    scenes.push_back(sc);
+  }
+  info.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  analysis::writeLeaderboard(out, info, scenes);
+  size_t failed = 0;
+  for (const auto& sc : scenes) failed += sc.status == analysis::SuiteScene::Status::Failed;
+  fmt::print("wrote {} ({} scenes in {:.0f} s){}\n", (out / "index.html").string(), scenes.size(),
+             info.seconds, info.partial ? " (partial: stopped early)" : "");
+  // The leaderboard is complete either way; the exit status tells scripts that a scene failed.
+  if (failed)
+    throw std::runtime_error(fmt::format("--suite '{}': {} of {} scenes failed (see {})",
+                                         suiteDir.string(), failed, scenes.size(),
+                                         (out / "leaderboard.md").string()));
+}
+
+void runCompare(const CompareArgs& a) {
+  if (!a.suite.empty() && !a.scene.empty())
+    throw ParameterError(fmt::format("--suite '{}' and scene '{}': expected one of them",
+                                     a.suite, a.scene));
+  const Parsed o = parseOptions(a);
+  if (!a.suite.empty()) return runSuite(a, o);
+  InterruptGuard guard;
+  compareScene(a, o, a.scene, fs::absolute(a.out));
 }
 
 }  // namespace
@@ -355,6 +457,9 @@ void addCompareCommand(CLI::App& app) {
                  "(integrated BSSRDF) references of a scene: errors of B, L and the true "
                  "radiance, GPU times, an HTML/JSON report with images and error maps");
   cmd->add_option("scene", a->scene, "Scene file (JSON, see README); omitted: the built-in bunny");
+  cmd->add_option("--suite", a->suite,
+                  "Compare every scene (*.json, by name) of this folder into OUT/<scene>/ and write "
+                  "OUT/leaderboard.md, leaderboard.json and index.html (instead of a scene)");
   cmd->add_option("--techniques", a->techniques,
                   fmt::format("Techniques to compare, comma-separated: {} or all",
                               fmt::join(techniques::names(), ", ")))
