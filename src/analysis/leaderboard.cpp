@@ -12,30 +12,19 @@
 #include <set>
 
 #include "analysis/report.h"
+#include "analysis/report_text.h"
 #include "optics/medium.h"  // ParameterError
 
 namespace translucent::analysis {
 namespace fs = std::filesystem;
 using nlohmann::json;
+using text::html, text::number, text::num, text::pct, text::spct;
 
 namespace {
 
 constexpr const char* kSuiteGenerator = "translucent compare --suite";
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-std::string html(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
-    }
-  }
-  return out;
-}
 
 // A relative link to a file inside OUT: every byte outside [A-Za-z0-9._-] percent-encoded, so a
 // scene named "a b#c" still links to its own folder.
@@ -60,10 +49,6 @@ std::string mdCell(std::string s) {
 }
 
 double value(const json& j) { return j.is_number() ? j.get<double>() : kNaN; }
-json number(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
-std::string pct(double v) { return std::isfinite(v) ? fmt::format("{:.2f}%", 100.0 * v) : "–"; }
-std::string spct(double v) { return std::isfinite(v) ? fmt::format("{:+.2f}%", 100.0 * v) : "–"; }
-std::string num(double v) { return std::isfinite(v) ? fmt::format("{:.4g}", v) : "–"; }
 
 // The metrics object of a report.json row, or nothing.
 const json* findMetrics(const json& report, const std::string& test, const std::string& reference,

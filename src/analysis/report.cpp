@@ -11,36 +11,17 @@
 
 #include "analysis/colormap.h"
 #include "analysis/image_io.h"
+#include "analysis/report_text.h"
 
 namespace translucent::analysis {
 namespace fs = std::filesystem;
 using nlohmann::json;
+using text::html, text::number, text::num, text::pct, text::spct;
 
 namespace {
 
 constexpr const char* kGenerator = "translucent compare";
 constexpr double kPi = 3.14159265358979323846;
-
-std::string html(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
-    }
-  }
-  return out;
-}
-
-std::string num(double v) { return std::isfinite(v) ? fmt::format("{:.4g}", v) : "–"; }
-std::string pct(double v) { return std::isfinite(v) ? fmt::format("{:+.2f}%", 100.0 * v) : "–"; }
-std::string pctU(double v) { return std::isfinite(v) ? fmt::format("{:.2f}%", 100.0 * v) : "–"; }
-
-// JSON has no NaN or infinity: such values are written as null.
-json number(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 
 json metricsJson(const Metrics& m) {
   return {{"pixels", m.pixels},
@@ -425,9 +406,9 @@ std::vector<std::string> writeReport(const fs::path& dir, const CompareReport& r
                      "<td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
                      html(p.test), html(p.reference), html(p.quantity),
                      p.convention.empty() ? "–" : html(p.convention), m.pixels,
-                     num(m.mean_reference), num(m.mean_test), pctU(m.rel_rmse), pctU(m.rel_rmse_raw),
-                     pct(m.bias), pctU(m.bias_stderr), num(m.ssim), num(m.flip), num(m.mean_abs_z),
-                     pctU(m.fraction_abs_z_above_3));
+                     num(m.mean_reference), num(m.mean_test), pct(m.rel_rmse), pct(m.rel_rmse_raw),
+                     spct(m.bias), pct(m.bias_stderr), num(m.ssim), num(m.flip), num(m.mean_abs_z),
+                     pct(m.fraction_abs_z_above_3));
   }
   h += "</table>\n<h3>Error maps</h3>\n<p>Relative difference (test − reference) / reference: " +
        figure(barRel, fmt::format("−{0:g}% … +{0:g}%", 100 * kRelativeRange), " class=\"bar\"") +
@@ -487,7 +468,7 @@ std::vector<std::string> writeReport(const fs::path& dir, const CompareReport& r
       std::string errs;
       for (const PairMetrics& p : s.metrics)
         errs += fmt::format("{}{} vs {}: {}", errs.empty() ? "" : "; ", p.quantity, p.reference,
-                            pctU(p.metrics.rel_rmse));
+                            pct(p.metrics.rel_rmse));
       h += fmt::format("<tr><td class=\"l\">{}</td><td class=\"l\">{}</td><td>{}</td><td>{}</td>"
                        "<td class=\"l\">{}</td></tr>\n", html(s.technique), html(s.parameter),
                        num(s.value), num(s.frame_ms), html(errs));
