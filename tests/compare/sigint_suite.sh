@@ -4,6 +4,7 @@
 # leaderboard of what is done is written, marked partial.
 # Usage: sigint_suite.sh <translucent binary> <cube scene> <work dir>
 set -u
+. "$(dirname "$0")/../reference/interrupt.sh"
 exe=$1
 scene=$2
 work=$3/compare_suite_sigint
@@ -17,23 +18,7 @@ TRANSLUCENT_CACHE_DIR="$work/technique-cache" "$exe" compare --suite "$work/suit
   --techniques empirical --photons 1e15 --width 24 --height 18 --frames 1 --warmup 0 \
   --threads 2 --cache "$work/cache" --out "$work/out" >"$work/log" 2>&1 &
 pid=$!
-# Wait until the program itself (comm) has installed its SIGINT handler (SigCgt bit 1), as
-# tests/reference/sigint_render.sh explains.
-i=0
-while [ "$i" -lt 600 ]; do
-  caught=""
-  if [ "$(cat "/proc/$pid/comm" 2>/dev/null)" = "translucent" ]; then
-    caught=$(awk '/^SigCgt:/ {print $2}' "/proc/$pid/status" 2>/dev/null)
-  fi
-  last=${caught#"${caught%?}"}
-  if [ -n "$last" ] && [ $((0x$last & 2)) -ne 0 ]; then break; fi
-  sleep 0.1
-  i=$((i + 1))
-done
-sleep 0.5
-kill -INT "$pid"
-wait "$pid"
-rc=$?
+interrupt "$pid" || exit 1
 if [ "$rc" -ne 0 ]; then echo "exit status $rc after SIGINT"; cat "$work/log"; exit 1; fi
 json=$work/out/leaderboard.json
 if [ ! -f "$json" ]; then echo "$json was not written"; cat "$work/log"; exit 1; fi
