@@ -66,5 +66,5 @@ if(TARGET translucent_cli)
               --exr ${OUT}/x.exr MATCH "nowhere.obj' does not exist")
   add_test(NAME cli.render_sigint
            COMMAND sh ${CMAKE_CURRENT_SOURCE_DIR}/sigint_render.sh ${T} ${OUT})
-  set_tests_properties(cli.render_sigint PROPERTIES LABELS cli TIMEOUT 60)
+  set_tests_properties(cli.render_sigint PROPERTIES LABELS cli TIMEOUT 120)
 endif()
