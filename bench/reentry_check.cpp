@@ -69,7 +69,7 @@ int delta(const std::string& scenePath, uint64_t photons, uint64_t seed, const s
                                                       W.lightCdf.begin()),
                                   lights.size() - 1);
           }
-          const detail::Emission em = detail::emit(lights[li], bs, rng);
+          const detail::Emission em = detail::emit(lights[li], bs, static_cast<int>(c), rng);
           glm::dvec3 x = em.origin, d = em.direction;
           bool inside = false;
           for (;;) {

@@ -88,12 +88,19 @@ ProfileGrid tabulate(const std::vector<std::unique_ptr<bssrdf::RadialProfile>>& 
 
 // The lights, with unit directions, in the form the irradiance loop reads.
 struct LightTerm {
-  enum class Kind { Directional, Point, Beam } kind = Kind::Directional;
+  enum class Kind { Directional, Point, Beam, Environment } kind = Kind::Directional;
   glm::dvec3 direction{0.0};  // towards the light (directional, beam)
   glm::dvec3 position{0.0};   // point light; beam origin
   double radius = 0.0;        // beam
-  Rgb value{};                // E·colour, I·colour or P/(π r²)·colour
+  Rgb value{};                // E·colour, I·colour, P/(π r²)·colour or intensity·colour
+  // Environment: the map, its rotation and a luminance sampler (one for all channels).
+  std::shared_ptr<const lights::EnvironmentMap> map;
+  double rotate = 0.0;
+  std::shared_ptr<const lights::EnvironmentSampler> sampler;
 };
+
+// The stream family of the environment rays (distinct from the pixels' jitter streams).
+uint64_t environmentSeed(uint64_t seed) { return mix64(seed ^ 0x454E5652ull); }
 
 std::vector<LightTerm> lightTerms(std::span<const Light> lights) {
   std::vector<LightTerm> out;
@@ -109,6 +116,12 @@ std::vector<LightTerm> lightTerms(std::span<const Light> lights) {
       t.kind = LightTerm::Kind::Point;
       t.position = p->position;
       scale = p->intensity;
+    } else if (const auto* e = std::get_if<EnvironmentLight>(&l.emitter)) {
+      t.kind = LightTerm::Kind::Environment;
+      t.map = e->map;
+      t.rotate = e->rotate;
+      t.sampler = std::make_shared<const lights::EnvironmentSampler>(*e->map, e->rotate);
+      scale = e->intensity;
     } else {
       const auto& b = std::get<BeamLight>(l.emitter);
       if (!(b.radius > 0.0))
@@ -127,11 +140,62 @@ std::vector<LightTerm> lightTerms(std::span<const Light> lights) {
   return out;
 }
 
-// Transmitted irradiance at surface point x with (irradiance) normal n, per channel.
+// Transmitted irradiance from an environment light at x with normal n,
+//   E_c = value_c ∫ L_c(ω) Ft(η, n·ω) max(0, n·ω) V(x, ω) dω,
+// by multi-sample importance sampling with the balance heuristic (Veach 1997, §9.2): `pairs`
+// directions from the map's luminance sampler (p1) and as many cosine-distributed about n (p2),
+// each weighted f / ((p1 + p2) / 2), one shadow ray each. A pair (one of each) is an unbiased
+// estimate on its own, so the pairs' spread gives the variance of their mean (added to `var`).
+void environmentIrradiance(const glm::dvec3& x, const glm::dvec3& n, const LightTerm& t,
+                           const geometry::RayScene& scene, double eps, double eta, bool incoherent,
+                           int pairs, Rng& rng, Rgb& e, Rgb& var) {
+  glm::dvec3 t1, t2;
+  detail::tangentFrame(n, t1, t2);
+  Rgb sum{0.0, 0.0, 0.0}, sum2{0.0, 0.0, 0.0};
+  auto contribution = [&](const glm::dvec3& w, Rgb& out) {
+    const double cosI = glm::dot(n, w);
+    if (!(cosI > 0.0)) return;
+    const double pMix = 0.5 * (t.sampler->pdf(w) + cosI / kPi);
+    if (!(pMix > 0.0)) return;
+    if (scene.occluded(x, w, eps, std::numeric_limits<double>::infinity(), incoherent)) return;
+    const double ft = eta == 1.0 ? 1.0 : fresnelTransmittance(std::min(cosI, 1.0), eta);
+    const glm::vec3 L = t.map->lookup(w, t.rotate);
+    for (size_t c = 0; c < 3; ++c) out[c] += t.value[c] * double(L[int(c)]) * ft * cosI / pMix;
+  };
+  for (int j = 0; j < pairs; ++j) {
+    Rgb z{0.0, 0.0, 0.0};
+    const double u1 = detail::uniform01(rng), u2 = detail::uniform01(rng);
+    contribution(t.sampler->sample({u1, u2}).direction, z);
+    // Cosine-weighted about n (Malley's method).
+    const double r = std::sqrt(detail::uniform01(rng)), phi = 2.0 * kPi * detail::uniform01(rng);
+    const glm::dvec3 w = glm::normalize(r * std::cos(phi) * t1 + r * std::sin(phi) * t2 +
+                                        std::sqrt(std::max(0.0, 1.0 - r * r)) * n);
+    contribution(w, z);
+    for (size_t c = 0; c < 3; ++c) {
+      z[c] *= 0.5;
+      sum[c] += z[c];
+      sum2[c] += z[c] * z[c];
+    }
+  }
+  for (size_t c = 0; c < 3; ++c) {
+    const double mean = sum[c] / pairs;
+    e[c] += mean;
+    if (pairs > 1) var[c] += std::max(0.0, (sum2[c] - pairs * mean * mean) / (pairs - 1.0)) / pairs;
+  }
+}
+
+// Transmitted irradiance at surface point x with (irradiance) normal n, per channel. Environment
+// lights are integrated by `pairs` ray pairs from `rng` (environmentIrradiance), whose variance
+// is added to `var`.
 Rgb transmittedIrradiance(const glm::dvec3& x, const glm::dvec3& n, std::span<const LightTerm> lights,
-                          const geometry::RayScene& scene, double eps, double eta, bool incoherent) {
+                          const geometry::RayScene& scene, double eps, double eta, bool incoherent,
+                          int pairs, Rng& rng, Rgb& var) {
   Rgb e{0.0, 0.0, 0.0};
   for (const LightTerm& t : lights) {
+    if (t.kind == LightTerm::Kind::Environment) {
+      environmentIrradiance(x, n, t, scene, eps, eta, incoherent, pairs, rng, e, var);
+      continue;
+    }
     glm::dvec3 l = t.direction;
     double tMax = std::numeric_limits<double>::infinity(), falloff = 1.0;
     if (t.kind == LightTerm::Kind::Point) {
@@ -478,6 +542,9 @@ void ModelReferenceOptions::validate() const {
   if (!(tail > 0.0 && tail <= 0.01))
     throw ParameterError(fmt::format("model reference: tail is {}: expected a fraction of Rd in "
                                      "(0, 0.01]", tail));
+  if (environment_rays < 2 || environment_rays > 4096 || environment_rays % 2 != 0)
+    throw ParameterError(fmt::format("model reference: environment_rays is {}: expected an even "
+                                     "number from 2 to 4096", environment_rays));
 }
 
 ModelReferenceImages renderModelReference(const geometry::TriangleMesh& meshIn, const Medium& medium,
@@ -549,6 +616,11 @@ ModelReferenceImages renderModelReference(const geometry::TriangleMesh& meshIn, 
   so.method = geometry::SamplingMethod::Random;
   const geometry::PointCloud cloud = arena.execute([&] { return geometry::samplePointCloud(mesh, so); });
   std::vector<Rgb> irradiance(cloud.size());
+  const uint64_t envSeed = environmentSeed(options.seed);
+  const int samplePairs = std::max(1, options.environment_rays / 2);
+  // At the camera hits E multiplies the near field's share of Rd directly (not averaged over
+  // many samples): 4x the rays there.
+  const int hitPairs = 4 * samplePairs;
   {
     constexpr uint64_t kBlock = 4096;
     const uint64_t blocks = (cloud.size() + kBlock - 1) / kBlock;
@@ -557,10 +629,13 @@ ModelReferenceImages renderModelReference(const geometry::TriangleMesh& meshIn, 
         0, blocks, threads, [] { return None{}; },
         [&](uint64_t b, None&, const std::atomic<bool>&) {
           const size_t end = std::min<size_t>(cloud.size(), (b + 1) * kBlock);
-          for (size_t k = b * kBlock; k < end; ++k)
+          for (size_t k = b * kBlock; k < end; ++k) {
+            Rng rng(envSeed, k);
+            Rgb var{};  // part of the per-sample terms' spread (the standard error's estimate)
             irradiance[k] = transmittedIrradiance(glm::dvec3(cloud.positions[k]),
                                                   glm::dvec3(cloud.normals[k]), terms, scene, eps,
-                                                  eta, true);
+                                                  eta, true, samplePairs, rng, var);
+          }
           return true;
         },
         [](uint64_t, None&) {}, {});
@@ -605,6 +680,7 @@ ModelReferenceImages renderModelReference(const geometry::TriangleMesh& meshIn, 
       Rng rng(options.seed, uint64_t(j) * uint64_t(w) + uint64_t(i));
       std::vector<int> rayOf;  // hit index -> ray index (misses have none)
       double rayNearB[kMaxRays][3]{}, rayNearL[kMaxRays][3]{};
+      double nearVarB[3]{}, nearVarL[3]{};  // Σ_r of the near terms' variance (environment rays)
       for (int sy = 0; sy < S; ++sy)
         for (int sx = 0; sx < S; ++sx) {
           const double ux = options.jitter ? uniform01(rng) : 0.5;
@@ -642,9 +718,13 @@ ModelReferenceImages renderModelReference(const geometry::TriangleMesh& meshIn, 
               cosO > 0.0 ? bssrdf::exitRadianceFactor(options.convention, eta, std::min(cosO, 1.0), norm)
                          : 0.0;
           rh.factor = static_cast<float>(factor);
-          const Rgb e0 = transmittedIrradiance(x, ne, terms, scene, eps, eta, false);
           const int r = sy * S + sx;
+          Rng envRng(envSeed, cloud.size() + (uint64_t(j) * uint64_t(w) + uint64_t(i)) * kMaxRays + uint64_t(r));
+          Rgb e0Var{};
+          const Rgb e0 = transmittedIrradiance(x, ne, terms, scene, eps, eta, false, hitPairs, envRng, e0Var);
           for (size_t c = 0; c < 3; ++c) {
+            nearVarB[c] += e0Var[c] * nearF[c] * nearF[c];
+            nearVarL[c] += e0Var[c] * nearF[c] * nearF[c] * factor * factor;
             rh.near[c] = e0[c] * nearF[c];
             rayNearB[r][c] = rh.near[c];
             rayNearL[r][c] = double(rh.factor) * rh.near[c];
@@ -714,7 +794,9 @@ ModelReferenceImages renderModelReference(const geometry::TriangleMesh& meshIn, 
           const double tSum = area * s / M, tSum2 = area * area * s2 / (double(M) * M);
           const double mean = tSum / N;
           const double var = N > 1.0 ? std::max(0.0, (tSum2 - N * mean * mean) / (N - 1.0)) : 0.0;
-          double v = var / N;
+          // The near field's own noise where E came from environment rays (independent of the
+          // samples'): the mean of M rays' terms.
+          double v = var / N + (radiance ? nearVarL[c] : nearVarB[c]) / (double(M) * M);
           value = static_cast<float>(near + mean);
           if (options.jitter && M > 1 && N > 1.0) {
             // The spread of the true per-ray values, from the product of the two halves'

@@ -8,7 +8,12 @@
 //
 // with R_c the profile of channel c (chord distance, as the techniques and sphere_integration.h),
 // E_l the light's irradiance at x on a plane facing it (directional: E; point: I/d²; beam:
-// P/(π r²) inside its disc, downstream of its origin), V an Embree shadow ray. Technique minus
+// P/(π r²) inside its disc, downstream of its origin), V an Embree shadow ray. An environment
+// light contributes ∫ L_c(ω) Ft(η, n·ω) max(0, n·ω) V(x, ω) dω, estimated per point by
+// environment_rays shadow rays: half from the map's luminance sampler, half cosine-distributed,
+// combined by the balance heuristic (Veach 1997); its noise is independent from point to point,
+// so it is part of the per-sample terms' spread and of the standard error below (at the camera
+// hits, 4x the rays, and their variance is added to the near field's). Technique minus
 // model is then the technique's own error, model minus path tracer the model's.
 //
 // Normals, as the point-cloud technique (techniques/pointcloud) uses them:
@@ -92,6 +97,8 @@ struct ModelReferenceOptions {
   double near_field = 3.0;    // ρ in sample spacings sqrt(A/N), > 0
   double tail = 1e-4;         // fraction of Rd beyond the pruning radius r_max, in (0, 0.01]
   bool portable = false;      // the baseline-ISA inner loop even where AVX2 + FMA is available
+  int environment_rays = 64;  // shadow rays per sample for E from an environment light (even,
+                              // 2 .. 4096; 4x at the camera hits)
 
   // Throws ParameterError naming the bad field.
   void validate() const;

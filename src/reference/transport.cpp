@@ -49,6 +49,16 @@ Light Light::validated(const std::string& what) const {
     if (!finite3(pl->position))
       throw ParameterError(fmt::format("{}: position is not finite", what));
     requirePositive(pl->intensity, what, "intensity");
+  } else if (auto* el = std::get_if<EnvironmentLight>(&self.emitter)) {
+    if (!el->map || el->map->width < 1 || el->map->height < 1)
+      throw ParameterError(fmt::format("{}: environment light without a map", what));
+    if (!std::isfinite(el->rotate))
+      throw ParameterError(fmt::format("{}: rotate is {}: expected a finite angle", what, el->rotate));
+    requirePositive(el->intensity, what, "intensity");
+    if (!el->samplers[0] && !el->samplers[1] && !el->samplers[2])
+      throw ParameterError(fmt::format(
+          "{}: the environment map is black in every channel (or the light was not made with "
+          "EnvironmentLight::make): nothing to emit", what));
   } else {
     auto& bl = std::get<BeamLight>(self.emitter);
     if (!finite3(bl.origin)) throw ParameterError(fmt::format("{}: origin is not finite", what));
@@ -110,10 +120,32 @@ double emittedFlux(const Light& light, const BoundingSphere& b, int channel) {
       solidAngle = 2.0 * std::numbers::pi * (1.0 - cosMax);
     }
     flux = pl->intensity * solidAngle;
+  } else if (const auto* el = std::get_if<EnvironmentLight>(&light.emitter)) {
+    // The radiance crossing the disc of radius R perpendicular to each direction: πR² ∫ L dω.
+    const auto& sampler = el->samplers[static_cast<size_t>(channel)];
+    flux = sampler ? el->intensity * std::numbers::pi * b.radius * b.radius * sampler->integral() : 0.0;
   } else {
     flux = std::get<BeamLight>(light.emitter).power;
   }
   return flux * light.color[static_cast<size_t>(channel)];
+}
+
+EnvironmentLight EnvironmentLight::make(std::shared_ptr<const lights::EnvironmentMap> map,
+                                        double rotate, double intensity) {
+  if (!map || map->width < 1 || map->height < 1)
+    throw ParameterError("environment light: the map is empty");
+  EnvironmentLight l;
+  l.map = std::move(map);
+  l.rotate = rotate;
+  l.intensity = intensity;
+  for (int c = 0; c < 3; ++c) {
+    bool any = false;
+    for (size_t i = static_cast<size_t>(c); i < l.map->rgb.size() && !any; i += 3) any = l.map->rgb[i] > 0.0f;
+    if (any)
+      l.samplers[static_cast<size_t>(c)] = std::make_shared<const lights::EnvironmentSampler>(
+          *l.map, rotate, lights::SampleWeight(c + 1));
+  }
+  return l;
 }
 
 namespace detail {

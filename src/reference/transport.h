@@ -4,8 +4,9 @@
 // analytic sphere and an Embree scene as the body.
 //
 // What is traced, per photon and per colour channel:
-//   - emission from one light, chosen with probability proportional to the flux it sends towards
-//     the body (every photon then carries the same flux, the total);
+//   - emission from one light (directional, point, beam or environment), chosen with probability
+//     proportional to the flux it sends towards the body (every photon then carries the same
+//     flux, the total);
 //   - the light enters at the first surface hit of its ray (so the body shadows itself), with the
 //     exact unpolarised Fresnel transmittance Ft(η, cos θi) as a weight (the specularly reflected
 //     part is not subsurface light and is not traced) and Snell refraction;
@@ -52,6 +53,7 @@
 // K blocks equals, bit for bit, runs of K1 and K - K1 blocks with first_block = 0 and K1.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -60,6 +62,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "lights/environment_map.h"
 #include "optics/medium.h"
 #include "reference/slab.h"
 
@@ -112,8 +115,25 @@ struct BeamLight {
   double radius = 0.0;                    // [scene units]
   double power = 1.0;                     // total flux [W]
 };
+// Distant illumination from a latitude-longitude radiance map (lights/environment_map.h), scaled
+// by `intensity` (and the light's colour). Photons of channel c come from direction ω with
+// density ∝ that channel's radiance (samplers[c], exact for the piecewise-constant map), through
+// a uniform point of the disc that covers the body's bounding sphere, perpendicular to ω: every
+// photon then carries the same flux πR² ∫ L_c dω (the radiance crossing that disc towards the
+// body). Make it with make(); copies share the map and samplers.
+struct EnvironmentLight {
+  std::shared_ptr<const lights::EnvironmentMap> map;
+  double rotate = 0.0;     // degrees about +y
+  double intensity = 1.0;  // multiplier of the map's radiance
+  // Per channel: density ∝ the channel's radiance; null where that channel is 0 everywhere.
+  std::array<std::shared_ptr<const lights::EnvironmentSampler>, 3> samplers;
+
+  // Throws ParameterError when the map is empty or black in every channel.
+  static EnvironmentLight make(std::shared_ptr<const lights::EnvironmentMap> map, double rotate,
+                               double intensity);
+};
 struct Light {
-  std::variant<DirectionalLight, PointLight, BeamLight> emitter;
+  std::variant<DirectionalLight, PointLight, BeamLight, EnvironmentLight> emitter;
   Rgb color{1.0, 1.0, 1.0};  // per-channel multiplier of the emitted flux
 
   // A copy with unit directions; throws ParameterError naming `what` (e.g. "light 2") and the

@@ -59,9 +59,26 @@ struct Emission {
   glm::dvec3 origin, direction;
 };
 
-inline Emission emit(const Light& light, const BoundingSphere& b, Rng& rng) {
+inline Emission emit(const Light& light, const BoundingSphere& b, int channel, Rng& rng) {
   Emission e;
-  if (const auto* dl = std::get_if<DirectionalLight>(&light.emitter)) {
+  if (const auto* el = std::get_if<EnvironmentLight>(&light.emitter)) {
+    // A direction by the channel's radiance, then a point of the disc covering the bounding
+    // sphere perpendicular to it, outside the sphere (transport.h, EnvironmentLight). A channel
+    // without radiance is never chosen (its flux is 0) unless every light is black in it, and
+    // then its photons carry 0 whatever they do: any direction will do.
+    const auto& sampler = el->samplers[static_cast<size_t>(channel)];
+    glm::dvec3 toEnv{0.0, 1.0, 0.0};
+    if (sampler) {
+      const double u = uniform01(rng), v = uniform01(rng);
+      toEnv = sampler->sample({u, v}).direction;
+    }
+    glm::dvec3 t1, t2;
+    tangentFrame(toEnv, t1, t2);
+    double x, y;
+    sampleDisc(rng, b.radius, x, y);
+    e.origin = b.center + 2.0 * b.radius * toEnv + x * t1 + y * t2;
+    e.direction = -toEnv;
+  } else if (const auto* dl = std::get_if<DirectionalLight>(&light.emitter)) {
     // A point on the disc that covers the bounding sphere, far enough out to be outside it.
     glm::dvec3 t1, t2;
     tangentFrame(dl->direction, t1, t2);
@@ -143,7 +160,7 @@ void tracePhoton(const BodyT& body, const BoundingSphere& bounds, std::span<cons
                              W.lightCdf.begin());
     li = std::min(li, lights.size() - 1);
   }
-  const Emission em = emit(lights[li], bounds, rng);
+  const Emission em = emit(lights[li], bounds, c, rng);
 
   // Entry at the first hit: Fresnel transmittance as a weight, Snell refraction.
   SurfaceHit hit;

@@ -424,12 +424,18 @@ std::vector<reference::Light> referenceLights(const Scene& scene) {
       r.emitter = *p;
     else if (const auto* b = std::get_if<BeamLight>(&l.emitter))
       r.emitter = *b;
-    else
+    else if (const auto* e = std::get_if<EnvironmentLight>(&l.emitter)) {
+      // The references trace every occlusion physically: `occlusion` is the techniques' choice.
+      auto map = std::make_shared<const lights::EnvironmentMap>(lights::EnvironmentMap::load(e->file));
+      try {
+        r.emitter = reference::EnvironmentLight::make(std::move(map), e->rotate, e->intensity);
+      } catch (const ParameterError& err) {
+        throw ParameterError(fmt::format("lights[{}]: '{}': {}", i, e->file.string(), err.what()));
+      }
+    } else
       throw ParameterError(fmt::format(
-          "lights[{}]: {} lights are not supported by the path tracer: expected directional, "
-          "point or beam", i,
-          std::holds_alternative<FilteredDirectionalLight>(l.emitter) ? "filtered_directional"
-                                                                      : "environment"));
+          "lights[{}]: filtered_directional lights are not supported by the references: expected "
+          "directional, point, beam or environment", i));
     out.push_back(r);
   }
   return out;

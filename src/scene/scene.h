@@ -137,8 +137,8 @@ void placeMesh(const Scene& scene, geometry::TriangleMesh& mesh);
 // keep their meshes, point clouds and AO while it stays the same.
 std::string meshKey(const Scene& scene);
 
-// The lights the reference path tracer handles (directional, point, beam); throws
-// ParameterError naming the first light of another type.
+// The lights the references handle (directional, point, beam, environment: its map loaded);
+// throws ParameterError naming the first light of another type or an unreadable map.
 std::vector<reference::Light> referenceLights(const Scene& scene);
 
 // The built-in scene used when none is given: the closed bunny of Debian's glmark2-data

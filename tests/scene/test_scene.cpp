@@ -11,6 +11,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "analysis/image_io.h"
 #include "scene/scene.h"
 
 namespace translucent::scene {
@@ -222,17 +223,42 @@ TEST(Scene, DefaultSceneLoadsTheBunny) {
   }
 }
 
-TEST(Scene, ReferenceLightsRejectsWhatThePathTracerCannotDo) {
+TEST(Scene, ReferenceLightsLoadEnvironmentMapsAndRejectFilteredLights) {
+  // An environment light reaches the references with its map loaded and one sampler per channel
+  // that has radiance; a missing map is named; a filtered light is refused by type.
+  TempDir dir;
   Scene s = defaultScene();
   EXPECT_EQ(referenceLights(s).size(), s.lights.size());
+  std::vector<float> sky(8 * 4 * 3, 0.0f);
+  for (size_t i = 0; i < sky.size(); i += 3) sky[i] = 2.0f, sky[i + 1] = 1.0f;  // no blue
+  analysis::writeExr((dir.path() / "sky.exr").string(), 8, 4, sky);
   Light env;
-  env.emitter = EnvironmentLight{"sky.exr", 1.0, 0.0, false};
+  env.emitter = EnvironmentLight{dir.path() / "sky.exr", 3.0, 45.0, false};
   s.lights.push_back(env);
+  const auto lights = referenceLights(s);
+  ASSERT_EQ(lights.size(), s.lights.size());
+  const auto* e = std::get_if<reference::EnvironmentLight>(&lights.back().emitter);
+  ASSERT_NE(e, nullptr);
+  EXPECT_EQ(e->map->width, 8);
+  EXPECT_EQ(e->intensity, 3.0);
+  EXPECT_EQ(e->rotate, 45.0);
+  ASSERT_TRUE(e->samplers[0] && e->samplers[1]);
+  EXPECT_FALSE(e->samplers[2]);
+  EXPECT_NEAR(e->samplers[0]->integral(), 2.0 * 4.0 * std::numbers::pi, 1e-5);
+
+  s.lights.back().emitter = EnvironmentLight{dir.path() / "missing.exr", 1.0, 0.0, false};
   try {
     (void)referenceLights(s);
     FAIL() << "expected an error";
-  } catch (const ParameterError& e) {
-    EXPECT_NE(std::string(e.what()).find("environment"), std::string::npos) << e.what();
+  } catch (const ParameterError& err) {
+    EXPECT_NE(std::string(err.what()).find("missing.exr"), std::string::npos) << err.what();
+  }
+  s.lights.back().emitter = FilteredDirectionalLight{};
+  try {
+    (void)referenceLights(s);
+    FAIL() << "expected an error";
+  } catch (const ParameterError& err) {
+    EXPECT_NE(std::string(err.what()).find("filtered_directional"), std::string::npos) << err.what();
   }
 }
 

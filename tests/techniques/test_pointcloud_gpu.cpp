@@ -24,12 +24,14 @@
 #include "optics/presets.h"
 #include "reference/sphere_integration.h"
 #include "render_helpers.h"
-#include "techniques/pointcloud/environment.h"
+#include "lights/environment_map.h"
 
 namespace translucent::pointcloud {
 namespace {
 
 using namespace translucent::pointcloud::testing;
+using lights::EnvironmentMap;
+using lights::transmittedIrradianceLambdas;
 constexpr double kPi = std::numbers::pi;
 
 class PointCloudGpu : public gpu::testing::GpuTest {};

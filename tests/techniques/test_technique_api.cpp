@@ -11,7 +11,7 @@
 #include "bssrdf/exit_radiance.h"
 #include "optics/fresnel.h"
 #include "techniques/pointcloud/pointcloud_technique.h"
-#include "techniques/pointcloud/environment.h"
+#include "lights/environment_map.h"
 #include "techniques/registry.h"
 
 namespace translucent::techniques {
@@ -153,83 +153,3 @@ TEST(Registry, SceneSettingsApplyWithTheKeyInErrors) {
 
 }  // namespace
 }  // namespace translucent::techniques
-
-namespace translucent::pointcloud {
-namespace {
-
-constexpr double kPi = std::numbers::pi;
-
-TEST(Environment, LambdasReduceToRamamoorthiHanrahanWithoutFresnel) {
-  // λ_l = 2π ∫0^1 Ft(η, t) t P_l(t) dt against an independent fine midpoint rule; Ft <= 1 bounds
-  // λ_0 and λ_1 by the values without an interface (π, 2π/3).
-  for (double eta : {1.0, 1.3, 1.5}) {
-    const auto lambda = transmittedIrradianceLambdas(eta);
-    std::array<double, 3> check{};
-    const int n = 200000;
-    for (int i = 0; i < n; ++i) {
-      const double t = (i + 0.5) / n, w = 2.0 * kPi * fresnelTransmittance(t, eta) * t / n;
-      check[0] += w;
-      check[1] += w * t;
-      check[2] += w * 0.5 * (3.0 * t * t - 1.0);
-    }
-    for (int l = 0; l < 3; ++l) EXPECT_NEAR(lambda[size_t(l)], check[size_t(l)], 1e-6) << "eta " << eta;
-    EXPECT_LE(lambda[0], kPi + 1e-9);
-    EXPECT_LE(lambda[1], 2.0 * kPi / 3.0 + 1e-9);
-  }
-  const auto one = transmittedIrradianceLambdas(1.0);
-  EXPECT_NEAR(one[0], kPi, 1e-6);  // η = 1: Ft = 1 at every angle (no interface)
-  EXPECT_NEAR(one[1], 2.0 * kPi / 3.0, 1e-6);
-  EXPECT_NEAR(one[2], kPi / 4.0, 1e-6);
-}
-
-TEST(Environment, ShIrradianceOfALinearSkyIsExact) {
-  // L(ω) = 1 + ω_y has only l = 0, 1 terms: E(n) = λ0 + λ1 n_y exactly (up to the midpoint
-  // quadrature over the map), for any rotation about +y.
-  EnvironmentMap map = EnvironmentMap::constant(glm::vec3(1.0f), 256, 128);
-  for (int y = 0; y < map.height; ++y)
-    for (int x = 0; x < map.width; ++x) {
-      const double v = (y + 0.5) / map.height;
-      const float value = float(1.0 + std::cos(kPi * v));
-      for (int c = 0; c < 3; ++c) map.rgb[(size_t(y) * size_t(map.width) + size_t(x)) * 3 + size_t(c)] = value;
-    }
-  const auto lambda = transmittedIrradianceLambdas(1.3);
-  const auto sh = irradianceSh9(map, 40.0, 1.3, glm::dvec3(1.0, 2.0, 3.0));
-  for (const glm::dvec3 n : {glm::dvec3(0, 1, 0), glm::dvec3(0, -1, 0), glm::dvec3(1, 0, 0),
-                             glm::normalize(glm::dvec3(1, 2, -3))}) {
-    const double want = lambda[0] + lambda[1] * n.y;
-    const glm::dvec3 e = evalSh9(sh, n);
-    EXPECT_NEAR(e.x, want, 2e-4 * lambda[0]) << n.x << " " << n.y << " " << n.z;
-    EXPECT_NEAR(e.z, 3.0 * want, 6e-4 * lambda[0]);
-  }
-}
-
-TEST(Environment, ImportanceSamplesHaveTheirDensity) {
-  // A grey map with a bright patch: sampling ∝ luminance · sin θ makes L/p almost constant; its
-  // mean over 4096 quasi-random samples is ∫ L dω (midpoint quadrature) to 0.5%.
-  EnvironmentMap map = EnvironmentMap::constant(glm::vec3(0.2f), 128, 64);
-  for (int y = 10; y < 20; ++y)
-    for (int x = 30; x < 50; ++x)
-      for (int c = 0; c < 3; ++c) map.rgb[(size_t(y) * 128 + size_t(x)) * 3 + size_t(c)] = 50.0f;
-  double integral = 0.0;
-  for (int y = 0; y < 64; ++y)
-    for (int x = 0; x < 128; ++x)
-      integral += double(map.texel(x, y).g) * std::sin(kPi * (y + 0.5) / 64) * (kPi / 64) * (2 * kPi / 128);
-  const EnvironmentSampler sampler(map, 25.0);
-  double mean = 0.0;
-  int bright = 0;
-  const int n = 4096;
-  for (int k = 0; k < n; ++k) {
-    const auto s = sampler.sequence(uint64_t(k), 1);
-    ASSERT_NEAR(glm::length(s.direction), 1.0, 1e-12);
-    ASSERT_GT(s.pdf, 0.0);
-    mean += s.radiance.g / s.pdf;
-    bright += s.radiance.g > 1.0 ? 1 : 0;
-  }
-  EXPECT_NEAR(mean / n, integral, 5e-3 * integral);
-  EXPECT_GT(bright, n / 2);  // the patch holds most of the energy
-  EnvironmentMap black = EnvironmentMap::constant(glm::vec3(0.0f), 8, 4);
-  EXPECT_THROW(EnvironmentSampler(black, 0.0), ParameterError);
-}
-
-}  // namespace
-}  // namespace translucent::pointcloud

@@ -20,12 +20,14 @@
 #include "gpu/bssrdf_profiles.h"
 #include "gpu/compute.h"
 #include "gpu/pass_timer.h"
-#include "techniques/pointcloud/environment.h"
+#include "lights/environment_map.h"
 #include "techniques/pointcloud/gl_resources.h"
 
 namespace translucent::pointcloud {
 namespace {
 
+using lights::EnvironmentMap;
+using lights::EnvironmentSampler;
 using techniques::ParameterInfo;
 using techniques::ParameterValue;
 namespace desc = geometry::descriptor;
@@ -290,7 +292,7 @@ struct PointCloudTechnique::Impl {
         if (env->occlusion)
           st.sampler = std::make_unique<EnvironmentSampler>(*st.env, env->rotate);
         else
-          st.sh = irradianceSh9(*st.env, env->rotate, s.medium.eta, scale);
+          st.sh = lights::irradianceSh9(*st.env, env->rotate, s.medium.eta, scale);
       } else {
         st.shadow = std::make_unique<ShadowMap>(shadowSize);
       }

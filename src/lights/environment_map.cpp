@@ -1,4 +1,4 @@
-#include "techniques/pointcloud/environment.h"
+#include "lights/environment_map.h"
 
 #include <fmt/format.h>
 
@@ -12,7 +12,7 @@
 #include "optics/fresnel.h"
 #include "optics/medium.h"
 
-namespace translucent::pointcloud {
+namespace translucent::lights {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
@@ -81,15 +81,19 @@ glm::dvec3 EnvironmentMap::direction(double u, double v, double rotate) {
   return {std::sin(theta) * std::sin(phi), std::cos(theta), -std::sin(theta) * std::cos(phi)};
 }
 
-glm::vec3 EnvironmentMap::lookup(const glm::dvec3& d, double rotate) const {
+glm::ivec2 EnvironmentMap::texelOf(const glm::dvec3& d, double rotate) const {
   const double theta = std::acos(std::clamp(d.y, -1.0, 1.0));
   double phi = std::atan2(d.x, -d.z) - rotate * kPi / 180.0;
   double u = (phi + kPi) / (2.0 * kPi);
   u -= std::floor(u);
   const double v = theta / kPi;
-  const int x = std::min(width - 1, static_cast<int>(u * width));
-  const int y = std::min(height - 1, static_cast<int>(v * height));
-  return texel(x, y);
+  return {std::min(width - 1, static_cast<int>(u * width)),
+          std::min(height - 1, static_cast<int>(v * height))};
+}
+
+glm::vec3 EnvironmentMap::lookup(const glm::dvec3& d, double rotate) const {
+  const glm::ivec2 t = texelOf(d, rotate);
+  return texel(t.x, t.y);
 }
 
 std::array<double, 3> transmittedIrradianceLambdas(double eta) {
@@ -116,12 +120,14 @@ std::array<double, 3> transmittedIrradianceLambdas(double eta) {
 
 std::array<glm::vec3, 9> irradianceSh9(const EnvironmentMap& map, double rotate, double eta,
                                        const glm::dvec3& scale) {
-  // L_lm = ∫ L(ω) Y_lm(ω) dω, by the midpoint rule over texels (ΔΩ = sin θ Δθ Δφ).
+  // L_lm = ∫ L(ω) Y_lm(ω) dω, texel by texel with the exact solid angle ΔΩ = Δφ (cos θ0 - cos θ1)
+  // (so that the constant term is exact, as the samplers' integrals) and Y_lm at its centre.
   std::array<glm::dvec3, 9> l{};
-  const double dTheta = kPi / map.height, dPhi = 2.0 * kPi / map.width;
+  const double dPhi = 2.0 * kPi / map.width;
   for (int y = 0; y < map.height; ++y) {
     const double v = (y + 0.5) / map.height;
-    const double dOmega = std::sin(kPi * v) * dTheta * dPhi;
+    const double dOmega =
+        dPhi * (std::cos(kPi * y / map.height) - std::cos(kPi * (y + 1) / map.height));
     for (int x = 0; x < map.width; ++x) {
       const glm::dvec3 d = EnvironmentMap::direction((x + 0.5) / map.width, v, rotate);
       const glm::dvec3 c = glm::dvec3(map.texel(x, y)) * dOmega;
@@ -145,46 +151,71 @@ glm::dvec3 evalSh9(const std::array<glm::vec3, 9>& sh, const glm::dvec3& n) {
   return glm::max(e, glm::dvec3(0.0));
 }
 
-EnvironmentSampler::EnvironmentSampler(const EnvironmentMap& map, double rotate)
-    : map_(&map), rotate_(rotate) {
+double EnvironmentSampler::weightOf(const glm::vec3& c) const {
+  switch (weight_) {
+    case SampleWeight::Red: return double(c.r);
+    case SampleWeight::Green: return double(c.g);
+    case SampleWeight::Blue: return double(c.b);
+    case SampleWeight::Luminance: break;
+  }
+  return luminance(c);
+}
+
+EnvironmentSampler::EnvironmentSampler(const EnvironmentMap& map, double rotate, SampleWeight weight)
+    : map_(&map), rotate_(rotate), weight_(weight) {
   const int w = map.width, h = map.height;
   rowCdf_.assign(size_t(h) + 1, 0.0);
   colCdf_.assign(size_t(h), std::vector<double>(size_t(w) + 1, 0.0));
   rowWeight_.assign(size_t(h), 0.0);
+  const double dPhi = 2.0 * kPi / w;
   for (int y = 0; y < h; ++y) {
-    const double s = std::sin(kPi * (y + 0.5) / h);
+    // The row's exact solid angle per texel: Δφ (cos θ0 - cos θ1).
+    const double dOmega = dPhi * (std::cos(kPi * y / h) - std::cos(kPi * (y + 1) / h));
     auto& cdf = colCdf_[size_t(y)];
-    for (int x = 0; x < w; ++x) cdf[size_t(x) + 1] = cdf[size_t(x)] + luminance(map.texel(x, y)) * s;
+    for (int x = 0; x < w; ++x) cdf[size_t(x) + 1] = cdf[size_t(x)] + weightOf(map.texel(x, y)) * dOmega;
     rowWeight_[size_t(y)] = cdf[size_t(w)];
     rowCdf_[size_t(y) + 1] = rowCdf_[size_t(y)] + cdf[size_t(w)];
   }
   total_ = rowCdf_.back();
   if (!(total_ > 0.0))
-    throw ParameterError("environment map: its luminance is zero everywhere: nothing to sample");
+    throw ParameterError(fmt::format("environment map: its {} is zero everywhere: nothing to sample",
+                                     weight == SampleWeight::Luminance ? "luminance"
+                                     : weight == SampleWeight::Red     ? "red channel"
+                                     : weight == SampleWeight::Green   ? "green channel"
+                                                                       : "blue channel"));
 }
 
 EnvironmentSampler::Sample EnvironmentSampler::sample(const glm::dvec2& u) const {
   const int w = map_->width, h = map_->height;
   // Row, then column, by inverting the cumulative sums (binary search).
   const double ty = std::clamp(u.y, 0.0, 1.0 - 1e-12) * total_;
-  const int y = std::clamp(static_cast<int>(std::upper_bound(rowCdf_.begin(), rowCdf_.end(), ty) -
-                                            rowCdf_.begin()) - 1, 0, h - 1);
-  const double ry = (ty - rowCdf_[size_t(y)]) / rowWeight_[size_t(y)];  // reused for the column
+  int y = std::clamp(static_cast<int>(std::upper_bound(rowCdf_.begin(), rowCdf_.end(), ty) -
+                                      rowCdf_.begin()) - 1, 0, h - 1);
+  while (rowWeight_[size_t(y)] <= 0.0 && y > 0) --y;  // ty on a boundary below empty rows
+  const double ry = std::clamp((ty - rowCdf_[size_t(y)]) / rowWeight_[size_t(y)], 0.0, 1.0);
   const auto& cdf = colCdf_[size_t(y)];
   const double tx = std::clamp(u.x, 0.0, 1.0 - 1e-12) * cdf.back();
-  const int x = std::clamp(static_cast<int>(std::upper_bound(cdf.begin(), cdf.end(), tx) -
-                                            cdf.begin()) - 1, 0, w - 1);
-  const double rx = (tx - cdf[size_t(x)]) / std::max(cdf[size_t(x) + 1] - cdf[size_t(x)], 1e-300);
-  const double su = (x + std::clamp(rx, 0.0, 1.0)) / w;
-  const double sv = (y + std::clamp(ry, 0.0, 1.0)) / h;
+  int x = std::clamp(static_cast<int>(std::upper_bound(cdf.begin(), cdf.end(), tx) -
+                                      cdf.begin()) - 1, 0, w - 1);
+  while (cdf[size_t(x) + 1] - cdf[size_t(x)] <= 0.0 && x > 0) --x;
+  const double rx = std::clamp((tx - cdf[size_t(x)]) / std::max(cdf[size_t(x) + 1] - cdf[size_t(x)], 1e-300),
+                               0.0, 1.0);
+  // Uniform in solid angle within the texel: φ linear in rx, cos θ linear in ry.
+  const double c0 = std::cos(kPi * y / h), c1 = std::cos(kPi * (y + 1) / h);
+  const double cosT = std::clamp(c0 + ry * (c1 - c0), -1.0, 1.0);
+  const double su = (x + rx) / w;
+  const double sv = std::acos(cosT) / kPi;
   Sample s;
   s.direction = EnvironmentMap::direction(su, sv, rotate_);
   const glm::vec3 c = map_->texel(x, y);
   s.radiance = glm::dvec3(c);
-  // Density in (u, v): w h lum sinθ_y / total; dω = 2π² sin θ du dv at the sample.
-  const double pUv = double(w) * h * luminance(c) * std::sin(kPi * (y + 0.5) / h) / total_;
-  s.pdf = pUv / (2.0 * kPi * kPi * std::max(std::sin(kPi * sv), 1e-12));
+  s.pdf = weightOf(c) / total_;
   return s;
+}
+
+double EnvironmentSampler::pdf(const glm::dvec3& d) const {
+  const glm::ivec2 t = map_->texelOf(d, rotate_);
+  return weightOf(map_->texel(t.x, t.y)) / total_;
 }
 
 EnvironmentSampler::Sample EnvironmentSampler::sequence(uint64_t k, uint64_t seed) const {
@@ -197,4 +228,4 @@ EnvironmentSampler::Sample EnvironmentSampler::sequence(uint64_t k, uint64_t see
   return sample(u);
 }
 
-}  // namespace translucent::pointcloud
+}  // namespace translucent::lights
