@@ -89,6 +89,14 @@ std::string referenceKeyText(const scene::Scene& scene, const ReferenceRequest& 
                  {"sigma_s", {m.sigma_s[0], m.sigma_s[1], m.sigma_s[2]}},
                  {"g", m.g}, {"eta", m.eta}, {"scale", m.scale}};
   j["mesh_sha256"] = sha256Hex(readFileBytes(scene.mesh_file, "mesh file"));
+  // Environment maps by content too (a map replaced under the same name changes the light).
+  // Only present for scenes that have one, so other scenes keep their keys.
+  for (size_t i = 0; i < scene.lights.size(); ++i)
+    if (const auto* e = std::get_if<scene::EnvironmentLight>(&scene.lights[i].emitter))
+      j["environment_sha256"][fmt::format("{}", i)] =
+          sha256Hex(readFileBytes(e->file, "environment map"));
+  if (j.contains("environment_sha256") && request.kind == ReferenceKind::Model)
+    j["environment_rays"] = reference::ModelReferenceOptions{}.environment_rays;
   j["kind"] = toString(request.kind);
   j["count"] = request.count;
   j["seed"] = request.seed;

@@ -46,14 +46,24 @@ EnvironmentMap EnvironmentMap::load(const std::filesystem::path& file) {
   if (img.width < 2 || img.height < 1 || img.rgb.size() != size_t(img.width) * size_t(img.height) * 3)
     throw ParameterError(fmt::format("environment map '{}' is {}x{}: expected a latitude-longitude "
                                      "image of at least 2x1 pixels", file.string(), img.width, img.height));
-  for (size_t i = 0; i < img.rgb.size(); ++i)
-    if (!std::isfinite(img.rgb[i]) || img.rgb[i] < 0.0f)
+  // Negative values are clamped to 0 (as pbrt-v4's image lights do): lossy-compressed HDRs hold
+  // slightly negative texels (Blender's studio lights, e.g. -1e-5 next to radiance ~1), which
+  // no light can emit; how many were clamped is kept. Non-finite values are an error.
+  size_t clamped = 0;
+  for (size_t i = 0; i < img.rgb.size(); ++i) {
+    if (!std::isfinite(img.rgb[i]))
       throw ParameterError(fmt::format("environment map '{}': pixel {} holds {}: expected finite "
-                                       "radiance >= 0", file.string(), i / 3, img.rgb[i]));
+                                       "radiance", file.string(), i / 3, img.rgb[i]));
+    if (img.rgb[i] < 0.0f) {
+      img.rgb[i] = 0.0f;
+      ++clamped;
+    }
+  }
   EnvironmentMap m;
   m.width = img.width;
   m.height = img.height;
   m.rgb = std::move(img.rgb);
+  m.clamped_negative = clamped;
   return m;
 }
 

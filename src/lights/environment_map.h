@@ -32,9 +32,11 @@ namespace translucent::lights {
 struct EnvironmentMap {
   int width = 0, height = 0;
   std::vector<float> rgb;  // linear radiance, rows from the top (θ = 0 first)
+  size_t clamped_negative = 0;  // values < 0 in the file, read as 0 (load())
 
-  // Reads an EXR/HDR/... file through OpenImageIO (analysis::readRgb). Throws ParameterError
-  // naming the file when it cannot be read, is empty or holds negative or non-finite values.
+  // Reads an EXR/HDR/... file through OpenImageIO (analysis::readRgb); negative values read as
+  // 0 (counted in clamped_negative). Throws ParameterError naming the file when it cannot be
+  // read, is empty or holds non-finite values.
   static EnvironmentMap load(const std::filesystem::path& file);
   // A map of constant radiance (tests, furnace checks).
   static EnvironmentMap constant(const glm::vec3& radiance, int width = 64, int height = 32);
