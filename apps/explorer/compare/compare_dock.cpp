@@ -336,7 +336,8 @@ void CompareDock::restart(bool force) {
     const QString message = tr("Compare: no %1 reference for this scene: %2")
                                 .arg(QString::fromLatin1(analysis::toString(kind_)),
                                      QString::fromUtf8(e.what()));
-    // Once per reason: turning an environment light by dragging is one error, not hundreds.
+    // Once per reason: turning a light the reference cannot take by dragging is one error, not
+    // hundreds.
     if (message != last_error_) state_.error(message);
     last_error_ = message;
     return;

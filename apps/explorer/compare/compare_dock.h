@@ -23,7 +23,8 @@
 // Restarts: any scene change (material, light, camera, mesh; coalesced over kRestartDelayMs)
 // restarts the reference when its inputs changed and asks for a new technique frame when the
 // frame's inputs changed (a technique setting needs no new reference). A scene the reference
-// cannot handle (an environment light, a .bssrdf model for the model reference, an open mesh)
+// cannot handle (a filtered light, an unreadable environment map, a .bssrdf model for the model
+// reference, an open mesh)
 // goes to the console; the last images stay, marked as of the previous scene.
 #pragma once
 

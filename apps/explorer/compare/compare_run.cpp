@@ -62,7 +62,8 @@ void CompareRun::run() {
     };
 
     if (config_.kind == analysis::ReferenceKind::Physical) {
-      // Lights first: one the tracer cannot handle (an environment) fails before any work.
+      // Lights first: one the tracer cannot handle (filtered, an unreadable map) fails before any
+      // work.
       const std::vector<reference::Light> lights = scene::referenceLights(s);
       const auto passes = reference::doublingPasses(config_.first, config_.budget,
                                                     reference::kBlockPhotons, config_.cap);

@@ -2,7 +2,7 @@
 // reference refines pass by pass (its photon count grows, the numbers shown change), the metrics
 // shown are analysis::computeMetrics of the images shown (bit for bit), the physical reference
 // after N photons is the one-shot reference of the CLI (bit for bit), a material change restarts
-// the reference, an environment light is reported on the console, the model reference refines
+// the reference, an environment map that cannot be read is reported on the console, the model reference refines
 // with doubling sample counts, and destroying the dock mid-run returns within a second.
 //
 // Small images (32 pixels wide, the default scene's square camera: 32²) and budgets keep each
@@ -253,7 +253,7 @@ class TestCompareDock : public QObject {
     QCOMPARE(started.count(), 1);
   }
 
-  void environmentLightGoesToTheConsole() {
+  void missingEnvironmentMapGoesToTheConsole() {
     ExplorerState state;
     auto dock = smallDock(state);
     QTRY_VERIFY_WITH_TIMEOUT(dock->status().passes >= 1, kWaitMs);
