@@ -545,6 +545,10 @@ void addRenderReferenceCommands(CLI::App& app) {
     cmd->add_option("--tail", m->options.tail,
                     "Fraction of Rd beyond the pruning radius (samples farther are skipped)")
         ->capture_default_str();
+    cmd->add_option("--environment-rays", m->options.environment_rays,
+                    "Shadow rays per surface sample for an environment light's irradiance (even; "
+                    "half from the map, half cosine-distributed; 4x at the camera hits)")
+        ->capture_default_str();
     a->add(*cmd, "--samples", "Surface samples (area-uniform, up to 2^24 - 1)",
            {"exitance", "radiance"});
     cmd->callback([m, a] { runIntegrateMesh(*m, *a); });
