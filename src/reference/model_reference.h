@@ -21,7 +21,7 @@
 //                when the mesh has normals, else the face normal (irradiance.comp uses it);
 //   exit         the G-buffer's normal: the interpolated smooth vertex normal (the mesh's normals,
 //                else area-weighted face normals: geometry::ambientOcclusionNormals, the same as
-//                pointcloud::vertexNormals), turned towards the viewer when the hit face is a back
+//                techniques::vertexNormals), turned towards the viewer when the hit face is a back
 //                face (gbuffer.frag); Ft(η, n_s·v) = 0 where n_s·v <= 0 (as pcFresnelTransmittance).
 // The mesh must be closed; a copy is wound outwards (TriangleMesh::orientOutwards), as the
 // technique does, so that face normals point out.

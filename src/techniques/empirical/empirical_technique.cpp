@@ -15,6 +15,7 @@
 #include "gpu/objects.h"
 #include "gpu/pass_timer.h"
 #include "gpu/program.h"
+#include "techniques/common/gl_resources.h"
 #include "techniques/empirical/shading.h"
 
 namespace translucent::empirical {
@@ -111,8 +112,7 @@ struct EmpiricalTechnique::Impl {
   std::vector<float> ao;
   bool uploadDirty = true;
 
-  gpu::VertexArray vao;
-  gpu::Buffer vertices, indices;
+  std::optional<techniques::GpuMesh> gpuMesh;  // positions, normals, AO (attribute 2)
   std::optional<gpu::ShaderProgram> frontProgram, backProgram, shadeProgram;
 
   int width = 0, height = 0;
@@ -171,29 +171,7 @@ struct EmpiricalTechnique::Impl {
 
   void upload() {
     if (!uploadDirty) return;
-    std::vector<float> v;
-    v.reserve(mesh.vertexCount() * 7);
-    for (size_t i = 0; i < mesh.vertexCount(); ++i) {
-      const glm::vec3 p(mesh.positions[i]), n(normals[i]);
-      v.insert(v.end(), {p.x, p.y, p.z, n.x, n.y, n.z, ao[i]});
-    }
-    std::vector<uint32_t> idx;
-    idx.reserve(mesh.triangleCount() * 3);
-    for (const glm::uvec3& t : mesh.triangles) idx.insert(idx.end(), {t.x, t.y, t.z});
-    vertices = gpu::Buffer::create();
-    glNamedBufferStorage(vertices.id(), static_cast<GLsizeiptr>(v.size() * sizeof(float)), v.data(), 0);
-    indices = gpu::Buffer::create();
-    glNamedBufferStorage(indices.id(), static_cast<GLsizeiptr>(idx.size() * sizeof(uint32_t)),
-                         idx.data(), 0);
-    vao = gpu::VertexArray::create();
-    glVertexArrayVertexBuffer(vao.id(), 0, vertices.id(), 0, 7 * sizeof(float));
-    glVertexArrayElementBuffer(vao.id(), indices.id());
-    for (GLuint a = 0; a < 3; ++a) {
-      glEnableVertexArrayAttrib(vao.id(), a);
-      glVertexArrayAttribFormat(vao.id(), a, a == 2 ? 1 : 3, GL_FLOAT, GL_FALSE, a * 3 * sizeof(float));
-      glVertexArrayAttribBinding(vao.id(), a, 0);
-    }
-    gpu::checkGlError("uploading the mesh");
+    gpuMesh.emplace(mesh, normals, ao);
     uploadDirty = false;
   }
 
@@ -222,27 +200,6 @@ struct EmpiricalTechnique::Impl {
     gpu::checkGlError("creating the depth layers");
   }
 
-  // View and projection of the scene camera (near/far from the bounding sphere when 0, as the
-  // point-cloud technique's cameraViewProjection).
-  void cameraMatrices(const scene::Scene& s, glm::dmat4& view, glm::dmat4& proj) const {
-    const reference::Camera& c = s.camera;
-    view = glm::lookAt(c.position, c.look_at, c.up);
-    const glm::dvec3 forward = glm::normalize(c.look_at - c.position);
-    const double depth = glm::dot(center - c.position, forward);
-    const bool ortho = c.projection == reference::Camera::Projection::Orthographic;
-    double near = s.clip_near, far = s.clip_far;
-    if (near <= 0.0) near = ortho ? depth - 1.1 * radius : std::max(depth - 1.1 * radius, 1e-3 * radius);
-    if (far <= 0.0) far = depth + 1.1 * radius;
-    if (!(far > near)) far = near + 2.2 * radius;
-    const double aspect = double(width) / double(height);
-    if (ortho) {
-      const double h = 0.5 * c.view_height, w = h * aspect;
-      proj = glm::ortho(-w, w, -h, h, near, far);
-    } else {
-      proj = glm::perspective(c.fov * std::numbers::pi / 180.0, aspect, near, far);
-    }
-  }
-
   void drawLayer(GLuint fbo, const gpu::ShaderProgram& program, const glm::mat4& viewProj) {
     glBindFramebuffer(GL_FRAMEBUFFER, fbo);
     glViewport(0, 0, width, height);
@@ -258,10 +215,7 @@ struct EmpiricalTechnique::Impl {
     glDisable(GL_CULL_FACE);
     program.use();
     program.set("ViewProjection", viewProj);
-    glBindVertexArray(vao.id());
-    glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(mesh.triangleCount() * 3), GL_UNSIGNED_INT,
-                   nullptr);
-    glBindVertexArray(0);
+    gpuMesh->draw();
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     gpu::checkGlError("rendering a depth layer");
   }
@@ -285,9 +239,10 @@ struct EmpiricalTechnique::Impl {
     frame.notes = std::move(notes);
     notes.clear();
 
-    glm::dmat4 view, proj;
-    cameraMatrices(s, view, proj);
-    const glm::mat4 viewProj(proj * view);
+    const techniques::CameraMatrices cam =
+        techniques::cameraMatrices(s.camera, s.clip_near, s.clip_far, center, radius, width, height);
+    const glm::dmat4& proj = cam.projection;
+    const glm::mat4 viewProj = cam.viewProjection();
     const float diameter = static_cast<float>(2.0 * radius);
     {
       auto t = timer->scope("front");

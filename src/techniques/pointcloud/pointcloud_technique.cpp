@@ -21,12 +21,17 @@
 #include "gpu/compute.h"
 #include "gpu/pass_timer.h"
 #include "lights/environment_map.h"
-#include "techniques/pointcloud/gl_resources.h"
+#include "techniques/common/gl_resources.h"
 
 namespace translucent::pointcloud {
 namespace {
 
 using lights::EnvironmentMap;
+using techniques::GBuffer;
+using techniques::GpuMesh;
+using techniques::ShadowMap;
+using techniques::cameraViewProjection;
+using techniques::vertexNormals;
 using lights::EnvironmentSampler;
 using techniques::ParameterInfo;
 using techniques::ParameterValue;

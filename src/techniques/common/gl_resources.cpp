@@ -1,4 +1,4 @@
-#include "techniques/pointcloud/gl_resources.h"
+#include "techniques/common/gl_resources.h"
 
 #include <fmt/format.h>
 
@@ -11,7 +11,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
-namespace translucent::pointcloud {
+namespace translucent::techniques {
 
 std::vector<glm::dvec3> vertexNormals(const geometry::TriangleMesh& mesh) {
   if (mesh.normals.size() == mesh.positions.size()) return mesh.normals;
@@ -31,13 +31,21 @@ std::vector<glm::dvec3> vertexNormals(const geometry::TriangleMesh& mesh) {
   return n;
 }
 
-GpuMesh::GpuMesh(const geometry::TriangleMesh& mesh) : triangles_(mesh.triangleCount()) {
-  const auto normals = vertexNormals(mesh);
+GpuMesh::GpuMesh(const geometry::TriangleMesh& mesh) : GpuMesh(mesh, vertexNormals(mesh)) {}
+
+GpuMesh::GpuMesh(const geometry::TriangleMesh& mesh, const std::vector<glm::dvec3>& normals,
+                 const std::vector<float>& scalar)
+    : triangles_(mesh.triangleCount()) {
+  if (normals.size() != mesh.vertexCount() || (!scalar.empty() && scalar.size() != mesh.vertexCount()))
+    throw gpu::GlError(fmt::format("uploading the mesh: {} normals and {} scalars for {} vertices",
+                                   normals.size(), scalar.size(), mesh.vertexCount()));
+  const GLuint stride = scalar.empty() ? 6 : 7;
   std::vector<float> v;
-  v.reserve(mesh.vertexCount() * 6);
+  v.reserve(mesh.vertexCount() * stride);
   for (size_t i = 0; i < mesh.vertexCount(); ++i) {
     const glm::vec3 p(mesh.positions[i]), n(normals[i]);
     v.insert(v.end(), {p.x, p.y, p.z, n.x, n.y, n.z});
+    if (!scalar.empty()) v.push_back(scalar[i]);
   }
   std::vector<uint32_t> idx;
   idx.reserve(triangles_ * 3);
@@ -48,11 +56,11 @@ GpuMesh::GpuMesh(const geometry::TriangleMesh& mesh) : triangles_(mesh.triangleC
   glNamedBufferStorage(indices_.id(), static_cast<GLsizeiptr>(idx.size() * sizeof(uint32_t)),
                        idx.data(), 0);
   vao_ = gpu::VertexArray::create();
-  glVertexArrayVertexBuffer(vao_.id(), 0, vertices_.id(), 0, 6 * sizeof(float));
+  glVertexArrayVertexBuffer(vao_.id(), 0, vertices_.id(), 0, GLsizei(stride * sizeof(float)));
   glVertexArrayElementBuffer(vao_.id(), indices_.id());
-  for (GLuint a = 0; a < 2; ++a) {
+  for (GLuint a = 0; a < stride / 3 + (stride % 3 ? 1 : 0); ++a) {
     glEnableVertexArrayAttrib(vao_.id(), a);
-    glVertexArrayAttribFormat(vao_.id(), a, 3, GL_FLOAT, GL_FALSE, a * 3 * sizeof(float));
+    glVertexArrayAttribFormat(vao_.id(), a, a == 2 ? 1 : 3, GL_FLOAT, GL_FALSE, a * 3 * sizeof(float));
     glVertexArrayAttribBinding(vao_.id(), a, 0);
   }
   gpu::checkGlError("uploading the mesh");
@@ -154,9 +162,10 @@ void ShadowMap::render(const GpuMesh& mesh, const gpu::ShaderProgram& program,
   gpu::checkGlError("rendering a shadow map");
 }
 
-glm::mat4 cameraViewProjection(const reference::Camera& camera, double near, double far,
-                               const glm::dvec3& center, double radius, int width, int height) {
-  const glm::dmat4 view = glm::lookAt(camera.position, camera.look_at, camera.up);
+CameraMatrices cameraMatrices(const reference::Camera& camera, double near, double far,
+                              const glm::dvec3& center, double radius, int width, int height) {
+  CameraMatrices m;
+  m.view = glm::lookAt(camera.position, camera.look_at, camera.up);
   const glm::dvec3 forward = glm::normalize(camera.look_at - camera.position);
   const double depth = glm::dot(center - camera.position, forward);
   const bool ortho = camera.projection == reference::Camera::Projection::Orthographic;
@@ -164,14 +173,13 @@ glm::mat4 cameraViewProjection(const reference::Camera& camera, double near, dou
   if (far <= 0.0) far = depth + 1.1 * radius;
   if (!(far > near)) far = near + 2.2 * radius;
   const double aspect = double(width) / double(height);
-  glm::dmat4 proj;
   if (ortho) {
     const double h = 0.5 * camera.view_height, w = h * aspect;
-    proj = glm::ortho(-w, w, -h, h, near, far);
+    m.projection = glm::ortho(-w, w, -h, h, near, far);
   } else {
-    proj = glm::perspective(camera.fov * std::numbers::pi / 180.0, aspect, near, far);
+    m.projection = glm::perspective(camera.fov * std::numbers::pi / 180.0, aspect, near, far);
   }
-  return glm::mat4(proj * view);
+  return m;
 }
 
 void GBuffer::resize(int width, int height) {
@@ -221,4 +229,4 @@ void GBuffer::render(const GpuMesh& mesh, const gpu::ShaderProgram& program,
   gpu::checkGlError("rendering the G-buffer");
 }
 
-}  // namespace translucent::pointcloud
+}  // namespace translucent::techniques

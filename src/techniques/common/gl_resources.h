@@ -1,5 +1,6 @@
-// GL pieces of the point-cloud technique that are not specific to it: the mesh on the GPU,
-// depth maps rendered from a light (shadow maps), and the camera's G-buffer.
+// GL pieces that the real-time techniques share (techniques/common): the mesh on the GPU, the
+// scene camera's matrices, depth maps rendered from a light (shadow maps), and the camera's
+// G-buffer.
 // All need a current OpenGL 4.5 core context (gpu/context.h).
 #pragma once
 
@@ -11,18 +12,24 @@
 #include "gpu/program.h"
 #include "reference/camera.h"
 
-namespace translucent::pointcloud {
+namespace translucent::techniques {
 
 // Smooth vertex normals of a mesh (area-weighted face normals summed at each vertex, normalised);
 // the mesh's own normals when it has them.
 std::vector<glm::dvec3> vertexNormals(const geometry::TriangleMesh& mesh);
 
-// The mesh as interleaved float positions and normals with an index buffer.
+// The mesh as interleaved float positions and normals with an index buffer, and optionally one
+// more float per vertex (the empirical technique's ambient occlusion).
 class GpuMesh {
  public:
   GpuMesh() = default;
+  // Normals: vertexNormals(mesh).
   explicit GpuMesh(const geometry::TriangleMesh& mesh);
-  // Draws every triangle with the currently used program (attribute 0: position, 1: normal).
+  // Given normals (one per vertex) and, when not empty, one scalar per vertex as attribute 2.
+  GpuMesh(const geometry::TriangleMesh& mesh, const std::vector<glm::dvec3>& normals,
+          const std::vector<float>& scalar = {});
+  // Draws every triangle with the currently used program (attribute 0: position, 1: normal,
+  // 2: the scalar).
   void draw() const;
   size_t triangleCount() const { return triangles_; }
 
@@ -68,9 +75,19 @@ class ShadowMap {
 };
 
 // Camera matrices of a reference::Camera (pinhole: vertical fov; orthographic: view_height),
-// with near/far clip distances (0: from the bounding sphere).
-glm::mat4 cameraViewProjection(const reference::Camera& camera, double near, double far,
-                               const glm::dvec3& center, double radius, int width, int height);
+// with near/far clip distances (0: from the bounding sphere (center, radius): 1.1 radii in
+// front of and behind its centre).
+struct CameraMatrices {
+  glm::dmat4 view{1.0}, projection{1.0};
+  glm::mat4 viewProjection() const { return glm::mat4(projection * view); }
+};
+CameraMatrices cameraMatrices(const reference::Camera& camera, double near, double far,
+                              const glm::dvec3& center, double radius, int width, int height);
+inline glm::mat4 cameraViewProjection(const reference::Camera& camera, double near, double far,
+                                      const glm::dvec3& center, double radius, int width,
+                                      int height) {
+  return cameraMatrices(camera, near, far, center, radius, width, height).viewProjection();
+}
 
 // World position (w = 1 where covered) and shading normal per pixel, RGBA32F, with a depth buffer.
 class GBuffer {
@@ -88,4 +105,4 @@ class GBuffer {
   gpu::Framebuffer fbo_;
 };
 
-}  // namespace translucent::pointcloud
+}  // namespace translucent::techniques
