@@ -173,10 +173,22 @@ Parsed parseOptions(const CompareArgs& a) {
   return p;
 }
 
+// What a scene's compare that wrote its report tells the caller.
+struct SceneOutcome {
+  bool partial = false;                         // stopped early (Ctrl-C)
+  std::vector<std::string> failed_techniques;   // ran into an error; the report has the others
+  size_t techniques = 0;
+};
+
+// "pointcloud, empirical"
+std::string joined(const std::vector<std::string>& v) { return fmt::format("{}", fmt::join(v, ", ")); }
+
 // One scene's compare into the report folder `out` (the caller holds the InterruptGuard, so that
-// a suite sees one Ctrl-C across its scenes). Returns whether the report is partial.
-bool compareScene(const CompareArgs& a, const Parsed& parsed, const std::string& sceneFile,
-                  const fs::path& out) {
+// a suite sees one Ctrl-C across its scenes). A technique that throws is recorded in the report
+// with its error and the others still run; anything else that throws (the scene, its mesh, a
+// reference: without the references there is nothing to compare against) fails the scene.
+SceneOutcome compareScene(const CompareArgs& a, const Parsed& parsed, const std::string& sceneFile,
+                          const fs::path& out) {
   const std::vector<std::string>& names = parsed.names;
   const std::vector<analysis::ReferenceKind>& kinds = parsed.kinds;
   const uint64_t photons = parsed.photons, samples = parsed.samples;
@@ -186,7 +198,8 @@ bool compareScene(const CompareArgs& a, const Parsed& parsed, const std::string&
   if (a.height) s.camera.height = *a.height;
   s.camera.validate();
   analysis::prepareReportDirectory(out, a.force, cacheDir, "--out");
-  const geometry::TriangleMesh mesh = scene::loadSceneMesh(s);
+  geometry::HoleFillStats fill;
+  const geometry::TriangleMesh mesh = scene::loadSceneMesh(s, &fill);
 
   analysis::CompareReport report;
   report.scene_file = sceneFile;
@@ -204,6 +217,11 @@ bool compareScene(const CompareArgs& a, const Parsed& parsed, const std::string&
   if (a.no_cache) cmd += " --no-cache";
   else if (!a.cache.empty()) cmd += " --cache " + quoted(cacheDir.string());
   report.command = cmd;
+  if (s.mesh_fill_holes) {
+    const std::string what = "mesh.fill_holes: " + scene::describeHoleFill(fill);
+    fmt::print(stderr, "{}\n", what);
+    report.notes.push_back(what);
+  }
   report.settings = {{"techniques", fmt::format("{}", fmt::join(names, ","))},
                      {"reference", a.references},
                      {"photons_per_channel", std::to_string(photons)},
@@ -239,10 +257,17 @@ bool compareScene(const CompareArgs& a, const Parsed& parsed, const std::string&
                     physical ? "photons" : "pixels");
     fmt::print(stderr, "{} reference ({} {}):\n", toString(kind), req.count,
                physical ? "photons per channel" : "surface samples");
-    analysis::Reference ref = analysis::cachedReference(
-        s, mesh, req, cache ? &*cache : nullptr, [&](const reference::TraceProgress& p) {
-          return bar(p);
-        });
+    analysis::Reference ref;
+    try {
+      ref = analysis::cachedReference(
+          s, mesh, req, cache ? &*cache : nullptr,
+          [&](const reference::TraceProgress& p) { return bar(p); });
+    } catch (const ParameterError& e) {
+      // The scene fails: named by the reference, since every technique needs it.
+      throw ParameterError(fmt::format("{} reference: {}", toString(kind), e.what()));
+    } catch (const std::exception& e) {
+      throw std::runtime_error(fmt::format("{} reference: {}", toString(kind), e.what()));
+    }
     bar.end();
     const std::string what =
         ref.from_cache ? fmt::format("reused from the cache: {} (computed in {:.2f} s)",
@@ -274,52 +299,76 @@ bool compareScene(const CompareArgs& a, const Parsed& parsed, const std::string&
   std::set<bssrdf::ExitConvention> conventions;
   std::vector<plot::XySeries> sweepSeries;
   for (const std::string& name : names) {
-    std::unique_ptr<techniques::Technique> t = techniques::make(name);
-    // The scene's settings belong to the scene's technique; the others run at their defaults.
-    if (name == s.technique) techniques::applySettings(*t, s);
-    fmt::print(stderr, "{}: preparing on {}\n", name, report.gpu);
-    t->prepare(s, gl);
-    Rendered r = renderTimed(*t, s, a.warmup, a.frames);
-    fmt::print(stderr, "  frame {:.3f} ms (median of {}), L by the {} convention{}\n", r.frame_ms,
-               a.frames, toString(r.images.convention),
-               r.images.exitance.empty() ? ", no exitance" : "");
-    conventions.insert(r.images.convention);
-    const auto rows = analysis::techniqueMetrics(r.images, report.references, eta, report.masks,
-                                                 display);
+    analysis::TechniqueRun run;
+    run.images.name = name;
+    run.description = techniques::description(name);
+    std::unique_ptr<techniques::Technique> t;
+    std::vector<PairMetrics> rows;
+    try {
+      t = techniques::make(name);
+      // The scene's settings belong to the scene's technique; the others run at their defaults.
+      if (name == s.technique) techniques::applySettings(*t, s);
+      fmt::print(stderr, "{}: preparing on {}\n", name, report.gpu);
+      t->prepare(s, gl);
+      Rendered r = renderTimed(*t, s, a.warmup, a.frames);
+      fmt::print(stderr, "  frame {:.3f} ms (median of {}), L by the {} convention{}\n", r.frame_ms,
+                 a.frames, toString(r.images.convention),
+                 r.images.exitance.empty() ? ", no exitance" : "");
+      rows = analysis::techniqueMetrics(r.images, report.references, eta, report.masks, display);
+      run.passes = r.passes;
+      run.frame_ms = r.frame_ms;
+      run.timed_frames = a.frames;
+      run.warmup_frames = a.warmup;
+      run.notes = r.notes;
+      run.images = std::move(r.images);
+    } catch (const std::exception& e) {
+      // This technique cannot do this scene (e.g. the point cloud's shadow map and a point light
+      // inside the bounding sphere): the other techniques and the references still say
+      // something, so the report keeps them and lists this one with its reason.
+      run.error = e.what();
+      fmt::print(stderr, "{}: failed: {}\n", name, run.error);
+    }
+    if (t)
+      for (const auto& p : t->parameters())
+        run.parameters.emplace_back(p.name, techniques::toString(t->parameter(p.name)));
+    if (run.failed()) {
+      report.techniques.push_back(std::move(run));
+      continue;
+    }
+    conventions.insert(run.images.convention);
     report.metrics.insert(report.metrics.end(), rows.begin(), rows.end());
 
-    analysis::TechniqueRun run;
-    run.description = techniques::description(name);
-    for (const auto& p : t->parameters())
-      run.parameters.emplace_back(p.name, techniques::toString(t->parameter(p.name)));
-    run.passes = r.passes;
-    run.frame_ms = r.frame_ms;
-    run.timed_frames = a.frames;
-    run.warmup_frames = a.warmup;
-    run.notes = r.notes;
-    run.images = std::move(r.images);
-
-    // The sweep: each quality parameter over its values (the others as above), then restored.
+    // The sweep: each quality parameter over its values (the others as above), then restored. A
+    // value that fails ends that parameter's sweep with a note; the technique's own result stands.
     if (a.sweep && !InterruptGuard::interrupted()) {
       for (const auto& p : t->parameters()) {
         if (p.sweep.empty()) continue;
         const techniques::ParameterValue keep = t->parameter(p.name);
         std::map<std::string, plot::XySeries> series;  // per reference
         for (double v : p.sweep) {
-          t->setParameter(p.name, v);
-          Rendered sr = renderTimed(*t, s, a.warmup, a.frames);
-          analysis::SweepPoint point{name, p.name, v, sr.frame_ms,
-                                     analysis::techniqueMetrics(sr.images, report.references, eta,
-                                                                report.masks, display)};
-          fmt::print(stderr, "  sweep {} = {:g}: {:.3f} ms\n", p.name, v, sr.frame_ms);
-          for (const PairMetrics& m : point.metrics) {
-            if (m.quantity != "radiance") continue;
-            auto& xy = series[m.reference];
-            xy.label = fmt::format("{} {} vs {}", name, p.name, m.reference);
-            xy.x.push_back(sr.frame_ms);
-            xy.y.push_back(100.0 * m.metrics.rel_rmse);
+          try {
+            t->setParameter(p.name, v);
+            Rendered sr = renderTimed(*t, s, a.warmup, a.frames);
+            analysis::SweepPoint point{name, p.name, v, sr.frame_ms,
+                                       analysis::techniqueMetrics(sr.images, report.references,
+                                                                  eta, report.masks, display)};
+            fmt::print(stderr, "  sweep {} = {:g}: {:.3f} ms\n", p.name, v, sr.frame_ms);
+            for (const PairMetrics& m : point.metrics) {
+              if (m.quantity != "radiance") continue;
+              auto& xy = series[m.reference];
+              xy.label = fmt::format("{} {} vs {}", name, p.name, m.reference);
+              xy.x.push_back(sr.frame_ms);
+              xy.y.push_back(100.0 * m.metrics.rel_rmse);
+            }
+            report.sweep.push_back(std::move(point));
+          } catch (const std::exception& e) {
+            const std::string note =
+                fmt::format("sweep {} = {:g} failed, sweep of {} stopped: {}", p.name, v, p.name,
+                            e.what());
+            fmt::print(stderr, "  {}\n", note);
+            run.notes.push_back(note);
+            break;
           }
-          report.sweep.push_back(std::move(point));
         }
         t->setParameter(p.name, keep);
         for (auto& [ref, xy] : series) sweepSeries.push_back(std::move(xy));
@@ -356,12 +405,21 @@ bool compareScene(const CompareArgs& a, const Parsed& parsed, const std::string&
     fmt::print("{:<12} {:<9} {:<14} {:>9.2f}% {:>+9.2f}% {:>8.4f} {:>8.4f}\n", m.test,
                m.reference, m.quantity, 100.0 * m.metrics.rel_rmse, 100.0 * m.metrics.bias,
                m.metrics.ssim, m.metrics.flip);
-  for (const auto& t : report.techniques)
+  SceneOutcome outcome;
+  outcome.partial = report.partial;
+  outcome.techniques = report.techniques.size();
+  for (const auto& t : report.techniques) {
+    if (t.failed()) {
+      fmt::print("{:<12} failed: {}\n", t.images.name, t.error);
+      outcome.failed_techniques.push_back(t.images.name);
+      continue;
+    }
     fmt::print("{}: {:.3f} ms per frame (GPU, median of {})\n", t.images.name, t.frame_ms,
                t.timed_frames);
+  }
   fmt::print("wrote {} ({} files){}\n", (out / "index.html").string(), files.size(),
              report.partial ? " (partial: stopped early)" : "");
-  return report.partial;
+  return outcome;
 }
 
 std::string sceneStem(const fs::path& file) { return file.stem().string(); }
@@ -394,6 +452,7 @@ void runSuite(const CompareArgs& a, const Parsed& o) {
   info.command = cmd;
 
   std::vector<analysis::SuiteScene> scenes;
+  size_t failedRuns = 0, scenesWithFailedRuns = 0;
   InterruptGuard guard;
   for (size_t i = 0; i < files.size(); ++i) {
     analysis::SuiteScene sc;
@@ -409,9 +468,11 @@ void runSuite(const CompareArgs& a, const Parsed& o) {
     fmt::print(stderr, "==== suite {}/{}: {}\n", i + 1, files.size(), files[i].string());
     const auto t0 = std::chrono::steady_clock::now();
     try {
-      const bool partial = compareScene(a, o, files[i].string(), out / sc.name);
-      sc.status = partial ? analysis::SuiteScene::Status::Partial
-                          : analysis::SuiteScene::Status::Done;
+      const SceneOutcome r = compareScene(a, o, files[i].string(), out / sc.name);
+      sc.status = r.partial ? analysis::SuiteScene::Status::Partial
+                            : analysis::SuiteScene::Status::Done;
+      failedRuns += r.failed_techniques.size();
+      scenesWithFailedRuns += !r.failed_techniques.empty();
     } catch (const std::exception& e) {
       sc.status = analysis::SuiteScene::Status::Failed;
       // Named by its file, as a single compare's error would be from its command line.
@@ -431,11 +492,17 @@ void runSuite(const CompareArgs& a, const Parsed& o) {
   for (const auto& sc : scenes) failed += sc.status == analysis::SuiteScene::Status::Failed;
   fmt::print("wrote {} ({} scenes in {:.0f} s){}\n", (out / "index.html").string(), scenes.size(),
              info.seconds, info.partial ? " (partial: stopped early)" : "");
-  // The leaderboard is complete either way; the exit status tells scripts that a scene failed.
-  if (failed)
-    throw std::runtime_error(fmt::format("--suite '{}': {} of {} scenes failed (see {})",
-                                         suiteDir.string(), failed, scenes.size(),
-                                         (out / "leaderboard.md").string()));
+  // The leaderboard is complete either way; the exit status tells scripts that a scene or a
+  // technique failed.
+  std::vector<std::string> what;
+  if (failed) what.push_back(fmt::format("{} of {} scenes failed", failed, scenes.size()));
+  if (failedRuns)
+    what.push_back(fmt::format("{} technique run{} failed in {} scene{}", failedRuns,
+                               failedRuns == 1 ? "" : "s", scenesWithFailedRuns,
+                               scenesWithFailedRuns == 1 ? "" : "s"));
+  if (!what.empty())
+    throw std::runtime_error(fmt::format("--suite '{}': {} (see {})", suiteDir.string(),
+                                         joined(what), (out / "leaderboard.md").string()));
 }
 
 void runCompare(const CompareArgs& a) {
@@ -445,7 +512,15 @@ void runCompare(const CompareArgs& a) {
   const Parsed o = parseOptions(a);
   if (!a.suite.empty()) return runSuite(a, o);
   InterruptGuard guard;
-  compareScene(a, o, a.scene, fs::absolute(a.out));
+  const fs::path out = fs::absolute(a.out);
+  const SceneOutcome r = compareScene(a, o, a.scene, out);
+  // The report is written either way; the exit status (1, through main's error line) tells
+  // scripts that it lacks a technique.
+  if (!r.failed_techniques.empty())
+    throw std::runtime_error(fmt::format(
+        "compare: {} of {} techniques failed ({}); the report has the others: {}",
+        r.failed_techniques.size(), r.techniques, joined(r.failed_techniques),
+        (out / "index.html").string()));
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 #include <fmt/format.h>
 
 #include <CLI/CLI.hpp>
+#include <cstdio>
 #include <exception>
 
 #include "commands.h"
@@ -24,6 +25,9 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
   } catch (const std::exception& e) {
+    // What the command printed first: the error is the last line even when stdout (buffered) and
+    // stderr go to one file, as a report's summary followed by what failed in it.
+    std::fflush(stdout);
     fmt::print(stderr, "translucent: error: {}\n", e.what());
     return 1;
   }

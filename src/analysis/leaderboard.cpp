@@ -60,6 +60,8 @@ const json* findMetrics(const json& report, const std::string& test, const std::
   return nullptr;
 }
 
+// A scene that failed has a row with `error` and no technique; a technique that failed on a
+// scene whose report was written has a row with both (and no numbers).
 struct Row {
   std::string scene, technique, convention, error;
   std::string report;  // link to the scene's index.html ("" when there is none)
@@ -97,9 +99,14 @@ std::vector<Row> sceneRows(const fs::path& dir, const SuiteScene& s) {
     r.scene = s.name;
     r.report = urlPart(s.name) + "/index.html";
     r.technique = t.at("name");
+    r.partial = report.at("partial").get<bool>();
+    if (t.contains("status") && t.at("status") == "failed") {
+      r.error = t.at("error");
+      rows.push_back(r);
+      continue;
+    }
     r.convention = t.at("convention");
     r.frame_ms = value(t.at("frame_ms"));
-    r.partial = report.at("partial").get<bool>();
     const json* vm = findMetrics(report, r.technique, "model", "radiance", "");
     const json* vp = findMetrics(report, r.technique, "physical", "radiance", "");
     const json* mp = findMetrics(report, "model", "physical", "radiance", r.convention);
@@ -132,6 +139,7 @@ struct Summary {
   std::string technique;
   std::vector<double> vs_model, vs_physical, frame_ms;
   int wins = 0;
+  int failed = 0;  // scenes where it failed: in no mean, median or ranking
 };
 
 std::vector<Summary> summarize(const std::vector<Row>& rows) {
@@ -139,13 +147,17 @@ std::vector<Summary> summarize(const std::vector<Row>& rows) {
   auto find = [&](const std::string& t) -> Summary& {
     for (Summary& s : out)
       if (s.technique == t) return s;
-    out.push_back({t, {}, {}, {}, 0});
+    out.push_back({t, {}, {}, {}, 0, 0});
     return out.back();
   };
   std::map<std::string, double> best;  // per scene: the lowest total error
   for (const Row& r : rows) {
     if (r.technique.empty()) continue;
     Summary& s = find(r.technique);
+    if (!r.error.empty()) {
+      ++s.failed;
+      continue;
+    }
     if (std::isfinite(r.vs_model_rmse)) s.vs_model.push_back(r.vs_model_rmse);
     if (std::isfinite(r.vs_physical_rmse)) {
       s.vs_physical.push_back(r.vs_physical_rmse);
@@ -155,7 +167,7 @@ std::vector<Summary> summarize(const std::vector<Row>& rows) {
     if (std::isfinite(r.frame_ms)) s.frame_ms.push_back(r.frame_ms);
   }
   for (const Row& r : rows)
-    if (!r.technique.empty() && std::isfinite(r.vs_physical_rmse) &&
+    if (!r.technique.empty() && r.error.empty() && std::isfinite(r.vs_physical_rmse) &&
         r.vs_physical_rmse == best.at(r.scene))
       find(r.technique).wins++;
   return out;
@@ -289,6 +301,12 @@ std::vector<std::string> writeLeaderboard(const fs::path& dir, const SuiteInfo& 
   for (const Row& r : rows) {
     json row = {{"scene", r.scene}};
     if (!r.error.empty()) {
+      // A failed technique keeps its name (status "failed"); a failed scene has none.
+      if (!r.technique.empty()) {
+        row["technique"] = r.technique;
+        row["status"] = "failed";
+        row["partial"] = r.partial;
+      }
       row["error"] = r.error;
     } else {
       row["technique"] = r.technique;
@@ -313,7 +331,8 @@ std::vector<std::string> writeLeaderboard(const fs::path& dir, const SuiteInfo& 
                             {"vs_physical_rel_rmse_mean", number(mean(s.vs_physical))},
                             {"vs_physical_rel_rmse_median", number(median(s.vs_physical))},
                             {"frame_ms_median", number(median(s.frame_ms))},
-                            {"wins", s.wins}});
+                            {"wins", s.wins},
+                            {"failed", s.failed}});
   writeText(dir / "leaderboard.json", j.dump(2) + "\n");
 
   // ---- leaderboard.md --------------------------------------------------------------------
@@ -326,18 +345,25 @@ std::vector<std::string> writeLeaderboard(const fs::path& dir, const SuiteInfo& 
         "model: the technique's own error; vs physical: the total error; model vs physical: the "
         "BSSRDF model's error; FLIP against the physical reference; GPU: median ms per frame.\n\n";
   md += "## Per technique\n\n| technique | scenes | vs model mean | vs model median | vs physical "
-        "mean | vs physical median | GPU ms (median) | wins |\n|---|---:|---:|---:|---:|---:|---:|"
-        "---:|\n";
+        "mean | vs physical median | GPU ms (median) | wins | failed |\n|---|---:|---:|---:|---:|"
+        "---:|---:|---:|---:|\n";
   for (const Summary& s : summary)
-    md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} |\n", mdCell(s.technique),
+    md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} | {} |\n", mdCell(s.technique),
                       s.vs_physical.size(), pct(mean(s.vs_model)), pct(median(s.vs_model)),
                       pct(mean(s.vs_physical)), pct(median(s.vs_physical)),
-                      num(median(s.frame_ms)), s.wins);
-  md += "\nwins: scenes where the technique has the lowest rel. RMSE vs physical.\n\n"
+                      num(median(s.frame_ms)), s.wins, s.failed);
+  md += "\nwins: scenes where the technique has the lowest rel. RMSE vs physical. failed: scenes "
+        "where it could not run (listed below with the reason; in no mean, median or win).\n\n"
         "## Per scene\n\n| scene | technique | vs model rel. RMSE | vs model bias | vs physical "
         "rel. RMSE | vs physical bias | model vs physical rel. RMSE | FLIP vs physical | GPU ms |"
         "\n|---|---|---:|---:|---:|---:|---:|---:|---:|\n";
   for (const Row& r : rows) {
+    if (!r.error.empty() && !r.technique.empty()) {
+      md += fmt::format("| {}{} | {} | **{}** |  |  |  |  |  |  |\n", mdCell(r.scene),
+                        r.partial ? " (partial)" : "", mdCell(r.technique),
+                        mdCell("failed: " + r.error));
+      continue;
+    }
     if (!r.error.empty()) {
       md += fmt::format("| {} | **{}** |  |  |  |  |  |  |  |\n", mdCell(r.scene),
                         mdCell("error: " + r.error));
@@ -366,18 +392,25 @@ std::vector<std::string> writeLeaderboard(const fs::path& dir, const SuiteInfo& 
        "technique's own error; vs physical: the total; model vs physical: the BSSRDF model's.</p>\n"
        "<h2>Per technique</h2>\n<table><tr><th class=\"l\">technique</th><th>scenes</th><th>vs "
        "model mean</th><th>vs model median</th><th>vs physical mean</th><th>vs physical median"
-       "</th><th>GPU ms (median)</th><th>wins</th></tr>\n";
+       "</th><th>GPU ms (median)</th><th>wins</th><th>failed</th></tr>\n";
   for (const Summary& s : summary)
     h += fmt::format("<tr><td class=\"l\">{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>"
-                     "<td>{}</td><td>{}</td><td>{}</td></tr>\n", html(s.technique),
+                     "<td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n", html(s.technique),
                      s.vs_physical.size(), pct(mean(s.vs_model)), pct(median(s.vs_model)),
                      pct(mean(s.vs_physical)), pct(median(s.vs_physical)),
-                     num(median(s.frame_ms)), s.wins);
+                     num(median(s.frame_ms)), s.wins, s.failed);
   h += "</table>\n<h2>Per scene</h2>\n<table><tr><th class=\"l\">scene</th><th class=\"l\">"
        "technique</th><th>vs model rel. RMSE</th><th>vs model bias</th><th>vs physical rel. "
        "RMSE</th><th>vs physical bias</th><th>model vs physical</th><th>FLIP vs physical</th>"
        "<th>GPU ms</th></tr>\n";
   for (const Row& r : rows) {
+    if (!r.error.empty() && !r.technique.empty()) {
+      h += fmt::format("<tr><td class=\"l\"><a href=\"{}\">{}</a>{}</td><td class=\"l\">{}</td>"
+                       "<td class=\"l warn\" colspan=\"7\">failed: {}</td></tr>\n", html(r.report),
+                       html(r.scene), r.partial ? " <span class=\"warn\">(partial)</span>" : "",
+                       html(r.technique), html(r.error));
+      continue;
+    }
     if (!r.error.empty()) {
       h += fmt::format("<tr><td class=\"l\">{}</td><td class=\"l warn\" colspan=\"8\">error: {}"
                        "</td></tr>\n", html(r.scene), html(r.error));

@@ -6,7 +6,10 @@
 //   model vs physical the model's error (under the technique's radiance convention)
 //   frame_ms          the median GPU time per frame
 // and a per-technique summary across the scenes (mean and median of the relative RMSEs; wins:
-// scenes where the technique has the lowest total error, ties counting for each).
+// scenes where the technique has the lowest total error, ties counting for each; failed: scenes
+// where it could not run). A technique that failed on a scene is a row with its error (from the
+// scene's report.json), never numbers, and is left out of the means, medians and wins; a scene
+// that failed as a whole (its scene file, mesh or a reference) is a row with its error.
 //
 // The numbers are read back from each scene's report.json, never recomputed, so the leaderboard
 // and the reports agree exactly. OUT follows the report's folder rules: it is only written when

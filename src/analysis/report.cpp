@@ -211,9 +211,13 @@ std::vector<std::string> writeReport(const fs::path& dir, const CompareReport& r
   Writer w(dir, r);
   const int width = r.scene.camera.width, height = r.scene.camera.height;
   const double eta = r.scene.medium.eta;
-  const bssrdf::ExitConvention shown = r.techniques.empty()
-                                           ? bssrdf::ExitConvention::Jensen
-                                           : r.techniques.front().images.convention;
+  // The references' L is shown under the first technique's convention that rendered.
+  bssrdf::ExitConvention shown = bssrdf::ExitConvention::Jensen;
+  for (auto t = r.techniques.rbegin(); t != r.techniques.rend(); ++t)
+    if (!t->failed()) shown = t->images.convention;
+  std::vector<const TechniqueRun*> failed;
+  for (const TechniqueRun& t : r.techniques)
+    if (t.failed()) failed.push_back(&t);
   json j;
   j["generator"] = kGenerator;
   j["version"] = r.version;
@@ -245,6 +249,13 @@ std::vector<std::string> writeReport(const fs::path& dir, const CompareReport& r
   json techniques = json::array();
   for (const TechniqueRun& t : r.techniques) {
     const std::string n = t.images.name;
+    if (t.failed()) {
+      json tj = {{"name", n}, {"description", t.description}, {"status", "failed"},
+                 {"error", t.error}, {"notes", t.notes}};
+      for (const auto& [k, v] : t.parameters) tj["parameters"][k] = v;
+      techniques.push_back(tj);
+      continue;
+    }
     Shown s{n, "", "", ""};
     std::vector<ExrLayer> layers;
     if (!t.images.exitance.empty()) layers.push_back({"exitance", t.images.exitance.rgb});
@@ -256,7 +267,7 @@ std::vector<std::string> writeReport(const fs::path& dir, const CompareReport& r
     s.radiance = w.png(n + "-radiance.png", t.images.radiance, false);
     if (!t.images.exitance.empty()) s.exitance = w.png(n + "-exitance.png", t.images.exitance, true);
     shownRows.push_back(s);
-    json tj = {{"name", n}, {"description", t.description},
+    json tj = {{"name", n}, {"description", t.description}, {"status", "done"},
                {"convention", toString(t.images.convention)},
                {"frame_ms", t.frame_ms}, {"timed_frames", t.timed_frames},
                {"warmup_frames", t.warmup_frames}, {"notes", t.notes},
@@ -348,6 +359,14 @@ std::vector<std::string> writeReport(const fs::path& dir, const CompareReport& r
   h += "<p>Scene: <b>" + html(r.scene_file.empty() ? "built-in bunny" : r.scene_file) + "</b>: " +
        html(sceneSummary(r.scene)) + ". GPU: " + html(r.gpu) + ". " + html(r.version) +
        ", created " + html(r.created) + ".</p>\n";
+  if (!failed.empty()) {
+    h += fmt::format("<p class=\"warn\">{} of {} techniques failed on this scene (no images or "
+                     "metrics; the others and the references are complete):</p>\n<ul>\n",
+                     failed.size(), r.techniques.size());
+    for (const TechniqueRun* t : failed)
+      h += "<li class=\"warn\">" + html(t->images.name) + ": " + html(t->error) + "</li>\n";
+    h += "</ul>\n";
+  }
   h += "<p>Reproduce:</p><pre>" + html(r.command) + "</pre>\n";
   for (const std::string& n : r.notes) h += "<p>" + html(n) + "</p>\n";
 
@@ -364,6 +383,9 @@ std::vector<std::string> writeReport(const fs::path& dir, const CompareReport& r
   auto cell = [&](const std::string& src, const std::string& caption) {
     return src.empty() ? std::string("<td>–</td>") : "<td>" + figure(src, caption, "") + "</td>";
   };
+  for (const TechniqueRun* t : failed)
+    h += "<tr><td class=\"l\">" + html(t->images.name) + "</td><td class=\"l warn\" colspan=\"3\">"
+         "failed: " + html(t->error) + "</td></tr>\n";
   for (const Shown& s : shownRows) {
     const std::string exr = (s.label.ends_with(" reference") ? s.label.substr(0, s.label.size() - 10)
                                                              : s.label) + ".exr";
@@ -410,6 +432,10 @@ std::vector<std::string> writeReport(const fs::path& dir, const CompareReport& r
                      spct(m.bias), pct(m.bias_stderr), num(m.ssim), num(m.flip), num(m.mean_abs_z),
                      pct(m.fraction_abs_z_above_3));
   }
+  // A failed technique is a row with its reason, never blank or zero numbers.
+  for (const TechniqueRun* t : failed)
+    h += "<tr><td class=\"l\">" + html(t->images.name) + "</td><td class=\"l warn\" "
+         "colspan=\"14\">failed: " + html(t->error) + "</td></tr>\n";
   h += "</table>\n<h3>Error maps</h3>\n<p>Relative difference (test − reference) / reference: " +
        figure(barRel, fmt::format("−{0:g}% … +{0:g}%", 100 * kRelativeRange), " class=\"bar\"") +
        " z-score: " + figure(barZ, fmt::format("−{0:g} … +{0:g}", kZRange), " class=\"bar\"") +
@@ -428,6 +454,11 @@ std::vector<std::string> writeReport(const fs::path& dir, const CompareReport& r
   h += "<h2>Time</h2>\n<table><tr><th class=\"l\">technique</th><th class=\"l\">pass</th>"
        "<th>median [ms]</th><th>min [ms]</th><th>max [ms]</th></tr>\n";
   for (const TechniqueRun& t : r.techniques) {
+    if (t.failed()) {
+      h += "<tr><th class=\"l\">" + html(t.images.name) + "</th><td class=\"l warn\" colspan=\"4\">"
+           "failed: " + html(t.error) + "</td></tr>\n";
+      continue;
+    }
     for (const PassStat& p : t.passes)
       h += fmt::format("<tr><td class=\"l\">{}</td><td class=\"l\">{}{}</td><td>{}</td><td>{}</td>"
                        "<td>{}</td></tr>\n", html(t.images.name),
@@ -450,7 +481,8 @@ std::vector<std::string> writeReport(const fs::path& dir, const CompareReport& r
                                                                   : "stored as " + ref.cache_file.string()));
   h += "</table>\n<h3>Technique settings</h3>\n";
   for (const TechniqueRun& t : r.techniques) {
-    h += "<p><b>" + html(t.images.name) + "</b> (" + html(t.description) + "): ";
+    h += "<p><b>" + html(t.images.name) + "</b> (" + html(t.description) + ")" +
+         (t.failed() ? " <span class=\"warn\">failed: " + html(t.error) + "</span>" : "") + ": ";
     for (size_t i = 0; i < t.parameters.size(); ++i)
       h += (i ? ", " : "") + html(t.parameters[i].first) + " = " + html(t.parameters[i].second);
     for (const std::string& n : t.notes) h += "<br>" + html(n);

@@ -7,6 +7,10 @@
 //   *.png          what index.html shows
 // Nothing outside the folder is referenced.
 //
+// A technique that failed on the scene (TechniqueRun::error) is listed with its message in
+// index.html (images, errors and time tables) and in report.json (techniques[].status "failed",
+// techniques[].error); it has no images and no rows in metrics.
+//
 // A folder is only ever written when it is empty, missing, or holds a previous report (its
 // report.json says generator "translucent compare" and lists its files): a rerun first removes
 // the files the previous report listed, and refuses (without --force) when anything else is
@@ -29,13 +33,17 @@ struct PassStat {
 };
 
 struct TechniqueRun {
-  TechniqueImages images;
+  TechniqueImages images;  // a failed run has only images.name
+  std::string error;       // why the technique failed on this scene ("" when it ran): a row of
+                           // the report with this message, no images and no metrics
   std::string description;
   std::vector<std::pair<std::string, std::string>> parameters;  // every value as rendered
   std::vector<PassStat> passes;  // depth-0 and nested, in frame order
   double frame_ms = 0.0;         // median over the timed frames of the depth-0 total
   int timed_frames = 0, warmup_frames = 0;
   std::vector<std::string> notes;
+
+  bool failed() const { return !error.empty(); }
 };
 
 // One rendering of a technique's sweep (its quality parameter at one value).
@@ -59,7 +67,7 @@ struct CompareReport {
   std::string version;     // translucent version
   std::string created;     // UTC time
   std::vector<std::pair<std::string, std::string>> settings;  // the command's options, as used
-  std::vector<TechniqueRun> techniques;
+  std::vector<TechniqueRun> techniques;  // failed ones included, in the order they were run
   std::vector<Reference> references;
   std::vector<PairMetrics> metrics;
   std::vector<SweepPoint> sweep;

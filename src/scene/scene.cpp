@@ -14,6 +14,7 @@
 #include <glm/mat3x3.hpp>
 
 #include "optics/presets.h"
+#include "scene/data_path.h"
 
 namespace translucent::scene {
 namespace {
@@ -94,6 +95,21 @@ std::filesystem::path resolve(const std::filesystem::path& p, const std::filesys
   return p.is_absolute() || base.empty() ? p : base / p;
 }
 
+// A file key of the scene (data_path.h), remembered by its given name when found on the data
+// search path so that toJson can write that name back.
+std::filesystem::path resolveFile(const Reader& r, Scene& s, const std::string& name,
+                                  const std::filesystem::path& base_dir, const std::string& key) {
+  const ResolvedFile f = resolveSceneFile(name, base_dir, r.what, key);
+  if (f.on_search_path) s.data_names[f.path] = name;
+  return f.path;
+}
+
+// How toJson writes a file path: its given name when it came from the data search path.
+std::string writtenPath(const Scene& s, const std::filesystem::path& p) {
+  const auto it = s.data_names.find(p);
+  return it != s.data_names.end() ? it->second : p.string();
+}
+
 void requireDirection(const Reader& r, glm::dvec3& d, const std::string& key) {
   const double n = glm::length(d);
   if (!(n > 0.0) || !std::isfinite(n)) r.fail(key, "expected a non-zero finite direction");
@@ -106,7 +122,7 @@ void requirePositive(const Reader& r, double v, const std::string& key) {
   if (!std::isfinite(v) || !(v > 0.0)) r.fail(key, fmt::format("is {}: expected a finite value > 0", v));
 }
 
-Light parseLight(const Reader& r, const json& l, const std::string& key,
+Light parseLight(const Reader& r, Scene& s, const json& l, const std::string& key,
                  const std::filesystem::path& base_dir) {
   if (!l.is_object()) r.fail(key, "expected an object");
   const std::string type = r.string(l, "type", key);
@@ -138,14 +154,15 @@ Light parseLight(const Reader& r, const json& l, const std::string& key,
     f.irradiance = r.number(l, "irradiance", key, 1.0);
     requirePositive(r, f.irradiance, key + ".irradiance");
     const std::string tex = r.string(l, "texture", key);
-    f.texture = tex == "checker" ? std::filesystem::path(tex) : resolve(tex, base_dir);
+    f.texture = tex == "checker" ? std::filesystem::path(tex)
+                                 : resolveFile(r, s, tex, base_dir, key + ".texture");
     f.texture_size = r.number(l, "texture_size", key, 1.0);
     requirePositive(r, f.texture_size, key + ".texture_size");
     light.emitter = f;
   } else if (type == "environment") {
     r.onlyKeys(l, key, {"type", "file", "intensity", "rotate", "occlusion", "color"});
     EnvironmentLight e;
-    e.file = resolve(r.string(l, "file", key), base_dir);
+    e.file = resolveFile(r, s, r.string(l, "file", key), base_dir, key + ".file");
     e.intensity = r.number(l, "intensity", key, 1.0);
     requirePositive(r, e.intensity, key + ".intensity");
     e.rotate = r.number(l, "rotate", key, 0.0);
@@ -163,7 +180,7 @@ Light parseLight(const Reader& r, const json& l, const std::string& key,
   return light;
 }
 
-json lightJson(const Light& l) {
+json lightJson(const Scene& s, const Light& l) {
   json j;
   if (const auto* d = std::get_if<DirectionalLight>(&l.emitter)) {
     j = {{"type", "directional"}, {"direction", vec(d->direction)}, {"irradiance", d->irradiance}};
@@ -174,11 +191,11 @@ json lightJson(const Light& l) {
          {"radius", b->radius}, {"power", b->power}};
   } else if (const auto* f = std::get_if<FilteredDirectionalLight>(&l.emitter)) {
     j = {{"type", "filtered_directional"}, {"direction", vec(f->direction)},
-         {"irradiance", f->irradiance}, {"texture", f->texture.string()},
+         {"irradiance", f->irradiance}, {"texture", writtenPath(s, f->texture)},
          {"texture_size", f->texture_size}};
   } else {
     const auto& e = std::get<EnvironmentLight>(l.emitter);
-    j = {{"type", "environment"}, {"file", e.file.string()}, {"intensity", e.intensity},
+    j = {{"type", "environment"}, {"file", writtenPath(s, e.file)}, {"intensity", e.intensity},
          {"rotate", e.rotate}, {"occlusion", e.occlusion}};
   }
   j["color"] = rgbJson(l.color);
@@ -214,8 +231,9 @@ Scene parseScene(const std::string& text, const std::filesystem::path& base_dir,
   // Mesh.
   if (!doc.contains("mesh")) r.fail("mesh", "required (an object with \"file\")");
   const json& mesh = doc["mesh"];
-  r.onlyKeys(mesh, "mesh", {"file", "normalize", "rotate", "scale", "translate"});
-  s.mesh_file = resolve(r.string(mesh, "file", "mesh"), base_dir);
+  r.onlyKeys(mesh, "mesh", {"file", "fill_holes", "normalize", "rotate", "scale", "translate"});
+  s.mesh_file = resolveFile(r, s, r.string(mesh, "file", "mesh"), base_dir, "mesh.file");
+  s.mesh_fill_holes = r.boolean(mesh, "fill_holes", "mesh", false);
   s.mesh_normalize = r.boolean(mesh, "normalize", "mesh", true);
   s.mesh_rotate = r.vec3(mesh, "rotate", "mesh", glm::dvec3(0.0));
   s.mesh_scale = r.number(mesh, "scale", "mesh", 1.0);
@@ -271,7 +289,7 @@ Scene parseScene(const std::string& text, const std::filesystem::path& base_dir,
   const json& lights = doc["lights"];
   if (!lights.is_array() || lights.empty()) r.fail("lights", "expected a non-empty array");
   for (size_t i = 0; i < lights.size(); ++i)
-    s.lights.push_back(parseLight(r, lights[i], fmt::format("lights[{}]", i), base_dir));
+    s.lights.push_back(parseLight(r, s, lights[i], fmt::format("lights[{}]", i), base_dir));
 
   // Camera.
   if (!doc.contains("camera")) r.fail("camera", "required");
@@ -347,7 +365,8 @@ Scene loadScene(const std::filesystem::path& path) {
 
 std::string toJson(const Scene& s) {
   json doc;
-  doc["mesh"] = {{"file", s.mesh_file.string()}, {"normalize", s.mesh_normalize},
+  doc["mesh"] = {{"file", writtenPath(s, s.mesh_file)}, {"fill_holes", s.mesh_fill_holes},
+                 {"normalize", s.mesh_normalize},
                  {"rotate", vec(s.mesh_rotate)}, {"scale", s.mesh_scale},
                  {"translate", vec(s.mesh_translate)}};
   json mat;
@@ -363,7 +382,7 @@ std::string toJson(const Scene& s) {
   mat["model"] = s.model;
   doc["material"] = mat;
   json lights = json::array();
-  for (const Light& l : s.lights) lights.push_back(lightJson(l));
+  for (const Light& l : s.lights) lights.push_back(lightJson(s, l));
   doc["lights"] = lights;
   const Camera& c = s.camera;
   doc["camera"] = {{"type", c.projection == Camera::Projection::Pinhole ? "pinhole" : "orthographic"},
@@ -405,11 +424,30 @@ void placeMesh(const Scene& scene, geometry::TriangleMesh& mesh) {
   for (glm::dvec3& n : mesh.normals) n = rot * n;
 }
 
-geometry::TriangleMesh loadSceneMesh(const Scene& scene) {
+geometry::TriangleMesh loadSceneMesh(const Scene& scene, geometry::HoleFillStats* fill) {
   geometry::TriangleMesh mesh = geometry::loadMesh(scene.mesh_file.string());
+  if (scene.mesh_fill_holes) {
+    const std::string what = fmt::format("mesh file '{}' (mesh.fill_holes)", scene.mesh_file.string());
+    const geometry::HoleFillStats st = geometry::fillHoles(mesh, what);
+    if (st.unfilled > 0)
+      throw geometry::MeshError(fmt::format("{}: {} of {} holes could not be triangulated: "
+                                            "expected a mesh whose holes CGAL can fill", what,
+                                            st.unfilled, st.holes));
+    if (fill) *fill = st;
+  }
   placeMesh(scene, mesh);
   mesh.validate(scene.mesh_file.string());
   return mesh;
+}
+
+std::string describeHoleFill(const geometry::HoleFillStats& f) {
+  if (f.holes == 0) return "no holes (the mesh is closed)";
+  return fmt::format("{} hole{} filled ({} faired, {} refined without fairing{}), {} triangles "
+                     "and {} vertices added, {:.3g}% of the area",
+                     f.filled(), f.filled() == 1 ? "" : "s", f.faired, f.refined_unfaired,
+                     f.unfilled ? fmt::format(", {} unfilled", f.unfilled) : std::string(),
+                     f.triangles_added, f.vertices_added,
+                     f.area_before > 0.0 ? 100.0 * f.area_added / f.area_before : 0.0);
 }
 
 std::vector<reference::Light> referenceLights(const Scene& scene) {
@@ -473,7 +511,8 @@ Scene defaultScene() {
 }
 
 std::string meshKey(const Scene& s) {
-  return fmt::format("{}|{}|{},{},{}|{}|{},{},{}", s.mesh_file.string(), s.mesh_normalize,
+  return fmt::format("{}|fill{}|{}|{},{},{}|{}|{},{},{}", s.mesh_file.string(), s.mesh_fill_holes,
+                     s.mesh_normalize,
                      s.mesh_rotate.x, s.mesh_rotate.y, s.mesh_rotate.z, s.mesh_scale,
                      s.mesh_translate.x, s.mesh_translate.y, s.mesh_translate.z);
 }

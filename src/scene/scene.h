@@ -6,7 +6,9 @@
 // and toJson() writes a scene back such that parsing it again gives the same scene (round trip).
 //
 //   {
-//     "mesh":     {"file": "bunny.obj",        // OBJ/PLY/OFF, relative to the scene file
+//     "mesh":     {"file": "bunny.obj",        // OBJ/PLY/OFF, relative to the scene file, else
+//                                               //   on the data search path (scene/data_path.h)
+//                  "fill_holes": false,         // close an open mesh (geometry/hole_filling.h)
 //                  "normalize": true,           // centre on the bounding box, longest axis 1
 //                  "rotate": [0, 0, 0],         // degrees about x, then y, then z
 //                  "scale": 1.0,                // then p -> scale R p + translate
@@ -41,6 +43,18 @@
 // Every light takes "color" (per-channel multiplier of its flux). Units: positions in scene units;
 // light fluxes in W (irradiance W/unit², intensity W/sr, environment radiance W/(unit² sr)).
 //
+// Files ("mesh.file", a light's "texture" and "file"): a relative name is found beside the scene
+// file, else in each folder of $TRANSLUCENT_DATA, else in ~/.cache/translucent/data
+// (scene/data_path.h); a file that is nowhere is an error at parse time that lists every place
+// tried. toJson writes a file found beside the scene (or by absolute name) as the resolved path,
+// one found on the data search path by the name the scene gave ("cgal/head.off"), so that a
+// written scene stays portable and reads back to the same file.
+//
+// "fill_holes": true closes the mesh at load time (loadSceneMesh): every hole is triangulated,
+// refined and faired, before the placement. The references need a closed mesh; scanned heads
+// (CGAL's cgal/head.off) are open at the neck. It is part of meshKey, so techniques and the
+// reference cache see a filled mesh as another mesh.
+//
 // Colour: RGB throughout, linear, in the order red, green, blue.
 #pragma once
 
@@ -52,6 +66,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "geometry/hole_filling.h"
 #include "geometry/mesh.h"
 #include "optics/medium.h"
 #include "reference/camera.h"
@@ -92,6 +107,7 @@ using Setting = std::variant<bool, double, std::string>;
 struct Scene {
   // Mesh and placement: normalise (optional), rotate, scale, translate.
   std::filesystem::path mesh_file;  // as resolved (absolute or relative to the working directory)
+  bool mesh_fill_holes = false;     // geometry::fillHoles before the placement
   bool mesh_normalize = true;
   glm::dvec3 mesh_rotate{0.0};      // degrees
   double mesh_scale = 1.0;
@@ -113,6 +129,11 @@ struct Scene {
   double gamma = 2.2;
 
   double cone_angle = 5.0;  // path tracer only
+
+  // Files found on the data search path, by resolved path: the name the scene gave. toJson
+  // writes that name for a path listed here (a path changed since parsing is not, and is
+  // written as it is).
+  std::map<std::filesystem::path, std::string> data_names;
 };
 
 // Reads and checks a scene file; throws ParameterError naming the file and the offending key.
@@ -127,10 +148,14 @@ std::string toJson(const Scene& scene);
 // Writes toJson(scene) to `path` (ParameterError naming the file when it cannot).
 void saveScene(const Scene& scene, const std::filesystem::path& path);
 
-// Loads the scene's mesh (geometry::loadMesh: MeshError for missing, empty or malformed files)
-// and places it: normalised (centred on its bounding box, longest axis 1), rotated, scaled,
-// translated. Vertex normals follow the rotation.
-geometry::TriangleMesh loadSceneMesh(const Scene& scene);
+// Loads the scene's mesh (geometry::loadMesh: MeshError for missing, empty or malformed files),
+// fills its holes when mesh_fill_holes (MeshError naming the file when one cannot be filled;
+// `fill`, when given, receives what was done) and places it: normalised (centred on its bounding
+// box, longest axis 1), rotated, scaled, translated. Vertex normals follow the rotation.
+geometry::TriangleMesh loadSceneMesh(const Scene& scene, geometry::HoleFillStats* fill = nullptr);
+// One line on what fillHoles did ("3 holes filled (2 faired, 1 refined without fairing), 120
+// triangles added, 0.12% of the area"), for logs and reports.
+std::string describeHoleFill(const geometry::HoleFillStats& fill);
 // The placement alone, applied to a mesh in place.
 void placeMesh(const Scene& scene, geometry::TriangleMesh& mesh);
 // A text that changes exactly when loadSceneMesh's result would (file and placement): techniques

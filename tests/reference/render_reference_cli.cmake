@@ -63,7 +63,7 @@ if(TARGET translucent_cli)
        "{\"preset\": \"Marble\"}, \"lights\": [{\"type\": \"directional\", \"direction\": "
        "[0, 1, 0]}], \"camera\": {\"position\": [0, 0, 5]}}")
   render_test(mesh_missing_mesh FAIL ARGS pathtrace mesh --scene ${OUT}/missing_mesh.json
-              --exr ${OUT}/x.exr MATCH "nowhere.obj' does not exist")
+              --exr ${OUT}/x.exr MATCH "mesh.file: file 'nowhere.obj' not found")
   add_test(NAME cli.render_sigint
            COMMAND sh ${CMAKE_CURRENT_SOURCE_DIR}/sigint_render.sh ${T} ${OUT})
   set_tests_properties(cli.render_sigint PROPERTIES LABELS cli TIMEOUT 120)
