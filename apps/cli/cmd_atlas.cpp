@@ -176,14 +176,15 @@ void addAtlasCommand(CLI::App& app) {
   auto args = std::make_shared<AtlasArgs>();
   auto* cmd = app.add_subcommand(
       "atlas",
-      "Build the surface atlas of a mesh (texture-space importance sampling): charts mapped "
-      "area-preservingly and packed with gutters; print its statistics and draw it coloured by "
-      "area distortion");
+      "Build the surface atlas of a mesh (texture-space importance sampling): disk charts mapped "
+      "to the plane, scaled so texel area follows surface area, packed with gutters; print its "
+      "statistics and draw it coloured by area distortion");
   cmd->add_option("mesh", args->mesh, "Mesh file (OBJ, PLY, OFF)")->required();
   cmd->add_option("--size", args->size, "Texels per side of the atlas")->capture_default_str();
   cmd->add_option("--method", args->method,
-                  "authalic (charts, discrete authalic map: area preserving), lscm (charts, "
-                  "least squares conformal maps: angle preserving), or triangles (one chart per "
+                  "authalic (charts, CGAL's discrete authalic map on a circle), lscm (charts, "
+                  "least squares conformal maps, free boundary: less area distortion and better "
+                  "utilisation on the bunny, armadillo and cow), or triangles (one chart per "
                   "triangle, no distortion, low utilisation)")
       ->capture_default_str();
   cmd->add_flag("--mesh-uvs", args->meshUVs,
