@@ -13,5 +13,6 @@ void addRenderReferenceCommands(CLI::App& app);  // pathtrace sphere|mesh, integ
 void addRenderCommand(CLI::App& app);            // render (real-time techniques, GPU)
 void addCompareCommand(CLI::App& app);           // compare (techniques vs references, report)
 void addConventionStudyCommand(CLI::App& app);   // convention-study (exit-radiance conventions)
+void addAtlasCommand(CLI::App& app);             // atlas (surface parameterisation, statistics)
 
 }  // namespace translucent::cli

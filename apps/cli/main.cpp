@@ -20,6 +20,7 @@ int main(int argc, char** argv) {
   translucent::cli::addRenderCommand(app);
   translucent::cli::addCompareCommand(app);
   translucent::cli::addConventionStudyCommand(app);
+  translucent::cli::addAtlasCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

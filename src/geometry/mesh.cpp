@@ -55,6 +55,9 @@ void TriangleMesh::validate(const std::string& what) const {
   if (!normals.empty() && normals.size() != positions.size())
     throw MeshError(fmt::format("{}: {} normals for {} vertices: expected one per vertex", what,
                                 normals.size(), positions.size()));
+  if (!texcoords.empty() && texcoords.size() != positions.size())
+    throw MeshError(fmt::format("{}: {} texture coordinates for {} vertices: expected one per "
+                                "vertex", what, texcoords.size(), positions.size()));
   const auto n = static_cast<uint32_t>(positions.size());
   for (size_t i = 0; i < triangles.size(); ++i) {
     const auto& t = triangles[i];
@@ -136,7 +139,7 @@ TriangleMesh loadMesh(const std::string& path) {
                                 importer.GetErrorString()));
 
   TriangleMesh mesh;
-  bool allNormals = true;
+  bool allNormals = true, allTexcoords = true;
   for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
     const aiMesh* am = scene->mMeshes[m];
     if ((am->mPrimitiveTypes & aiPrimitiveType_TRIANGLE) == 0) continue;
@@ -148,8 +151,13 @@ TriangleMesh loadMesh(const std::string& path) {
         const aiVector3D& n = am->mNormals[v];
         mesh.normals.emplace_back(n.x, n.y, n.z);
       }
+      if (am->HasTextureCoords(0)) {
+        const aiVector3D& uv = am->mTextureCoords[0][v];
+        mesh.texcoords.emplace_back(uv.x, uv.y);
+      }
     }
     allNormals = allNormals && am->HasNormals();
+    allTexcoords = allTexcoords && am->HasTextureCoords(0);
     for (unsigned f = 0; f < am->mNumFaces; ++f) {
       const aiFace& face = am->mFaces[f];
       if (face.mNumIndices != 3) continue;
@@ -158,6 +166,7 @@ TriangleMesh loadMesh(const std::string& path) {
     }
   }
   if (!allNormals) mesh.normals.clear();
+  if (!allTexcoords) mesh.texcoords.clear();
   for (size_t i = 0; i < mesh.positions.size(); ++i) {
     const auto& p = mesh.positions[i];
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))

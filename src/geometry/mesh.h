@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
 namespace translucent::geometry {
@@ -33,6 +34,8 @@ struct TriangleMesh {
   std::vector<glm::uvec3> triangles;  // vertex indices, counter-clockwise seen from outside
                                       // when the file says so (the transport does not rely on it)
   std::vector<glm::dvec3> normals;    // per vertex (empty: none)
+  std::vector<glm::dvec2> texcoords;  // per vertex UV, the file's first set (empty: none); the
+                                      // atlas (atlas.h) keeps them when they are a valid one
 
   size_t vertexCount() const { return positions.size(); }
   size_t triangleCount() const { return triangles.size(); }

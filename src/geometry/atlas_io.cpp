@@ -1,0 +1,218 @@
+// The atlas cache (atlas.h): one small binary file per (mesh, options), beside the point clouds
+// in defaultCacheDirectory(), written atomically (temporary file, then rename).
+//
+// Format (little endian): "TLATLAS\n", uint32 format version, uint32 size, uint32 method,
+// uint32 gutter, uint64 triangle count, uint32 chart count, uint32 folded and distorted charts, uint32 length
+// and bytes of meshUVRejection, float u v per corner (6 per triangle), uint32 chart per triangle.
+// Areas are recomputed from the mesh on reading.
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <functional>
+#include <thread>
+
+#include "geometry/atlas.h"
+#include "geometry/atlas_chart.h"
+#include "geometry/counter_rng.h"
+#include "geometry/point_cloud.h"  // meshHash, defaultCacheDirectory
+
+namespace translucent::geometry {
+namespace fs = std::filesystem;
+namespace {
+
+// Bumped whenever buildAtlas's output for given (mesh, options) changes, or the file format.
+constexpr uint32_t kAtlasVersion = 1;
+constexpr char kMagic[8] = {'T', 'L', 'A', 'T', 'L', 'A', 'S', '\n'};
+
+uint64_t texcoordHash(const TriangleMesh& mesh) {
+  uint64_t h = 0x13198a2e03707344ULL;  // π's fraction bits, further on
+  for (const auto& uv : mesh.texcoords) {
+    h = mix64(h ^ std::bit_cast<uint64_t>(uv.x));
+    h = mix64(h ^ std::bit_cast<uint64_t>(uv.y));
+  }
+  return h;
+}
+
+template <typename T>
+void put(std::string& out, const T& v) {
+  out.append(reinterpret_cast<const char*>(&v), sizeof(T));
+}
+
+class Reader {
+ public:
+  Reader(const std::string& bytes, const fs::path& file) : bytes_(bytes), file_(file) {}
+  template <typename T>
+  T get() {
+    T v;
+    read(&v, sizeof(T));
+    return v;
+  }
+  void read(void* dst, size_t n) {
+    if (pos_ + n > bytes_.size())
+      throw AtlasError(fmt::format("atlas cache file '{}' is truncated", file_.string()));
+    std::memcpy(dst, bytes_.data() + pos_, n);
+    pos_ += n;
+  }
+  bool atEnd() const { return pos_ == bytes_.size(); }
+
+ private:
+  const std::string& bytes_;
+  const fs::path& file_;
+  size_t pos_ = 0;
+};
+
+void writeAtomically(const fs::path& path, const std::string& bytes) {
+  static std::atomic<uint64_t> counter{0};
+  const fs::path tmp = path.string() + fmt::format(".tmp-{}-{}-{}", ::getpid(),
+                                                   std::hash<std::thread::id>{}(std::this_thread::get_id()),
+                                                   counter.fetch_add(1));
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out)
+      throw AtlasError(fmt::format("atlas cache file '{}' cannot be written: cannot create '{}'",
+                                   path.string(), tmp.string()));
+    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    out.flush();
+    if (!out) {
+      out.close();
+      std::error_code ec;
+      fs::remove(tmp, ec);
+      throw AtlasError(fmt::format("atlas cache file '{}' cannot be written (disk full?)",
+                                   path.string()));
+    }
+  }
+  std::error_code ec;
+  fs::rename(tmp, path, ec);
+  if (ec) {
+    std::error_code ignored;
+    fs::remove(tmp, ignored);
+    throw AtlasError(fmt::format("atlas cache file '{}' cannot be written: {}", path.string(),
+                                 ec.message()));
+  }
+}
+
+std::string serialize(const Atlas& atlas) {
+  std::string out(kMagic, sizeof kMagic);
+  put(out, kAtlasVersion);
+  put(out, atlas.size);
+  put(out, static_cast<uint32_t>(atlas.method));
+  put(out, atlas.gutter);
+  put(out, static_cast<uint64_t>(atlas.triangleCount()));
+  put(out, atlas.chartCount);
+  put(out, atlas.foldedCharts);
+  put(out, atlas.distortedCharts);
+  put(out, static_cast<uint32_t>(atlas.meshUVRejection.size()));
+  out += atlas.meshUVRejection;
+  for (const glm::vec2& uv : atlas.uvs) {
+    put(out, uv.x);
+    put(out, uv.y);
+  }
+  for (const uint32_t c : atlas.chart) put(out, c);
+  return out;
+}
+
+// Reads an atlas for `mesh`; throws AtlasError naming the file when it is not one.
+Atlas deserialize(const std::string& bytes, const fs::path& file, const TriangleMesh& mesh) {
+  Reader r(bytes, file);
+  char magic[8];
+  r.read(magic, sizeof magic);
+  if (std::memcmp(magic, kMagic, sizeof kMagic) != 0)
+    throw AtlasError(fmt::format("'{}' is not an atlas cache file", file.string()));
+  if (const auto v = r.get<uint32_t>(); v != kAtlasVersion)
+    throw AtlasError(fmt::format("atlas cache file '{}' has version {}, expected {}",
+                                 file.string(), v, kAtlasVersion));
+  Atlas atlas;
+  atlas.size = r.get<uint32_t>();
+  const auto method = r.get<uint32_t>();
+  if (method > static_cast<uint32_t>(AtlasMethod::MeshUVs))
+    throw AtlasError(fmt::format("atlas cache file '{}' has method {}", file.string(), method));
+  atlas.method = static_cast<AtlasMethod>(method);
+  atlas.gutter = r.get<uint32_t>();
+  const auto nt = r.get<uint64_t>();
+  if (nt != mesh.triangleCount())
+    throw AtlasError(fmt::format("atlas cache file '{}' has {} triangles, the mesh {}",
+                                 file.string(), nt, mesh.triangleCount()));
+  atlas.chartCount = r.get<uint32_t>();
+  atlas.foldedCharts = r.get<uint32_t>();
+  atlas.distortedCharts = r.get<uint32_t>();
+  atlas.meshUVRejection.resize(r.get<uint32_t>());
+  if (atlas.meshUVRejection.size() > 4096)
+    throw AtlasError(fmt::format("atlas cache file '{}' is corrupt", file.string()));
+  r.read(atlas.meshUVRejection.data(), atlas.meshUVRejection.size());
+  atlas.uvs.resize(3 * nt);
+  for (glm::vec2& uv : atlas.uvs) {
+    uv.x = r.get<float>();
+    uv.y = r.get<float>();
+    if (!(uv.x >= 0.0f && uv.x <= 1.0f && uv.y >= 0.0f && uv.y <= 1.0f))
+      throw AtlasError(fmt::format("atlas cache file '{}' has a UV outside [0, 1]²",
+                                   file.string()));
+  }
+  atlas.chart.resize(nt);
+  for (uint32_t& c : atlas.chart) {
+    c = r.get<uint32_t>();
+    if (c >= atlas.chartCount)
+      throw AtlasError(fmt::format("atlas cache file '{}' has a chart id out of range",
+                                   file.string()));
+  }
+  if (!r.atEnd())
+    throw AtlasError(fmt::format("atlas cache file '{}' has trailing bytes", file.string()));
+  detail::computeAtlasAreas(mesh, atlas);
+  return atlas;
+}
+
+}  // namespace
+
+std::string atlasCacheFileName(const TriangleMesh& mesh, const AtlasOptions& options) {
+  std::string name = fmt::format("atlas-{:016x}", meshHash(mesh));
+  if (options.useMeshUVs) name += fmt::format("-uv{:016x}", texcoordHash(mesh));
+  name += fmt::format("-n{}-{}-g{}", options.size, toString(options.method), options.gutter);
+  if (options.method != AtlasMethod::Triangles)
+    name += fmt::format("-a{}-c{}", options.maxChartAngle, options.maxChartArea);
+  return name + fmt::format("-v{}.bin", kAtlasVersion);
+}
+
+CachedAtlas loadOrBuildAtlas(const TriangleMesh& mesh, const AtlasOptions& options,
+                             const fs::path& cacheDir, const AtlasProgress& progress) {
+  CachedAtlas result;
+  result.file = cacheDir / atlasCacheFileName(mesh, options);
+  std::error_code ec;
+  if (fs::exists(result.file, ec)) {
+    try {
+      std::ifstream in(result.file, std::ios::binary);
+      std::string bytes(static_cast<size_t>(fs::file_size(result.file, ec)), '\0');
+      in.read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+      if (ec || !in)
+        throw AtlasError(fmt::format("atlas cache file '{}' cannot be read",
+                                     result.file.string()));
+      result.atlas = deserialize(bytes, result.file, mesh);
+      if (result.atlas.size == options.size) {
+        result.fromCache = true;
+        return result;
+      }
+      result.note = fmt::format("cache file '{}' does not match the options; rebuilt",
+                                result.file.string());
+    } catch (const AtlasError& e) {
+      result.note = fmt::format("cache file unreadable ({}); rebuilt", e.what());
+    }
+  }
+  result.atlas = buildAtlas(mesh, options, progress);
+  fs::create_directories(cacheDir, ec);
+  try {
+    writeAtomically(result.file, serialize(result.atlas));
+  } catch (const AtlasError& e) {
+    result.note += (result.note.empty() ? "" : "; ") + fmt::format("not cached: {}", e.what());
+  }
+  return result;
+}
+
+CachedAtlas loadOrBuildAtlas(const TriangleMesh& mesh, const AtlasOptions& options,
+                             const AtlasProgress& progress) {
+  return loadOrBuildAtlas(mesh, options, defaultCacheDirectory(), progress);
+}
+
+}  // namespace translucent::geometry
