@@ -258,7 +258,10 @@ TEST(AtlasCache, SecondCallReadsTheFileAndACorruptFileIsRebuilt) {
   EXPECT_EQ(third.atlas.uvs, first.atlas.uvs);
   // Another method or size is another file.
   AtlasOptions other = o;
-  other.method = AtlasMethod::Lscm;
+  other.method = AtlasMethod::Authalic;
+  EXPECT_NE(atlasCacheFileName(mesh, other), atlasCacheFileName(mesh, o));
+  other = o;
+  other.size = 512;
   EXPECT_NE(atlasCacheFileName(mesh, other), atlasCacheFileName(mesh, o));
   std::filesystem::remove_all(dir);
 }

@@ -492,7 +492,7 @@ TEST(StandingSuite, EverySceneParsesAndItsMeshIsClosed) {
       ADD_FAILURE() << x.what();
     }
   }
-  EXPECT_EQ(scenes, 9);
+  EXPECT_EQ(scenes, 10);
   EXPECT_EQ(heads, 6);  // 10 and 40 mm x skim milk, marble, skin
 }
 
