@@ -1,5 +1,6 @@
 // Per-vertex ambient occlusion by Embree ray casting (ambient_occlusion.h).
 #include "geometry/ambient_occlusion.h"
+#include "geometry/atomic_file.h"
 
 #include <fmt/format.h>
 #include <tbb/blocked_range.h>
@@ -190,34 +191,15 @@ AmbientOcclusion loadOrComputeAmbientOcclusion(const TriangleMesh& mesh,
   result.file = file;
   result.note = note;
   fs::create_directories(cacheDir, ec);
-  static std::atomic<uint64_t> counter{0};
-  const fs::path tmp = file.string() + fmt::format(".tmp-{}-{}-{}", ::getpid(),
-                                                   std::hash<std::thread::id>{}(std::this_thread::get_id()),
-                                                   counter.fetch_add(1));
-  bool written = false;
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (out) {
-      const uint64_t count = result.values.size();
-      const int32_t rays = options.rays;
-      out.write(kMagic, sizeof kMagic);
-      out.write(reinterpret_cast<const char*>(&count), sizeof count);
-      out.write(reinterpret_cast<const char*>(&rays), sizeof rays);
-      out.write(reinterpret_cast<const char*>(result.values.data()),
-                static_cast<std::streamsize>(count * sizeof(float)));
-      out.flush();
-      written = static_cast<bool>(out);
-    }
-  }
-  if (written) {
-    fs::rename(tmp, file, ec);
-    written = !ec;
-  }
-  if (!written) {
-    fs::remove(tmp, ec);
+  const uint64_t count = result.values.size();
+  const int32_t rays = options.rays;
+  std::string bytes(kMagic, sizeof kMagic);
+  bytes.append(reinterpret_cast<const char*>(&count), sizeof count);
+  bytes.append(reinterpret_cast<const char*>(&rays), sizeof rays);
+  bytes.append(reinterpret_cast<const char*>(result.values.data()), count * sizeof(float));
+  if (const std::string why = writeFileAtomically(file, bytes); !why.empty())
     result.note += (result.note.empty() ? "" : "; ") +
-                   fmt::format("not cached: '{}' cannot be written", file.string());
-  }
+                   fmt::format("not cached: '{}' cannot be written: {}", file.string(), why);
   return result;
 }
 

@@ -17,6 +17,7 @@
 #include <thread>
 
 #include "geometry/atlas.h"
+#include "geometry/atomic_file.h"
 #include "geometry/atlas_chart.h"
 #include "geometry/counter_rng.h"
 #include "geometry/point_cloud.h"  // meshHash, defaultCacheDirectory
@@ -65,36 +66,6 @@ class Reader {
   const fs::path& file_;
   size_t pos_ = 0;
 };
-
-void writeAtomically(const fs::path& path, const std::string& bytes) {
-  static std::atomic<uint64_t> counter{0};
-  const fs::path tmp = path.string() + fmt::format(".tmp-{}-{}-{}", ::getpid(),
-                                                   std::hash<std::thread::id>{}(std::this_thread::get_id()),
-                                                   counter.fetch_add(1));
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out)
-      throw AtlasError(fmt::format("atlas cache file '{}' cannot be written: cannot create '{}'",
-                                   path.string(), tmp.string()));
-    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    out.flush();
-    if (!out) {
-      out.close();
-      std::error_code ec;
-      fs::remove(tmp, ec);
-      throw AtlasError(fmt::format("atlas cache file '{}' cannot be written (disk full?)",
-                                   path.string()));
-    }
-  }
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) {
-    std::error_code ignored;
-    fs::remove(tmp, ignored);
-    throw AtlasError(fmt::format("atlas cache file '{}' cannot be written: {}", path.string(),
-                                 ec.message()));
-  }
-}
 
 std::string serialize(const Atlas& atlas) {
   std::string out(kMagic, sizeof kMagic);
@@ -202,11 +173,10 @@ CachedAtlas loadOrBuildAtlas(const TriangleMesh& mesh, const AtlasOptions& optio
   }
   result.atlas = buildAtlas(mesh, options, progress);
   fs::create_directories(cacheDir, ec);
-  try {
-    writeAtomically(result.file, serialize(result.atlas));
-  } catch (const AtlasError& e) {
-    result.note += (result.note.empty() ? "" : "; ") + fmt::format("not cached: {}", e.what());
-  }
+  if (const std::string why = writeFileAtomically(result.file, serialize(result.atlas)); !why.empty())
+    result.note += (result.note.empty() ? "" : "; ") +
+                   fmt::format("not cached: atlas cache file '{}' cannot be written: {}",
+                               result.file.string(), why);
   return result;
 }
 

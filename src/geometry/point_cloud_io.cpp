@@ -18,6 +18,7 @@
 #include <sstream>
 #include <thread>
 
+#include "geometry/atomic_file.h"
 #include "geometry/point_cloud.h"
 
 namespace translucent::geometry {
@@ -157,38 +158,6 @@ void put(std::string& out, T v) {
   }
 }
 
-// Writes `bytes` to a unique temporary file beside `path`, then renames it over `path` (atomic
-// on POSIX file systems): concurrent readers see the old file or the new one, never a part.
-void writeAtomically(const fs::path& path, const std::string& bytes) {
-  static std::atomic<uint64_t> counter{0};
-  const fs::path tmp = path.string() + fmt::format(".tmp-{}-{}-{}", ::getpid(),
-                                                   std::hash<std::thread::id>{}(std::this_thread::get_id()),
-                                                   counter.fetch_add(1));
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out)
-      throw PointCloudError(fmt::format("PLY file '{}' cannot be written: cannot create '{}'",
-                                        path.string(), tmp.string()));
-    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    out.flush();
-    if (!out) {
-      out.close();
-      std::error_code ec;
-      fs::remove(tmp, ec);
-      throw PointCloudError(fmt::format("PLY file '{}' cannot be written (disk full?)",
-                                        path.string()));
-    }
-  }
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) {
-    std::error_code ignored;
-    fs::remove(tmp, ignored);
-    throw PointCloudError(fmt::format("PLY file '{}' cannot be written: {}", path.string(),
-                                      ec.message()));
-  }
-}
-
 }  // namespace
 
 // ---- Writing -------------------------------------------------------------------------------
@@ -218,7 +187,8 @@ void writePointCloudPly(const PointCloud& cloud, const fs::path& path) {
     if (irradiance)
       for (int c = 0; c < 3; ++c) put(out, cloud.irradiance[i][c]);
   }
-  writeAtomically(path, out);
+  if (const std::string why = writeFileAtomically(path, out); !why.empty())
+    throw PointCloudError(fmt::format("PLY file '{}' cannot be written: {}", path.string(), why));
 }
 
 // ---- Reading -------------------------------------------------------------------------------
