@@ -16,74 +16,36 @@
 #include "reference/model_reference.h"
 #include "reference/sphere.h"
 #include "reference/sphere_integration.h"
+#include "flat_slab.h"
 
 namespace translucent::reference {
 namespace {
 
-// A medium per scene unit with a short diffusion length (ℓd ≈ 0.07 .. 0.15 units), so that the
-// test geometry is many diffusion lengths across.
-Medium shortRangeMedium() {
-  Medium m;
-  m.sigma_a = {0.5, 1.0, 2.0};
-  m.sigma_s = {30.0, 40.0, 50.0};
-  m.g = 0.0;
-  m.eta = 1.3;
-  m.scale = 1.0;
-  return m;
-}
+using testing::flatSlab;
+using testing::flatSlabCamera;
+using testing::shortRangeMedium;
 
 std::vector<Light> lightFrom(const glm::dvec3& direction, double irradiance = 1.0) {
   return {Light{DirectionalLight{direction, irradiance}, {1.0, 1.0, 1.0}}};
 }
 
-// The flat slab: a wide box (top face z = 0 lit along its normal), seen from straight above
-// through a window at the centre. The light reaches only the top face (the sides have n·l = 0,
-// the bottom faces away), whose edges are farther than r_max from every pixel, so the top face is
-// a half space to the profile: B = Ft(η, 1) E Rd in every pixel, up to the pruned tail and the
-// table's error (both reported, added as bias) and the noise. The pixels are 0.3 units apart,
-// ~10 reduced mean free paths, where the noise comes from (the profile's peak): their errors are
-// nearly independent, so their mean is tested to ~se/4 (with a factor 1.5 for the correlation
-// the shared tails leave).
+// The flat slab (flat_slab.h), lit along its normal: the light reaches only the top face (the
+// sides have n·l = 0, the bottom faces away), so B = Ft(η, 1) E Rd in every pixel.
 void expectFlatSlab(const std::string& modelName, int subpixels = 2) {
   const Medium medium = shortRangeMedium();
-  const auto mesh = geometry::makeBox({-1.8, -1.8, -0.5}, {1.8, 1.8, 0.0});
-  Camera cam;
-  cam.projection = Camera::Projection::Orthographic;
-  cam.position = {0.0, 0.0, 3.0};
-  cam.look_at = {0.0, 0.0, 0.0};
-  cam.view_height = 1.2;
-  cam.width = cam.height = 4;
+  const Camera cam = flatSlabCamera();
   ModelReferenceOptions o;
   o.samples = 1000000;
   o.tail = 1e-3;
   o.threads = 2;
   o.subpixels = subpixels;
   const bssrdf::Model& model = bssrdf::model(modelName);
-  const auto img = renderModelReference(mesh, medium, model, lightFrom({0, 0, 1}), cam, o);
+  const auto img = renderModelReference(flatSlab(), medium, model, lightFrom({0, 0, 1}), cam, o);
   ASSERT_FALSE(img.partial);
-  // Every pixel is more than r_max inside the top face's edges.
-  ASSERT_LT(img.prune_radius + std::sqrt(2.0) * 0.6, 1.8) << "the slab is too small for this medium";
   const double ft = fresnelTransmittance(1.0, medium.eta);
-  const size_t n = size_t(cam.width * cam.height);
-  for (int c = 0; c < 3; ++c) {
-    const double rd = model.profile(medium.channel(c))->Rd();
-    const double expected = ft * rd;
-    const double bias = (img.tail_fraction[size_t(c)] + img.table_error) * expected;
-    double sum = 0.0, var = 0.0;
-    for (size_t p = 0; p < n; ++p) {
-      ASSERT_EQ(img.coverage[p], 1.0f);
-      const double b = img.exitance[3 * p + size_t(c)], se = img.exitance_se[3 * p + size_t(c)];
-      EXPECT_GT(se, 0.0);
-      EXPECT_NEAR(b, expected, 4.0 * se + bias)
-          << modelName << " channel " << c << " pixel " << p << " se " << se;
-      sum += b;
-      var += se * se;
-    }
-    const double seMean = 1.5 * std::sqrt(var) / double(n);
-    // The test has power: the mean is known to better than 1.5%.
-    EXPECT_LT(seMean, 0.015 * expected) << modelName << " channel " << c;
-    EXPECT_NEAR(sum / double(n), expected, 4.0 * seMean + bias) << modelName << " channel " << c;
-  }
+  std::array<double, 3> expected{};
+  for (int c = 0; c < 3; ++c) expected[size_t(c)] = ft * model.profile(medium.channel(c))->Rd();
+  testing::expectFlatSlab(img, cam, expected, 0.015, modelName);
 }
 
 TEST(ModelReference, FlatSlabGivesFresnelTimesIrradianceTimesRdDipole) { expectFlatSlab("dipole"); }
