@@ -726,6 +726,17 @@ Atlas buildAtlas(const TriangleMesh& mesh, const AtlasOptions& options,
       std::vector<std::vector<dvec2>> uvs(pending.size());
       std::vector<uint8_t> ok(pending.size(), 0), folded(pending.size(), 0),
           distorted(pending.size(), 0);
+      // A valid (fold-free) map is kept unless it distorts area too much; false: not valid.
+      auto accept = [&](size_t i, detail::ChartUV& r) {
+        if (!r.error.empty() || !validChartMap(meshes[i], r.uv)) return false;
+        if (tooDistorted(meshes[i], r.uv)) {
+          distorted[i] = 1;
+        } else {
+          uvs[i] = std::move(r.uv);
+          ok[i] = 1;
+        }
+        return true;
+      };
       tbb::parallel_for(size_t{0}, pending.size(), [&](size_t i) {
         meshes[i] = chartMesh(mesh, topo, pending[i]);
         if (pending[i].size() == 1) {
@@ -733,29 +744,15 @@ Atlas buildAtlas(const TriangleMesh& mesh, const AtlasOptions& options,
         } else if (isDisk(meshes[i])) {
           detail::ChartUV r = detail::parameterizeChart(meshes[i].positions, meshes[i].triangles,
                                                         primary);
-          if (r.error.empty() && validChartMap(meshes[i], r.uv)) {
-            if (tooDistorted(meshes[i], r.uv)) {
-              distorted[i] = 1;
-            } else {
-              uvs[i] = std::move(r.uv);
-              ok[i] = 1;
-            }
-          } else if (primary != detail::ChartMap::Lscm) {
+          if (!accept(i, r)) {
+            folded[i] = 1;
             // The authalic weights can be negative and fold the map; mean value coordinates are
             // positive, so with a convex boundary they cannot (Floater 2003).
-            folded[i] = 1;
-            r = detail::parameterizeChart(meshes[i].positions, meshes[i].triangles,
-                                          detail::ChartMap::MeanValue);
-            if (r.error.empty() && validChartMap(meshes[i], r.uv)) {
-              if (tooDistorted(meshes[i], r.uv)) {
-                distorted[i] = 1;
-              } else {
-                uvs[i] = std::move(r.uv);
-                ok[i] = 1;
-              }
+            if (primary != detail::ChartMap::Lscm) {
+              r = detail::parameterizeChart(meshes[i].positions, meshes[i].triangles,
+                                            detail::ChartMap::MeanValue);
+              accept(i, r);
             }
-          } else {
-            folded[i] = 1;
           }
         }
         const uint64_t d = ++done;
