@@ -1,6 +1,7 @@
 #version 450 core
 // Stage 2, the hierarchical inverse CDF of Algorithm 3.1 (seed 3.2.2): sample i draws
-// u_i = frac((i + ½)/N + φ) (stratified, rotated by φ every frame, Cranley-Patterson) and
+// u_i = frac((i + ½)/N + φ) (Random false: stratified, rotated by φ every frame,
+// Cranley-Patterson) or an independent uniform u_i (Random true: a hash of (i, frame)), and
 // descends the sum mipmap from the top: at each level it picks, in the fixed child order of
 // Algorithm 3.1 (texel_next[0..3]), the first child whose cumulative sum exceeds u · (sum of the
 // four), then rescales u to that child's interval. The texel reached has probability
@@ -23,6 +24,15 @@ uniform uint SampleCount;      // N
 uniform int Levels;            // log2(atlas size): level Levels is 1×1
 uniform uint LevelOffset[14];  // first entry of each level
 uniform float Rotation;        // φ in [0, 1)
+uniform bool Random;           // independent u (plain Monte Carlo) instead of stratified
+uniform uint Frame;            // seed of the independent u
+
+// PCG hash (Jarzynski & Olano 2020): 32 well-mixed bits per input.
+uint pcgHash(uint v) {
+  uint state = v * 747796405u + 2891336453u;
+  uint word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
+  return (word >> 22u) ^ word;
+}
 
 void main() {
   uint i = linearInvocationIndex();
@@ -34,7 +44,9 @@ void main() {
     return;
   }
   const uvec2 order[4] = uvec2[4](uvec2(0, 0), uvec2(1, 0), uvec2(1, 1), uvec2(0, 1));
-  float u = fract((float(i) + 0.5) / float(SampleCount) + Rotation);
+  // 24 random bits: every float in [0, 1) on a 2^-24 grid.
+  float u = Random ? float(pcgHash(i ^ pcgHash(Frame)) >> 8) * (1.0 / 16777216.0)
+                   : fract((float(i) + 0.5) / float(SampleCount) + Rotation);
   uvec2 node = uvec2(0);
   float p = 1.0;
   for (int k = Levels; k > 0; --k) {

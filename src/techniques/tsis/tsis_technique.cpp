@@ -56,6 +56,9 @@ std::vector<ParameterInfo> parameterInfos() {
                              "N: texture-space samples per frame, shared by every pixel (Eq. 3.5)")
           // Error falls as 1/√N per frame: each step quadruples N.
           .withSweep({64, 256, 1024, 4096, 14400}),
+      ParameterInfo::enumeration("sequence", "stratified", {"stratified", "random"},
+                                 "u of the inverse CDF: stratified (i + ½)/N, rotated every frame, or "
+                                 "independent uniform (plain Monte Carlo: error exactly as 1/√N)"),
       ParameterInfo::integer("atlas_size", 512, 16, 4096,
                              "texels per side of the surface atlas the irradiance is rendered into",
                              "texels"),
@@ -391,6 +394,8 @@ struct TsisTechnique::Impl {
       sp.set("Levels", levelCount);
       glProgramUniform1uiv(sp.id(), sp.uniformLocation("LevelOffset"), levelCount + 1, levelOffset.data());
       sp.set("Rotation", rotation(frameIndex));
+      sp.set("Random", params.getEnum("sequence") == "random");
+      sp.set("Frame", static_cast<unsigned>(frameIndex));
       gpu::dispatch1D(sp, size_t(sampleCount));
     }
     {

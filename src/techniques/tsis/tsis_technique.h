@@ -10,7 +10,7 @@
 //                shadows), then the importance s_t = ΣE'_c a_t of each texel (tsis/importance.comp)
 //   sum mipmap   Stage 2a: level k = sums of 2×2 blocks of level k − 1 (tsis/reduce.comp)
 //   sampling     Stage 2b: N samples by the hierarchical inverse CDF of Algorithm 3.1 with
-//                stratified u rotated every frame (tsis/sample.comp)
+//                stratified u rotated every frame, or independent u (tsis/sample.comp)
 //   g-buffer     world position and normal of the visible surface (pointcloud/gbuffer.*)
 //   radiance     Stage 3: B = 1/N Σ w_i R(|x_i − x_o|) per pixel, L = s Ft(η, ω_o) B/π (Eq. 3.6,
 //                with the point cloud's radiance_convention s); accumulated over frames
@@ -27,7 +27,7 @@
 // Eq. 3.3's A_S/A_T with A_T counted in owned texels, so that Σ_t a_t = A_S exactly.
 //
 // Parameters (name, default, range; see parameters() for the help text):
-//   samples 1024 [49, 14400]; atlas_size 512 [16, 4096] texels; atlas_method lscm|authalic|
+//   samples 1024 [49, 14400]; sequence stratified|random; atlas_size 512 [16, 4096] texels; atlas_method lscm|authalic|
 //   triangles; mode global (hybrid: not implemented yet, an error); accumulate true;
 //   frames 64 [1, 65536] (accumulated frames of a converged image); table_size 4096 [64, 65536];
 //   shadow_map_size 2048; shadow_offset 1; shadow_bias 1; shadow_samples 8; shadow_radius 1.5
