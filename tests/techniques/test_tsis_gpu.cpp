@@ -176,7 +176,7 @@ TEST_F(TsisGpu, AccumulatedMeanConvergesToTheBruteForceSum) {
   std::printf("accumulated mean: relative RMS %.2e after 64 frames (one frame %.2e)\n", err, one);
 
   // A batch render (converge) renders the missing frames at once: the same converged image.
-  s.technique->setParameter("frames", 96);
+  s.technique->setParameter("accumulate_frames", 96);
   const techniques::Frame batch = s.technique->render({.converge = true});
   EXPECT_TRUE(batch.converged);
   EXPECT_EQ(s.technique->accumulatedFrames(), 96);

@@ -70,7 +70,7 @@ std::vector<ParameterInfo> parameterInfos() {
       ParameterInfo::boolean("accumulate", true,
                              "average the frames (rotated samples) into a converging image; false: "
                              "every frame is the real-time image of N samples"),
-      ParameterInfo::integer("frames", 64, 1, 65536,
+      ParameterInfo::integer("accumulate_frames", 64, 1, 65536,
                              "accumulated frames of a converged image (a batch render renders "
                              "them all at once)"),
       ParameterInfo::integer("table_size", 4096, 64, 65536,
@@ -463,7 +463,7 @@ struct TsisTechnique::Impl {
     const bool accumulate = params.getBool("accumulate");
     if (accumulationDirty || !accumulate) frameIndex = accumulate ? 0 : frameIndex;
     accumulationDirty = false;
-    const auto target = static_cast<uint64_t>(params.getInt("frames"));
+    const auto target = static_cast<uint64_t>(params.getInt("accumulate_frames"));
     uint64_t count = 1;
     if (accumulate && request.converge && frameIndex < target) count = target - frameIndex;
     for (uint64_t f = 0; f < count; ++f) renderOnce(width, height, sampleCount, accumulate);
