@@ -6,6 +6,8 @@
 //     over all atlas texels, Σ_t E_t a_t R(|x_t − x_o|);
 //   - the error of one frame falls as 1/√N with independent samples (ratio of errors at N and 4N
 //     in [1.6, 2.5]), and at least as fast with the default stratified ones;
+//   - and that sum agrees with BSSRDF integration over the lit sphere (the model reference)
+//     within the atlas's discretisation error;
 //   - bad input fails with a clear error naming the parameter or light.
 #include <gtest/gtest.h>
 
@@ -15,7 +17,10 @@
 
 #include <glm/geometric.hpp>
 
+#include "bssrdf/registry.h"
 #include "geometry/icosphere.h"
+#include "optics/presets.h"
+#include "reference/sphere_integration.h"
 #include "render_helpers.h"
 #include "techniques/tsis/tsis_technique.h"
 
@@ -150,7 +155,7 @@ TEST_F(TsisGpu, SamplerHistogramMatchesTheIrradianceDistribution) {
     ++bins;
   }
   const double df = bins - 1;
-  ASSERT_GT(df, 500.0);
+  ASSERT_GT(df, 200.0);
   EXPECT_LT(chi2, df + 5.0 * std::sqrt(2.0 * df)) << "df " << df;
   std::printf("sampler histogram: chi2 %.1f over %g degrees of freedom\n", chi2, df);
 }
@@ -219,6 +224,77 @@ TEST_F(TsisGpu, StratifiedSamplesConvergeAtLeastAsFast) {
               "1024: %.3e\n", e1, e4, e1 / e4, r4);
   EXPECT_GE(e1 / e4, 1.6);
   EXPECT_LT(e4, r4);
+}
+
+// The dipole on the lit sphere, as the point cloud's DipoleOnTheLitSphereMatchesSphereIntegration:
+// the converged TSIS image (16 frames of 4096 stratified samples) against BSSRDF integration over
+// the exact sphere (reference/sphere_integration.h: Monte Carlo, exact profile, the same Ft cos
+// irradiance and orthographic camera), on 8 vertical bands of 8 pixel columns inside 0.9 R where
+// B is above 2% of its maximum. What differs is the atlas's discretisation: a faceted sphere
+// (5120 triangles), texel centres at a spacing h ≈ 0.02 R ≈ 0.45 ℓ' (Marble ×10: ℓ' = 1/σt' ≈
+// 0.046 R) instead of the integral, and the profile table; the sampling error left after 16
+// frames is < 0.1% (AccumulatedMeanConvergesToTheBruteForceSum). Bound per band: 2.5% (the point
+// cloud's, at a comparable sample spacing of 0.55 ℓ') plus three reference standard errors.
+TEST_F(TsisGpu, DipoleOnTheLitSphereMatchesSphereIntegration) {
+  useTestCache();
+  TempDir dir;
+  reference::SphereScene ss;
+  ss.radius = 1.0;
+  ss.light_direction = glm::normalize(glm::dvec3(0.6, 0.0, 0.8));
+  ss.view_direction = {0.0, 0.0, 1.0};
+  ss.width = ss.height = 64;
+  const Medium medium = preset("Marble").medium(10.0);
+  scene::Scene s = testScene(writeObj(geometry::makeIcosphere(4, 1.0), dir.path() / "sphere.obj"), 64);
+  s.medium = medium;
+  s.lights[0].emitter = reference::DirectionalLight{ss.light_direction, 1.0};
+  s.camera = ss.camera();
+  TsisTechnique t;
+  t.setParameter("samples", 4096);
+  t.setParameter("atlas_size", 256);
+  t.setParameter("accumulate_frames", 16);
+  t.prepare(s, gpu::testing::context());
+  const techniques::Frame f = t.render({.converge = true});
+  ASSERT_TRUE(f.converged);
+  const auto& b = f.layers.at("exitance");
+
+  reference::IntegrationOptions io;
+  io.seed = 7;
+  reference::SphereIntegrator integrator(bssrdf::model("dipole"), ss, medium, io);
+  integrator.addPass(128);
+  const reference::McImage& ref = integrator.images().exitance;
+
+  const double pixel = 2.0 * ss.margin / ss.width;
+  struct Band { double tsis, ref, err; };
+  std::vector<Band> bands;
+  double maxRef = 0.0, worst = 0.0;
+  for (int band = 0; band < 8; ++band) {
+    std::vector<uint32_t> pixels;
+    for (int y = 0; y < 64; ++y)
+      for (int x = band * 8; x < band * 8 + 8; ++x)
+        if (std::hypot((x + 0.5 - 32.0) * pixel, (y + 0.5 - 32.0) * pixel) < 0.9)
+          pixels.push_back(uint32_t(y * 64 + x));
+    if (pixels.size() < 100) continue;
+    for (int c = 0; c < 3; ++c) {
+      double sum = 0.0;
+      for (uint32_t p : pixels) sum += double(b[size_t(p) * 3 + size_t(c)]);
+      const reference::Estimate r = ref.average(pixels, c);
+      bands.push_back({sum / double(pixels.size()), r.value, r.std_error});
+      maxRef = std::max(maxRef, r.value);
+    }
+  }
+  ASSERT_GE(bands.size(), 3u * 6u);
+  int compared = 0;
+  for (size_t i = 0; i < bands.size(); ++i) {
+    const Band& band = bands[i];
+    if (band.ref < 0.02 * maxRef) continue;
+    ++compared;
+    worst = std::max(worst, std::abs(band.tsis - band.ref) / band.ref);
+    EXPECT_LT(std::abs(band.tsis - band.ref), 0.025 * band.ref + 3.0 * band.err)
+        << "band " << i / 3 << " channel " << i % 3 << ": tsis " << band.tsis << ", reference "
+        << band.ref << " ± " << band.err;
+  }
+  EXPECT_GE(compared, 12);
+  std::printf("lit sphere: worst band error %.2f%%\n", 100.0 * worst);
 }
 
 TEST_F(TsisGpu, BadInputFailsNamingTheParameterOrLight) {
