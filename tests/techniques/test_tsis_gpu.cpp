@@ -173,7 +173,7 @@ TEST_F(TsisGpu, AccumulatedMeanConvergesToTheBruteForceSum) {
   techniques::Frame f;
   for (int i = 1; i < 64; ++i) f = s.technique->render({});
   EXPECT_EQ(s.technique->accumulatedFrames(), 64);
-  EXPECT_TRUE(f.converged);
+  EXPECT_TRUE(f.converged);  // accumulate_samples 65536 = 64 frames of 1024
   int covered = 0;
   const double err = relativeRms(f, ref, &covered);
   ASSERT_GT(covered, 300);
@@ -182,7 +182,7 @@ TEST_F(TsisGpu, AccumulatedMeanConvergesToTheBruteForceSum) {
   std::printf("accumulated mean: relative RMS %.2e after 64 frames (one frame %.2e)\n", err, one);
 
   // A batch render (converge) renders the missing frames at once: the same converged image.
-  s.technique->setParameter("accumulate_frames", 80);
+  s.technique->setParameter("accumulate_samples", 80 * 1024);
   const techniques::Frame batch = s.technique->render({.converge = true});
   EXPECT_TRUE(batch.converged);
   EXPECT_EQ(s.technique->accumulatedFrames(), 80);
@@ -253,7 +253,7 @@ TEST_F(TsisGpu, DipoleOnTheLitSphereMatchesSphereIntegration) {
   TsisTechnique t;
   t.setParameter("samples", 2048);
   t.setParameter("atlas_size", 256);
-  t.setParameter("accumulate_frames", 16);
+  t.setParameter("accumulate_samples", 16 * 2048);
   t.prepare(s, gpu::testing::context());
   const auto start = std::chrono::steady_clock::now();
   const techniques::Frame f = t.render({.converge = true});

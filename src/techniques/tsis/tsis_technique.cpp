@@ -70,9 +70,9 @@ std::vector<ParameterInfo> parameterInfos() {
       ParameterInfo::boolean("accumulate", true,
                              "average the frames (rotated samples) into a converging image; false: "
                              "every frame is the real-time image of N samples"),
-      ParameterInfo::integer("accumulate_frames", 64, 1, 65536,
-                             "accumulated frames of a converged image (a batch render renders "
-                             "them all at once)"),
+      ParameterInfo::integer("accumulate_samples", 65536, 49, 16777216,
+                             "samples per pixel of a converged image: ⌈accumulate_samples / N⌉ "
+                             "accumulated frames (a batch render renders them all at once)"),
       ParameterInfo::integer("table_size", 4096, 64, 65536,
                              "entries of the tabulated profile (uniform in r up to the radius "
                              "holding 99.9% of Rd)"),
@@ -353,7 +353,7 @@ struct TsisTechnique::Impl {
   }
 
   // Stages 1 and 2 and the radiance of one frame into the output (and accumulation) buffers.
-  void renderOnce(int width, int height, int sampleCount, bool accumulate) {
+  void renderOnce(int width, int height, int sampleCount, bool accumulate, bool irradiancePass) {
     const scene::Scene& s = *scene;
     gpu::bindStorage(kPoints, points);
     gpu::bindStorage(kIrradiance, irradiance);
@@ -361,12 +361,12 @@ struct TsisTechnique::Impl {
     gpu::bindStorage(kTexelPoint, texelPoint);
     gpu::bindStorage(kSamples, samples);
     gpu::bindStorage(kProfile, profile);
-    {
+    if (irradiancePass) {
       auto t = timer->scope("shadow maps");
       for (auto& st : lights)
         if (st.shadow) renderShadow(st);
     }
-    {
+    if (irradiancePass) {
       auto t = timer->scope("irradiance");
       const gpu::ShaderProgram& ip = *irradianceProgram;
       ip.set("PointCount", static_cast<unsigned>(texels.size()));
@@ -376,7 +376,7 @@ struct TsisTechnique::Impl {
       importanceProgram->set("PointCount", static_cast<unsigned>(texels.size()));
       gpu::dispatch1D(*importanceProgram, texels.size());
     }
-    {
+    if (irradiancePass) {
       auto t = timer->scope("sum mipmap");
       const gpu::ShaderProgram& rp = *reduceProgram;
       for (int k = 1; k <= levelCount; ++k) {
@@ -461,12 +461,18 @@ struct TsisTechnique::Impl {
       gbuffer.render(*gpuMesh, *gbufferProgram, vp);
     }
     const bool accumulate = params.getBool("accumulate");
-    if (accumulationDirty || !accumulate) frameIndex = accumulate ? 0 : frameIndex;
+    // A parameter, the scene or the image size changed: the accumulated frames are stale. (Without
+    // accumulation frameIndex only advances the rotation.)
+    if (accumulate && accumulationDirty) frameIndex = 0;
     accumulationDirty = false;
-    const auto target = static_cast<uint64_t>(params.getInt("accumulate_frames"));
+    const auto perFrame = static_cast<uint64_t>(sampleCount);
+    const uint64_t target =
+        (static_cast<uint64_t>(params.getInt("accumulate_samples")) + perFrame - 1) / perFrame;
     uint64_t count = 1;
     if (accumulate && request.converge && frameIndex < target) count = target - frameIndex;
-    for (uint64_t f = 0; f < count; ++f) renderOnce(width, height, sampleCount, accumulate);
+    // The lights and the scene stay the same within one call: Stage 1 and the sum mipmap once,
+    // then only new samples and their sums.
+    for (uint64_t f = 0; f < count; ++f) renderOnce(width, height, sampleCount, accumulate, f == 0);
     frame.converged = !accumulate || frameIndex >= target;
     gpu::checkGlError("tsis frame");
 

@@ -29,7 +29,8 @@
 // Parameters (name, default, range; see parameters() for the help text):
 //   samples 1024 [49, 14400]; sequence stratified|random; atlas_size 512 [16, 4096] texels; atlas_method lscm|authalic|
 //   triangles; mode global (hybrid: not implemented yet, an error); accumulate true;
-//   accumulate_frames 64 [1, 65536] (frames of a converged image); table_size 4096 [64, 65536];
+//   accumulate_samples 65536 [49, 2^24] (samples per pixel of a converged image: frames of N
+//   samples, Stage 1 once per batch); table_size 4096 [64, 65536];
 //   shadow_map_size 2048; shadow_offset 1; shadow_bias 1; shadow_samples 8; shadow_radius 1.5
 //   (as the point cloud's); radiance_convention normalized | jensen.
 //
