@@ -5,6 +5,7 @@
 
 #include "techniques/empirical/empirical_technique.h"
 #include "techniques/pointcloud/pointcloud_technique.h"
+#include "techniques/tsis/tsis_technique.h"
 
 namespace translucent::techniques {
 namespace {
@@ -21,6 +22,8 @@ constexpr Entry kTechniques[] = {
      &pointcloud::makePointCloudTechnique},
     {"empirical", "empirical translucency shader: depth-peeled thickness, per-vertex AO (seed chapter 3)",
      &empirical::makeEmpiricalTechnique},
+    {"tsis", "texture-space importance sampling of the irradiance over a surface atlas (seed chapter 3)",
+     &tsis::makeTsisTechnique},
 };
 
 const Entry& find(std::string_view name) {

@@ -229,4 +229,30 @@ void GBuffer::render(const GpuMesh& mesh, const gpu::ShaderProgram& program,
   gpu::checkGlError("rendering the G-buffer");
 }
 
+void setShadowUniforms(const gpu::ShaderProgram& p, const ShadowMap* map,
+                       const ShadowLookup& lookup, const gpu::Texture& dummy) {
+  const int samples = lookup.samples;
+  p.set("Shadowed", map != nullptr);
+  p.set("ShadowMap", 0);
+  p.set("FilterTexture", 1);
+  glBindTextureUnit(0, map ? map->texture().id() : dummy.id());
+  if (map == nullptr) return;
+  const float texel = map->texelSize();
+  p.set("ShadowMatrix", map->matrix());
+  p.set("ShadowPerspective", map->perspective());
+  p.set("ShadowTexel", texel);
+  p.set("NormalOffset", lookup.offset);
+  p.set("DepthBias", map->perspective() ? 0.0f : lookup.bias * texel / map->depthRange());
+  p.set("ShadowSamples", samples);
+  p.set("ShadowRadius", samples > 1 ? lookup.radius : 0.0f);
+  // A Vogel (golden-angle) spiral of `samples` points filling the unit disc.
+  std::vector<glm::vec2> jitter(static_cast<size_t>(samples));
+  for (int i = 0; i < samples; ++i) {
+    const double r = std::sqrt((i + 0.5) / samples), a = i * 2.39996322972865332;
+    jitter[size_t(i)] = glm::vec2(float(r * std::cos(a)), float(r * std::sin(a)));
+  }
+  if (samples == 1) jitter[0] = glm::vec2(0.0f);
+  glProgramUniform2fv(p.id(), p.uniformLocation("ShadowJitter"), samples, glm::value_ptr(jitter[0]));
+}
+
 }  // namespace translucent::techniques

@@ -74,6 +74,20 @@ class ShadowMap {
   float texel_ = 0.0f, range_ = 1.0f;
 };
 
+// How shaders/pointcloud/irradiance.comp's visibility() looks a shadow map up (the point-cloud
+// technique's shadow_* parameters, in texels): jittered hardware-PCF lookups on a Vogel spiral.
+struct ShadowLookup {
+  int samples = 8;        // 1..64
+  float offset = 1.0f;    // along the normal [texels]
+  float bias = 1.0f;      // depth offset of orthographic maps [texels]
+  float radius = 1.5f;    // of the jitter [texels]
+};
+// Sets the shadow uniforms of irradiance.comp (Shadowed, ShadowMap on unit 0, FilterTexture on
+// unit 1, ShadowMatrix, ...) for `map`, or Shadowed = false (and `dummy`, a 1x1 depth texture
+// with comparison, on unit 0) when map is null.
+void setShadowUniforms(const gpu::ShaderProgram& program, const ShadowMap* map,
+                       const ShadowLookup& lookup, const gpu::Texture& dummy);
+
 // Camera matrices of a reference::Camera (pinhole: vertical fov; orthographic: view_height),
 // with near/far clip distances (0: from the bounding sphere (center, radius): 1.1 radii in
 // front of and behind its centre).

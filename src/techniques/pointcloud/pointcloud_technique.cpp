@@ -22,6 +22,7 @@
 #include "gpu/pass_timer.h"
 #include "lights/environment_map.h"
 #include "techniques/common/gl_resources.h"
+#include "techniques/common/profile_kernel.h"
 
 namespace translucent::pointcloud {
 namespace {
@@ -62,9 +63,6 @@ enum Binding : GLuint {
   kRadianceOut = 7,
   kExitanceOut = 8,
 };
-
-// Fraction of Rd inside the tabulated radius (bssrdf::tabulate's default).
-constexpr double kTableFraction = 0.999;
 
 std::vector<ParameterInfo> parameterInfos() {
   return {
@@ -353,59 +351,15 @@ struct PointCloudTechnique::Impl {
     lightingDirty = true;
   }
 
-  // The profile R(r) per channel on a common grid [0, r_max] (the radius holding kTableFraction
-  // of Rd in the widest channel), from the C++ model or, for a .bssrdf file, from its GPU kernel.
+  // The profile R(r) per channel (techniques/common/profile_kernel.h): from the C++ model, or,
+  // for a .bssrdf file, from its GPU kernel (a registered model keeps its C++ profile even when
+  // the traversal runs its .bssrdf shader).
   void tabulateKernel(const scene::Scene& s) {
-    const size_t n = static_cast<size_t>(params.getInt("table_size"));
-    std::array<std::vector<double>, 3> values;
-    double rMax = 0.0;
-    if (!isBssrdfFile(s.model)) {
-      const bssrdf::Model& model = bssrdf::model(s.model);
-      const bssrdf::RgbProfiles prof = bssrdf::profiles(model, s.medium);
-      for (const auto& p : prof) rMax = std::max(rMax, p->radiusForFraction(kTableFraction));
-      for (size_t c = 0; c < 3; ++c) {
-        values[c].resize(n);
-        for (size_t i = 0; i < n; ++i) values[c][i] = prof[c]->R(rMax * double(i) / double(n - 1));
-        if (!std::isfinite(values[c][0])) values[c][0] = prof[c]->R(0.25 * rMax / double(n - 1));
-        tables[c].rd = prof[c]->Rd();
-      }
-    } else {
-      // The radius and Rd from the file's own GPU values (gpu/bssrdf_profiles.h: Gauss-Legendre
-      // panels on a log grid), then R on the table grid, evaluated by the same kernel.
-      const gpu::BssrdfEnergy energy =
-          gpu::bssrdfRadiusForFraction(*evaluator, s.medium, kTableFraction);
-      for (size_t c = 0; c < 3; ++c) {
-        rMax = std::max(rMax, energy.radius[c]);
-        tables[c].rd = energy.rd[c];
-      }
-      std::vector<double> grid(n);
-      for (size_t i = 0; i < n; ++i) grid[i] = rMax * double(i) / double(n - 1);
-      const std::vector<Rgb> g = gpu::bssrdfProfile(*evaluator, s.medium, grid);
-      // R may diverge at r = 0: entry 0 then holds R a quarter step out (as bssrdf::tabulate).
-      const std::vector<Rgb> quarter =
-          gpu::bssrdfProfile(*evaluator, s.medium, {0.25 * rMax / double(n - 1)});
-      for (size_t c = 0; c < 3; ++c) {
-        values[c].resize(n);
-        for (size_t i = 0; i < n; ++i) values[c][i] = g[i][c];
-        if (!std::isfinite(values[c][0])) values[c][0] = quarter[0][c];
-      }
-    }
-    std::vector<glm::vec4> gpuTable(n);
-    for (size_t c = 0; c < 3; ++c) {
-      tables[c].r_max = rMax;
-      tables[c].R.resize(n);
-      tables[c].r_times_R.clear();
-      tables[c].cdf.clear();
-      for (size_t i = 0; i < n; ++i) {
-        if (!std::isfinite(values[c][i]))
-          throw ParameterError(fmt::format("model '{}': R(r = {}) of the {} channel is {}: expected a "
-                                           "finite profile", s.model, rMax * double(i) / double(n - 1),
-                                           kChannelNames[c], values[c][i]));
-        tables[c].R[i] = static_cast<float>(values[c][i]);
-        gpuTable[i][int(c)] = tables[c].R[i];
-      }
-    }
-    profile = gpu::makeStorageBuffer(std::span<const glm::vec4>(gpuTable));
+    techniques::RgbProfileTable t = techniques::tabulateRgbProfile(
+        s, static_cast<size_t>(params.getInt("table_size")),
+        isBssrdfFile(s.model) ? &*evaluator : nullptr);
+    tables = std::move(t.tables);
+    profile = gpu::makeStorageBuffer(std::span<const glm::vec4>(t.gpu));
   }
 
   void buildKernel() {
@@ -463,30 +417,12 @@ struct PointCloudTechnique::Impl {
   // ---- frame ------------------------------------------------------------------------------------
 
   void setShadowUniforms(const gpu::ShaderProgram& p, const ShadowMap* map) {
-    const int samples = params.getInt("shadow_samples");
-    p.set("Shadowed", map != nullptr);
-    p.set("ShadowMap", 0);
-    p.set("FilterTexture", 1);
-    glBindTextureUnit(0, map ? map->texture().id() : dummyShadow.id());
-    if (map == nullptr) return;
-    const float texel = map->texelSize();
-    p.set("ShadowMatrix", map->matrix());
-    p.set("ShadowPerspective", map->perspective());
-    p.set("ShadowTexel", texel);
-    p.set("NormalOffset", static_cast<float>(params.getFloat("shadow_offset")));
-    p.set("DepthBias", map->perspective() ? 0.0f
-                                          : static_cast<float>(params.getFloat("shadow_bias")) *
-                                                texel / map->depthRange());
-    p.set("ShadowSamples", samples);
-    p.set("ShadowRadius", samples > 1 ? static_cast<float>(params.getFloat("shadow_radius")) : 0.0f);
-    // A Vogel (golden-angle) spiral of `samples` points filling the unit disc.
-    std::vector<glm::vec2> jitter(static_cast<size_t>(samples));
-    for (int i = 0; i < samples; ++i) {
-      const double r = std::sqrt((i + 0.5) / samples), a = i * 2.39996322972865332;
-      jitter[size_t(i)] = glm::vec2(float(r * std::cos(a)), float(r * std::sin(a)));
-    }
-    if (samples == 1) jitter[0] = glm::vec2(0.0f);
-    glProgramUniform2fv(p.id(), p.uniformLocation("ShadowJitter"), samples, glm::value_ptr(jitter[0]));
+    techniques::ShadowLookup lookup;
+    lookup.samples = params.getInt("shadow_samples");
+    lookup.offset = static_cast<float>(params.getFloat("shadow_offset"));
+    lookup.bias = static_cast<float>(params.getFloat("shadow_bias"));
+    lookup.radius = static_cast<float>(params.getFloat("shadow_radius"));
+    techniques::setShadowUniforms(p, map, lookup, dummyShadow);
   }
 
   void dispatchIrradiance(int mode) {

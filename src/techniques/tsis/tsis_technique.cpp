@@ -1,0 +1,587 @@
+#include "techniques/tsis/tsis_technique.h"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <numbers>
+#include <optional>
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include "bssrdf/bssrdf_file.h"
+#include "bssrdf/exit_radiance.h"
+#include "geometry/atlas.h"
+#include "gpu/bssrdf_kernels.h"
+#include "gpu/compute.h"
+#include "gpu/pass_timer.h"
+#include "lights/environment_map.h"
+#include "techniques/common/gl_resources.h"
+#include "techniques/common/profile_kernel.h"
+#include "techniques/pointcloud/pointcloud_technique.h"  // kDefaultRadianceConvention
+
+namespace translucent::tsis {
+namespace {
+
+using techniques::GBuffer;
+using techniques::GpuMesh;
+using techniques::ParameterInfo;
+using techniques::ShadowMap;
+
+// Modes of shaders/pointcloud/irradiance.comp used here.
+enum IrradianceMode : int { kClear = 0, kDirectional = 1, kPoint = 2, kBeam = 3, kEnvironmentSh = 5 };
+
+// SSBO bindings: 2, 3, 5, 7, 8 as the point cloud's shaders (shared irradiance.comp,
+// kernel_table.glsl); 9.. the tsis buffers.
+enum Binding : GLuint {
+  kPoints = 2,
+  kIrradiance = 3,
+  kProfile = 5,
+  kRadianceOut = 7,
+  kExitanceOut = 8,
+  kLevels = 9,
+  kTexelPoint = 10,
+  kSamples = 11,
+  kAccum = 12,
+};
+
+constexpr int kMaxLevels = 13;  // log2(4096) + 1: LevelOffset[14] in sample.comp
+
+std::vector<ParameterInfo> parameterInfos() {
+  return {
+      ParameterInfo::integer("samples", 1024, 49, 14400,
+                             "N: texture-space samples per frame, shared by every pixel (Eq. 3.5)")
+          // Error falls as 1/√N per frame: each step quadruples N.
+          .withSweep({64, 256, 1024, 4096, 14400}),
+      ParameterInfo::enumeration("sequence", "stratified", {"stratified", "random"},
+                                 "u of the inverse CDF: stratified (i + ½)/N, rotated every frame, or "
+                                 "independent uniform (plain Monte Carlo: error exactly as 1/√N)"),
+      ParameterInfo::integer("atlas_size", 512, 16, 4096,
+                             "texels per side of the surface atlas the irradiance is rendered into",
+                             "texels"),
+      ParameterInfo::enumeration("atlas_method", "lscm", {"lscm", "authalic", "triangles"},
+                                 "parameterisation of the atlas (geometry/atlas.h)"),
+      ParameterInfo::enumeration("mode", "global", {"global", "hybrid"},
+                                 "global: importance sampling of the whole Rd (seed 3.1); hybrid "
+                                 "(seed 3.3): not implemented yet"),
+      ParameterInfo::boolean("accumulate", true,
+                             "average the frames (rotated samples) into a converging image; false: "
+                             "every frame is the real-time image of N samples"),
+      ParameterInfo::integer("accumulate_samples", 65536, 49, 16777216,
+                             "samples per pixel of a converged image: ⌈accumulate_samples / N⌉ "
+                             "accumulated frames (a batch render renders them all at once)"),
+      ParameterInfo::integer("table_size", 4096, 64, 65536,
+                             "entries of the tabulated profile (uniform in r up to the radius "
+                             "holding 99.9% of Rd)"),
+      ParameterInfo::integer("shadow_map_size", 2048, 64, 8192, "shadow map resolution", "texels"),
+      ParameterInfo::floating("shadow_offset", 1.0, 0.0, 16.0,
+                              "shadow lookup offset along the texel's normal", "texels"),
+      ParameterInfo::floating("shadow_bias", 1.0, 0.0, 16.0,
+                              "depth offset of the shadow comparison (orthographic maps)", "texels"),
+      ParameterInfo::integer("shadow_samples", 8, 1, 64, "jittered hardware-PCF lookups per texel"),
+      ParameterInfo::floating("shadow_radius", 1.5, 0.0, 16.0, "radius of the jittered lookups",
+                              "texels"),
+      ParameterInfo::enumeration("radiance_convention", pointcloud::kDefaultRadianceConvention,
+                                 bssrdf::exitConventionNames(),
+                                 "radiance from the exitance B (seed Eq. 2.16): jensen Ft B/π, or "
+                                 "normalized Ft B/(π 4Cφ(1/η)); as the point-cloud technique"),
+  };
+}
+
+glm::vec3 toVec3(const glm::dvec3& v) { return glm::vec3(v); }
+glm::vec3 toVec3(const Rgb& c) {
+  return {static_cast<float>(c[0]), static_cast<float>(c[1]), static_cast<float>(c[2])};
+}
+
+// Rotation of frame k: the golden-ratio additive recurrence, equidistributed in [0, 1), so the
+// frames' stratified sample sets tile the u interval ever more finely as they accumulate.
+float rotation(uint64_t frame) {
+  const double g = 0.5 * (std::sqrt(5.0) - 1.0);
+  return static_cast<float>(std::fmod(double(frame) * g, 1.0));
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+
+struct TsisTechnique::Impl {
+  techniques::ParameterSet params{parameterInfos()};
+
+  std::optional<scene::Scene> scene;
+  std::string meshKey;
+  geometry::TriangleMesh mesh;
+  std::optional<GpuMesh> gpuMesh;
+  glm::dvec3 center{0.0};
+  double radius = 1.0;
+
+  // Atlas texels.
+  bool atlasDirty = true;
+  uint32_t atlasSize = 0;
+  int levelCount = 0;  // log2(atlasSize)
+  std::array<uint32_t, kMaxLevels + 1> levelOffset{};
+  std::vector<TexelPoint> texels;
+  gpu::Buffer points, irradiance, levels, texelPoint, samples, accum;
+  size_t sampleCapacity = 0;
+
+  // Kernel.
+  std::string kernelKey;
+  std::array<bssrdf::ProfileTable, 3> tables;
+  gpu::Buffer profile;
+
+  std::optional<gpu::ShaderProgram> depthProgram, gbufferProgram, irradianceProgram,
+      importanceProgram, reduceProgram, sampleProgram, radianceProgram;
+  gpu::Texture dummyShadow, dummyFilter;
+
+  struct LightState {
+    scene::Light light;
+    std::unique_ptr<ShadowMap> shadow;
+    std::array<glm::vec3, 9> sh{};
+  };
+  std::vector<LightState> lights;
+
+  GBuffer gbuffer;
+  gpu::Buffer radianceOut, exitanceOut;
+  size_t outPixels = 0;
+  uint64_t frameIndex = 0;  // frames accumulated so far (and the next frame's rotation index)
+  bool accumulationDirty = true;
+  std::optional<gpu::PassTimer> timer;
+  std::vector<std::string> notes;
+
+  void buildPrograms() {
+    if (depthProgram) return;
+    depthProgram.emplace(gpu::ShaderProgram::graphics("pointcloud/depth.vert", "pointcloud/depth.frag"));
+    gbufferProgram.emplace(
+        gpu::ShaderProgram::graphics("pointcloud/gbuffer.vert", "pointcloud/gbuffer.frag"));
+    irradianceProgram.emplace(gpu::ShaderProgram::compute("pointcloud/irradiance.comp"));
+    importanceProgram.emplace(gpu::ShaderProgram::compute("tsis/importance.comp"));
+    reduceProgram.emplace(gpu::ShaderProgram::compute("tsis/reduce.comp"));
+    sampleProgram.emplace(gpu::ShaderProgram::compute("tsis/sample.comp"));
+    radianceProgram.emplace(gpu::ShaderProgram::compute("tsis/radiance.comp"));
+    dummyShadow = gpu::Texture::create(GL_TEXTURE_2D);
+    glTextureStorage2D(dummyShadow.id(), 1, GL_DEPTH_COMPONENT32F, 1, 1);
+    glTextureParameteri(dummyShadow.id(), GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+    dummyFilter = gpu::Texture::create(GL_TEXTURE_2D);
+    glTextureStorage2D(dummyFilter.id(), 1, GL_RGBA32F, 1, 1);
+    const float white[4] = {1.0f, 1.0f, 1.0f, 1.0f};
+    glTextureSubImage2D(dummyFilter.id(), 0, 0, 0, 1, 1, GL_RGBA, GL_FLOAT, white);
+    gpu::checkGlError("building the tsis programs");
+  }
+
+  void loadMesh(const scene::Scene& s) {
+    const std::string key = scene::meshKey(s);
+    if (key == meshKey && gpuMesh) return;
+    geometry::TriangleMesh m = scene::loadSceneMesh(s);
+    // Closed and outward: the shadow maps draw back faces only (gl_resources.h).
+    m.requireClosed(fmt::format("mesh file '{}'", s.mesh_file.string()));
+    m.orientOutwards();
+    mesh = std::move(m);
+    const geometry::Bounds b = mesh.bounds();
+    center = b.center();
+    radius = 0.0;
+    for (const auto& p : mesh.positions) radius = std::max(radius, glm::length(p - center));
+    gpuMesh.emplace(mesh);
+    meshKey = key;
+    atlasDirty = true;
+  }
+
+  void prepareLights(const scene::Scene& s) {
+    lights.clear();
+    const int shadowSize = params.getInt("shadow_map_size");
+    for (size_t i = 0; i < s.lights.size(); ++i) {
+      LightState st;
+      st.light = s.lights[i];
+      const auto& e = st.light.emitter;
+      if (std::holds_alternative<scene::FilteredDirectionalLight>(e))
+        throw ParameterError(fmt::format("lights[{}]: a filtered directional light: the tsis technique "
+                                         "does not support it yet (directional, point, beam and "
+                                         "unoccluded environment lights)", i));
+      if (const auto* b = std::get_if<reference::BeamLight>(&e); b && !(b->radius > 0.0))
+        throw ParameterError(fmt::format("lights[{}]: a beam of radius 0 (a pencil beam) carries no "
+                                         "irradiance the atlas texels can sample: expected radius > 0", i));
+      if (const auto* p = std::get_if<reference::PointLight>(&e);
+          p && !(glm::length(p->position - center) > 1.02 * radius))
+        throw ParameterError(fmt::format("lights[{}]: the point light lies inside the mesh's bounding "
+                                         "sphere: the tsis technique's shadow map needs it outside", i));
+      if (const auto* env = std::get_if<scene::EnvironmentLight>(&e)) {
+        if (env->occlusion)
+          throw ParameterError(fmt::format("lights[{}]: an occluded environment light (occlusion true): "
+                                           "the tsis technique does not support it yet; set occlusion "
+                                           "false for unoccluded SH lighting", i));
+        const lights::EnvironmentMap map = lights::EnvironmentMap::load(env->file);
+        const glm::dvec3 scale =
+            env->intensity * glm::dvec3(st.light.color[0], st.light.color[1], st.light.color[2]);
+        st.sh = lights::irradianceSh9(map, env->rotate, s.medium.eta, scale);
+      } else {
+        st.shadow = std::make_unique<ShadowMap>(shadowSize);
+      }
+      lights.push_back(std::move(st));
+    }
+  }
+
+  // The atlas's covered texels, their surface points and areas, and the sum mipmap's storage.
+  void buildAtlas() {
+    if (!atlasDirty) return;
+    geometry::AtlasOptions opt;
+    opt.size = static_cast<uint32_t>(params.getInt("atlas_size"));
+    opt.method = geometry::parseAtlasMethod(params.getEnum("atlas_method"));
+    if (!std::has_single_bit(opt.size))
+      throw ParameterError(fmt::format("tsis: atlas_size {}: expected a power of two (the sum mipmap "
+                                       "halves it down to 1×1)", opt.size));
+    geometry::CachedAtlas cached = geometry::loadOrBuildAtlas(mesh, opt);
+    notes.push_back(fmt::format("atlas: {}² {} {} {}", opt.size, geometry::toString(cached.atlas.method),
+                                cached.fromCache ? "read from" : "built, cached in", cached.file.string()));
+    if (!cached.note.empty()) notes.push_back("atlas cache: " + cached.note);
+    const geometry::Atlas& atlas = cached.atlas;
+    const geometry::AtlasCoverage coverage = geometry::rasterizeCoverage(atlas);
+    if (coverage.uncovered > 0)
+      throw ParameterError(fmt::format("tsis: atlas_size {}: {} triangles own no texel (their "
+                                       "irradiance would be lost): use a larger atlas",
+                                       opt.size, coverage.uncovered));
+    atlasSize = opt.size;
+    levelCount = std::countr_zero(atlasSize);
+    texels.clear();
+    texels.reserve(coverage.ownedTexels);
+    std::vector<uint32_t> texelToPoint(size_t(atlasSize) * atlasSize, ~0u);
+    for (uint32_t y = 0; y < atlasSize; ++y)
+      for (uint32_t x = 0; x < atlasSize; ++x) {
+        const auto sp = geometry::texelSurfacePoint(mesh, atlas, coverage, x, y);
+        if (!sp) continue;
+        TexelPoint t;
+        t.position = glm::vec3(sp->position);
+        t.normal = glm::vec3(sp->normal);
+        // Eq. 3.3's A_S/A_T per texel, A_T counted in the texels the triangle owns.
+        t.area = static_cast<float>(atlas.surfaceArea[sp->triangle] /
+                                    double(coverage.texels[sp->triangle]));
+        t.texel = y * atlasSize + x;
+        texelToPoint[t.texel] = static_cast<uint32_t>(texels.size());
+        texels.push_back(t);
+      }
+    // PcPoint records (pointcloud/common.glsl) for the shared irradiance pass; normal.w carries
+    // the texel index (exact in a float: < 4096² = 2^24).
+    std::vector<glm::vec4> records(texels.size() * 2);
+    for (size_t i = 0; i < texels.size(); ++i) {
+      records[2 * i] = glm::vec4(texels[i].position, texels[i].area);
+      records[2 * i + 1] = glm::vec4(texels[i].normal, float(texels[i].texel));
+    }
+    points = gpu::makeStorageBuffer(std::span<const glm::vec4>(records));
+    irradiance = gpu::makeStorageBuffer(texels.size() * sizeof(glm::vec4));
+    texelPoint = gpu::makeStorageBuffer(std::span<const uint32_t>(texelToPoint));
+    uint32_t offset = 0;
+    for (int k = 0; k <= levelCount; ++k) {
+      levelOffset[size_t(k)] = offset;
+      const uint32_t side = atlasSize >> k;
+      offset += side * side;
+    }
+    // Zeros: uncovered texels keep importance 0 (importance.comp writes covered ones only).
+    const std::vector<float> zeros(offset, 0.0f);
+    levels = gpu::makeStorageBuffer(std::span<const float>(zeros));
+    notes.push_back(fmt::format("atlas: {} covered texels ({} charts, {} triangles)", texels.size(),
+                                atlas.chartCount, atlas.triangleCount()));
+    atlasDirty = false;
+    accumulationDirty = true;
+  }
+
+  void buildKernel() {
+    const scene::Scene& s = *scene;
+    const std::string key = fmt::format("{}|{}|{}|{}|{}|{}|{}", s.model, s.medium.sigma_a, s.medium.sigma_s,
+                                        s.medium.g, s.medium.eta, s.medium.scale,
+                                        params.getInt("table_size"));
+    if (key == kernelKey) return;
+    kernelKey.clear();
+    s.medium.validate();
+    std::optional<gpu::BssrdfEvaluator> evaluator;
+    if (bssrdf::hasBssrdfExtension(s.model)) {
+      evaluator.emplace(s.model);
+      evaluator->setMedium(s.medium);
+    }
+    techniques::RgbProfileTable t = techniques::tabulateRgbProfile(
+        s, static_cast<size_t>(params.getInt("table_size")), evaluator ? &*evaluator : nullptr);
+    tables = std::move(t.tables);
+    profile = gpu::makeStorageBuffer(std::span<const glm::vec4>(t.gpu));
+    kernelKey = key;
+    accumulationDirty = true;
+  }
+
+  void renderShadow(LightState& st) {
+    const auto& e = st.light.emitter;
+    if (const auto* d = std::get_if<reference::DirectionalLight>(&e))
+      st.shadow->renderDirectional(*gpuMesh, *depthProgram, d->direction, center, radius);
+    else if (const auto* b = std::get_if<reference::BeamLight>(&e))
+      st.shadow->renderDirectional(*gpuMesh, *depthProgram, -b->direction, center, radius);
+    else if (const auto* pl = std::get_if<reference::PointLight>(&e))
+      st.shadow->renderPoint(*gpuMesh, *depthProgram, pl->position, center, radius);
+  }
+
+  void dispatchIrradiance(int mode) {
+    irradianceProgram->set("Mode", mode);
+    gpu::dispatch1D(*irradianceProgram, texels.size());
+  }
+
+  // One light into E, with the point cloud's conventions (irradiance.comp's modes).
+  void lightDispatch(const LightState& st) {
+    const gpu::ShaderProgram& p = *irradianceProgram;
+    techniques::ShadowLookup lookup;
+    lookup.samples = params.getInt("shadow_samples");
+    lookup.offset = static_cast<float>(params.getFloat("shadow_offset"));
+    lookup.bias = static_cast<float>(params.getFloat("shadow_bias"));
+    lookup.radius = static_cast<float>(params.getFloat("shadow_radius"));
+    techniques::setShadowUniforms(p, st.shadow.get(), lookup, dummyShadow);
+    glBindTextureUnit(1, dummyFilter.id());
+    const glm::vec3 color = toVec3(st.light.color);
+    const auto& e = st.light.emitter;
+    if (const auto* d = std::get_if<reference::DirectionalLight>(&e)) {
+      p.set("LightDirection", toVec3(d->direction));
+      p.set("LightValue", color * float(d->irradiance));
+      dispatchIrradiance(kDirectional);
+    } else if (const auto* pl = std::get_if<reference::PointLight>(&e)) {
+      p.set("LightPosition", toVec3(pl->position));
+      p.set("LightValue", color * float(pl->intensity));
+      dispatchIrradiance(kPoint);
+    } else if (const auto* b = std::get_if<reference::BeamLight>(&e)) {
+      p.set("LightDirection", toVec3(-b->direction));
+      p.set("BeamOrigin", toVec3(b->origin));
+      p.set("BeamRadius", float(b->radius));
+      p.set("LightValue", color * float(b->power / (std::numbers::pi * b->radius * b->radius)));
+      dispatchIrradiance(kBeam);
+    } else {
+      glProgramUniform3fv(p.id(), p.uniformLocation("Sh"), 9, glm::value_ptr(st.sh[0]));
+      dispatchIrradiance(kEnvironmentSh);
+    }
+  }
+
+  // Stages 1 and 2 and the radiance of one frame into the output (and accumulation) buffers.
+  void renderOnce(int width, int height, int sampleCount, bool accumulate, bool irradiancePass) {
+    const scene::Scene& s = *scene;
+    gpu::bindStorage(kPoints, points);
+    gpu::bindStorage(kIrradiance, irradiance);
+    gpu::bindStorage(kLevels, levels);
+    gpu::bindStorage(kTexelPoint, texelPoint);
+    gpu::bindStorage(kSamples, samples);
+    gpu::bindStorage(kProfile, profile);
+    if (irradiancePass) {
+      auto t = timer->scope("shadow maps");
+      for (auto& st : lights)
+        if (st.shadow) renderShadow(st);
+    }
+    if (irradiancePass) {
+      auto t = timer->scope("irradiance");
+      const gpu::ShaderProgram& ip = *irradianceProgram;
+      ip.set("PointCount", static_cast<unsigned>(texels.size()));
+      ip.set("Eta", static_cast<float>(s.medium.eta));
+      dispatchIrradiance(kClear);
+      for (const auto& st : lights) lightDispatch(st);
+      importanceProgram->set("PointCount", static_cast<unsigned>(texels.size()));
+      gpu::dispatch1D(*importanceProgram, texels.size());
+    }
+    if (irradiancePass) {
+      auto t = timer->scope("sum mipmap");
+      const gpu::ShaderProgram& rp = *reduceProgram;
+      for (int k = 1; k <= levelCount; ++k) {
+        const uint32_t side = atlasSize >> k;
+        rp.set("ChildOffset", levelOffset[size_t(k - 1)]);
+        rp.set("ParentOffset", levelOffset[size_t(k)]);
+        rp.set("ParentSize", side);
+        gpu::dispatch(rp, {(side + 7u) / 8u, (side + 7u) / 8u, 1u});
+      }
+    }
+    {
+      auto t = timer->scope("sampling");
+      const gpu::ShaderProgram& sp = *sampleProgram;
+      sp.set("SampleCount", static_cast<unsigned>(sampleCount));
+      sp.set("Levels", levelCount);
+      glProgramUniform1uiv(sp.id(), sp.uniformLocation("LevelOffset"), levelCount + 1, levelOffset.data());
+      sp.set("Rotation", rotation(frameIndex));
+      sp.set("Random", params.getEnum("sequence") == "random");
+      sp.set("Frame", static_cast<unsigned>(frameIndex));
+      gpu::dispatch1D(sp, size_t(sampleCount));
+    }
+    {
+      auto t = timer->scope("radiance");
+      const gpu::ShaderProgram& p = *radianceProgram;
+      gpu::bindStorage(kRadianceOut, radianceOut);
+      gpu::bindStorage(kExitanceOut, exitanceOut);
+      gpu::bindStorage(kAccum, accum);
+      glBindTextureUnit(0, gbuffer.position().id());
+      glBindTextureUnit(1, gbuffer.normal().id());
+      glProgramUniform2ui(p.id(), p.uniformLocation("Size"), unsigned(width), unsigned(height));
+      p.set("SampleCount", static_cast<unsigned>(sampleCount));
+      p.set("Eta", static_cast<float>(s.medium.eta));
+      p.set("ExitScale", glm::vec3(static_cast<float>(bssrdf::exitConventionScale(
+                             bssrdf::parseExitConvention(params.getEnum("radiance_convention")),
+                             s.medium.eta))));
+      p.set("CameraPosition", toVec3(s.camera.position));
+      p.set("CameraForward", toVec3(glm::normalize(s.camera.look_at - s.camera.position)));
+      p.set("Orthographic", s.camera.projection == reference::Camera::Projection::Orthographic);
+      p.set("ProfileRMax", static_cast<float>(tables[0].r_max));
+      p.set("ProfileCount", static_cast<unsigned>(tables[0].size()));
+      p.set("Accumulate", accumulate);
+      p.set("FrameIndex", static_cast<unsigned>(accumulate ? frameIndex : 0));
+      gpu::dispatch(p, {(unsigned(width) + 7u) / 8u, (unsigned(height) + 7u) / 8u, 1u});
+    }
+    ++frameIndex;
+  }
+
+  techniques::Frame render(const techniques::FrameRequest& request) {
+    if (!scene) throw ParameterError("tsis: render() before prepare(): expected a scene");
+    const scene::Scene& s = *scene;
+    const int width = request.width > 0 ? request.width : s.camera.width;
+    const int height = request.height > 0 ? request.height : s.camera.height;
+    if (width < 1 || height < 1 || width > 16384 || height > 16384)
+      throw ParameterError(fmt::format("image size {}x{}: expected width and height in [1, 16384]",
+                                       width, height));
+    buildPrograms();
+    buildAtlas();
+    buildKernel();
+    if (!timer) timer.emplace();
+    techniques::Frame frame;
+    frame.notes = std::move(notes);
+    notes.clear();
+
+    const int sampleCount = params.getInt("samples");
+    if (size_t(sampleCount) != sampleCapacity) {
+      samples = gpu::makeStorageBuffer(size_t(sampleCount) * 2 * sizeof(glm::vec4));
+      sampleCapacity = size_t(sampleCount);
+    }
+    const size_t pixels = size_t(width) * size_t(height);
+    if (pixels != outPixels || gbuffer.width() != width || gbuffer.height() != height) {
+      radianceOut = gpu::makeStorageBuffer(pixels * sizeof(glm::vec4));
+      exitanceOut = gpu::makeStorageBuffer(pixels * sizeof(glm::vec4));
+      accum = gpu::makeStorageBuffer(pixels * sizeof(glm::vec4));
+      outPixels = pixels;
+      accumulationDirty = true;
+    }
+    {
+      auto t = timer->scope("g-buffer");
+      gbuffer.resize(width, height);
+      const glm::mat4 vp = techniques::cameraViewProjection(s.camera, s.clip_near, s.clip_far, center,
+                                                            radius, width, height);
+      gbuffer.render(*gpuMesh, *gbufferProgram, vp);
+    }
+    const bool accumulate = params.getBool("accumulate");
+    // A parameter, the scene or the image size changed: the accumulated frames are stale. (Without
+    // accumulation frameIndex only advances the rotation.)
+    if (accumulate && accumulationDirty) frameIndex = 0;
+    accumulationDirty = false;
+    const auto perFrame = static_cast<uint64_t>(sampleCount);
+    const uint64_t target =
+        (static_cast<uint64_t>(params.getInt("accumulate_samples")) + perFrame - 1) / perFrame;
+    uint64_t count = 1;
+    if (accumulate && request.converge && frameIndex < target) count = target - frameIndex;
+    // The lights and the scene stay the same within one call: Stage 1 and the sum mipmap once,
+    // then only new samples and their sums.
+    for (uint64_t f = 0; f < count; ++f) renderOnce(width, height, sampleCount, accumulate, f == 0);
+    frame.converged = !accumulate || frameIndex >= target;
+    gpu::checkGlError("tsis frame");
+
+    frame.width = width;
+    frame.height = height;
+    if (request.readback) {
+      const auto rad = gpu::download<glm::vec4>(radianceOut, pixels);
+      const auto ex = gpu::download<glm::vec4>(exitanceOut, pixels);
+      frame.rgb.resize(pixels * 3);
+      std::vector<float>& exitance = frame.layers["exitance"];
+      exitance.resize(pixels * 3);
+      for (size_t i = 0; i < pixels; ++i)
+        for (int c = 0; c < 3; ++c) {
+          frame.rgb[i * 3 + size_t(c)] = rad[i][c];
+          exitance[i * 3 + size_t(c)] = ex[i][c];
+        }
+    }
+    for (const auto& pass : timer->collect()) frame.passes.push_back({pass.name, pass.ms, pass.depth});
+    return frame;
+  }
+};
+
+// ---------------------------------------------------------------------------------------------
+
+TsisTechnique::TsisTechnique() : impl_(std::make_unique<Impl>()) {}
+TsisTechnique::~TsisTechnique() = default;
+
+std::string_view TsisTechnique::description() const {
+  return "texture-space importance sampling of the irradiance over a surface atlas (seed chapter 3)";
+}
+
+const std::vector<techniques::ParameterInfo>& TsisTechnique::parameters() const {
+  return impl_->params.infos();
+}
+
+void TsisTechnique::setParameter(std::string_view name, const techniques::ParameterValue& value) {
+  const techniques::ParameterValue checked = techniques::checkedValue(impl_->params.info(name), value);
+  if (name == "mode" && std::get<std::string>(checked) == "hybrid")
+    throw ParameterError("tsis: mode 'hybrid' (the local/global split of seed 3.3) is not implemented "
+                         "yet: expected 'global'");
+  if (!impl_->params.set(name, checked)) return;
+  impl_->accumulationDirty = true;
+  if (name == "atlas_size" || name == "atlas_method") impl_->atlasDirty = true;
+  if (name == "shadow_map_size" && impl_->scene) impl_->prepareLights(*impl_->scene);
+}
+
+techniques::ParameterValue TsisTechnique::parameter(std::string_view name) const {
+  return impl_->params.get(name);
+}
+
+void TsisTechnique::prepare(const scene::Scene& scene, gpu::Context& gl) {
+  gl.makeCurrent();
+  scene.camera.validate();
+  scene.medium.validate();
+  impl_->buildPrograms();
+  impl_->scene.reset();  // until this preparation succeeds
+  impl_->loadMesh(scene);
+  impl_->prepareLights(scene);
+  impl_->scene = scene;
+  impl_->buildAtlas();
+  impl_->buildKernel();
+  impl_->accumulationDirty = true;
+}
+
+techniques::Frame TsisTechnique::render(const techniques::FrameRequest& request) {
+  return impl_->render(request);
+}
+
+const geometry::TriangleMesh& TsisTechnique::mesh() const { return impl_->mesh; }
+uint32_t TsisTechnique::atlasSize() const { return impl_->atlasSize; }
+const std::vector<TexelPoint>& TsisTechnique::texelPoints() const { return impl_->texels; }
+
+std::vector<glm::vec3> TsisTechnique::texelIrradiance() const {
+  const auto e = gpu::download<glm::vec4>(impl_->irradiance, impl_->texels.size());
+  std::vector<glm::vec3> out(e.size());
+  for (size_t i = 0; i < e.size(); ++i) out[i] = glm::vec3(e[i]);
+  return out;
+}
+
+std::vector<float> TsisTechnique::importance() const {
+  return gpu::download<float>(impl_->levels, size_t(impl_->atlasSize) * impl_->atlasSize);
+}
+
+float TsisTechnique::totalImportance() const {
+  return gpu::download<float>(impl_->levels, 1, impl_->levelOffset[size_t(impl_->levelCount)])[0];
+}
+
+std::vector<uint32_t> TsisTechnique::sampleTexels() const {
+  const auto s = gpu::download<glm::vec4>(impl_->samples, 2 * impl_->sampleCapacity);
+  std::vector<uint32_t> out(impl_->sampleCapacity);
+  for (size_t i = 0; i < out.size(); ++i) out[i] = static_cast<uint32_t>(s[2 * i].w);
+  return out;
+}
+
+std::vector<glm::vec4> TsisTechnique::gbufferPositions() const {
+  const int w = impl_->gbuffer.width(), h = impl_->gbuffer.height();
+  std::vector<glm::vec4> rows(size_t(w) * size_t(h));
+  glGetTextureImage(impl_->gbuffer.position().id(), 0, GL_RGBA, GL_FLOAT,
+                    static_cast<GLsizei>(rows.size() * sizeof(glm::vec4)), rows.data());
+  gpu::checkGlError("reading the G-buffer");
+  std::vector<glm::vec4> out(rows.size());
+  for (int y = 0; y < h; ++y)
+    std::copy_n(rows.begin() + ptrdiff_t(y) * w, w, out.begin() + ptrdiff_t(h - 1 - y) * w);
+  return out;
+}
+
+const std::array<bssrdf::ProfileTable, 3>& TsisTechnique::profileTables() const { return impl_->tables; }
+int TsisTechnique::accumulatedFrames() const { return static_cast<int>(impl_->frameIndex); }
+
+std::unique_ptr<techniques::Technique> makeTsisTechnique() { return std::make_unique<TsisTechnique>(); }
+
+}  // namespace translucent::tsis
