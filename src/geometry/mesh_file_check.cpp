@@ -315,6 +315,11 @@ void checkPly(const std::string& path, std::string_view data) {
             fail(path, fmt::format("{} {} property '{}' has a list of {} items: expected a "
                                    "non-negative count", e.name, i, p.name, n));
           const auto items = static_cast<uint64_t>(n);
+          // A face of no index fails an assertion in assimp's triangulation; one or two indices
+          // are no triangle either.
+          if (isFaceIndexList(e, p) && items < 3)
+            fail(path, fmt::format("byte {}: face {} has {} vertex indices: expected at least 3",
+                                   at - plySize(p.countType), i, items));
           if (items > (data.size() - at) / plySize(p.type)) need(data.size() - at + 1, e, i);
           for (uint64_t k = 0; k < items; ++k, at += plySize(p.type)) {
             const double v = readBinary(bytes + at, p.type, big);
@@ -368,6 +373,9 @@ void checkPly(const std::string& path, std::string_view data) {
           continue;
         }
         const double n = value(next(p), p.countType, p);
+        if (isFaceIndexList(e, p) && n < 3)
+          fail(path, fmt::format("{}face {} has {} vertex indices: expected at least 3", where(), i,
+                                 n));
         if (n < 0 || n > static_cast<double>(t.size()))
           fail(path, fmt::format("{}{} {} property '{}' has a list of {} items but the line holds "
                                  "{} values: expected the count to match", where(), e.name, i,
