@@ -332,20 +332,23 @@ void checkPly(const std::string& path, std::string_view data) {
     return;
   }
 
-  // ASCII: assimp reads one instance per line (empty lines skipped) and fills what a line lacks
-  // with defaults, so every instance must be complete on its own line.
+  // ASCII: one instance per line, exactly the values the header declares. assimp reads an empty
+  // line as an instance and misreads a line with extra values (it then fails an assertion), so
+  // both are errors; empty lines after the last instance are not.
   checkText(path, data, dataStart);
   const auto lines = splitLines(data, dataStart, number + 1);
   size_t li = 0;
   for (const auto& e : elements)
     for (uint64_t i = 0; i < e.count; ++i) {
-      while (li < lines.size() && lines[li].text.empty()) ++li;
-      if (li == lines.size())
+      if (li == lines.size() || (li + 1 == lines.size() && lines[li].text.empty()))
         fail(path, fmt::format("the data ends before {} {}: line {} declares {}: expected one line "
                                "per instance", e.name, i, e.line, e.count));
       const Line& line = lines[li++];
       const auto t = tokens(line.text);
       auto where = [&] { return fmt::format("line {}: ", line.number); };
+      if (t.empty())
+        fail(path, fmt::format("{}blank where {} {} should be: expected one line per instance",
+                               where(), e.name, i));
       size_t k = 0;
       auto next = [&](const PlyProperty& p) {
         if (k == t.size())
@@ -388,6 +391,9 @@ void checkPly(const std::string& path, std::string_view data) {
             checkValue(v, e, p, i, where);
         }
       }
+      if (k != t.size())
+        fail(path, fmt::format("{}{} {} has {} values more than its properties: expected {}",
+                               where(), e.name, i, t.size() - k, k));
     }
 }
 
@@ -507,6 +513,7 @@ void checkObj(const std::string& path, std::string_view data) {
   uint64_t sofar[3] = {0, 0, 0};
   bool faces = false;
   const char* what[3] = {"vertex", "texture coordinate", "normal"};
+  const char* whats[3] = {"vertices", "texture coordinates", "normals"};
   for (const auto& l : lines) {
     const auto t = tokens(l.text);
     if (t.empty()) continue;
@@ -530,6 +537,11 @@ void checkObj(const std::string& path, std::string_view data) {
     }
     if (t[0] != "f" && t[0] != "l" && t[0] != "p") continue;
     faces = faces || t[0] == "f";
+    // With assimp's validation, a face of one or two vertices among triangles makes the whole
+    // file fail with a message about primitive type flags; say what is wrong instead.
+    if (t[0] == "f" && t.size() < 4)
+      fail(path, fmt::format("line {}: a face of {} vertices: expected at least 3 ('l' and 'p' "
+                             "lines are for lines and points)", l.number, t.size() - 1));
     for (size_t k = 1; k < t.size(); ++k) {
       // v, v/vt, v//vn or v/vt/vn.
       std::string_view rest = t[k];
@@ -544,6 +556,10 @@ void checkObj(const std::string& path, std::string_view data) {
                                  shown(s)));
         const bool ok = *v > 0 ? static_cast<uint64_t>(*v) <= total[part]
                                : *v < 0 && static_cast<uint64_t>(-(*v + 1)) < sofar[part];
+        if (!ok && total[part] == 0)
+          fail(path, fmt::format("line {}: {} index {}, but the file has no {} ('{}' lines)",
+                                 l.number, what[part], *v, whats[part],
+                                 part == 0 ? "v" : part == 1 ? "vt" : "vn"));
         if (!ok)
           fail(path, fmt::format("line {}: {} index {} is out of range: expected 1 to {} (or -1 to "
                                  "-{} counting back){}", l.number, what[part], *v, total[part], sofar[part],
