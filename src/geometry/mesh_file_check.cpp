@@ -199,6 +199,12 @@ void checkPly(const std::string& path, std::string_view data) {
       if (!count || *count < 0 || *count > std::numeric_limits<uint32_t>::max())
         fail(path, fmt::format("line {}: element '{}' count {}: expected an integer from 0 to {}",
                                number, t[1], shown(t[2]), std::numeric_limits<uint32_t>::max()));
+      // assimp mixes up repeated elements or properties (a second vertex element or a second x
+      // loads a different mesh, silently), so names must be unique.
+      for (const auto& e : elements)
+        if (e.name == t[1])
+          fail(path, fmt::format("line {}: a second element '{}' (the first on line {}): expected "
+                                 "each element once", number, e.name, e.line));
       elements.push_back({std::string(t[1]), static_cast<uint64_t>(*count), number, {}});
     } else if (t[0] == "property") {
       if (elements.empty())
@@ -224,6 +230,10 @@ void checkPly(const std::string& path, std::string_view data) {
         fail(path, fmt::format("line {} is {}: expected 'property TYPE NAME' or 'property list "
                                "COUNT_TYPE ITEM_TYPE NAME'", number, shown(raw)));
       }
+      for (const auto& q : elements.back().properties)
+        if (q.name == p.name)
+          fail(path, fmt::format("line {}: a second property '{}' in element '{}': expected each "
+                                 "property once", number, p.name, elements.back().name));
       elements.back().properties.push_back(p);
     } else {
       fail(path, fmt::format("line {} is {}: expected format, element, property, comment, obj_info "

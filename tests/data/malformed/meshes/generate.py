@@ -86,6 +86,12 @@ write("ply_ascii_two_index_face.ply", ply_ascii(4, 4, TETRA_V, TETRA_F[:3] + [(1
 # with more values than the header's properties (the latter fails an assertion).
 write("ply_ascii_blank_line.ply", ply_ascii(4, 4, TETRA_V, TETRA_F).replace("\n1 0 0\n", "\n\n1 0 0\n"))
 write("ply_ascii_extra_values.ply", ply_ascii(4, 4, TETRA_V, TETRA_F).replace("\n0 1 0\n", "\n0 1 0 7 7 7\n"))
+# Loaded a different mesh, silently: assimp mixes repeated elements and properties.
+write("ply_second_vertex_element.ply", ply_ascii(4, 4, TETRA_V, TETRA_F).replace(
+    "end_header\n", "element vertex 2\nproperty float x\nproperty float y\nproperty float z\n"
+    "end_header\n") + "0 0 0\n0 0 0\n")
+write("ply_repeated_property.ply", ply_ascii(4, 4, [(*v, 5) for v in TETRA_V], TETRA_F).replace(
+    "property float z\n", "property float z\nproperty float x\n"))
 write("ply_ascii_nan.ply", ply_ascii(4, 4, TETRA_V[:2] + [(0, "nan", 0)] + TETRA_V[3:], TETRA_F))
 write("ply_no_end_header.ply", "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\n")
 write("ply_unknown_format.ply", ply_ascii(4, 4, TETRA_V, TETRA_F).replace("format ascii", "format text"))
