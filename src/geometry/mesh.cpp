@@ -13,7 +13,6 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <memory>
 #include <unordered_map>
 
 #include <glm/geometric.hpp>
