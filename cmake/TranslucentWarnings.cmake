@@ -15,6 +15,15 @@ if(TRANSLUCENT_SANITIZE)
   target_link_options(translucent_sanitize INTERFACE -fsanitize=address,undefined)
 endif()
 
+if(TRANSLUCENT_FUZZ)
+  # fuzzer-no-link: coverage instrumentation for libFuzzer without its main (the fuzz targets
+  # link -fsanitize=fuzzer); sanitizer findings abort so that libFuzzer records them.
+  target_compile_options(translucent_sanitize INTERFACE
+    -fsanitize=fuzzer-no-link,address,undefined -fno-omit-frame-pointer
+    -fno-sanitize-recover=undefined)
+  target_link_options(translucent_sanitize INTERFACE -fsanitize=address,undefined)
+endif()
+
 # translucent_project_target(<target>): warnings (and sanitizers when enabled) for one of ours.
 function(translucent_project_target target)
   target_link_libraries(${target} PRIVATE translucent::warnings translucent::sanitize)

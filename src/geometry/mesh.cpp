@@ -4,15 +4,20 @@
 
 #include <algorithm>
 #include <array>
+#include <assimp/DefaultIOSystem.h>
 #include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <unordered_map>
 
 #include <glm/geometric.hpp>
+
+#include "geometry/mesh_file_check.h"
 
 namespace translucent::geometry {
 
@@ -118,6 +123,21 @@ void TriangleMesh::requireClosed(const std::string& what) const {
         what, open));
 }
 
+namespace {
+
+// assimp opens the files a mesh names (an OBJ's mtllib) as well as the mesh itself; a hostile
+// file could name /dev/zero or a directory and hang or crash the reader. Only regular files open.
+class RegularFilesOnly : public Assimp::DefaultIOSystem {
+ public:
+  Assimp::IOStream* Open(const char* file, const char* mode) override {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(file, ec)) return nullptr;
+    return Assimp::DefaultIOSystem::Open(file, mode);
+  }
+};
+
+}  // namespace
+
 TriangleMesh loadMesh(const std::string& path) {
   namespace fs = std::filesystem;
   std::error_code ec;
@@ -128,21 +148,59 @@ TriangleMesh loadMesh(const std::string& path) {
   if (fs::file_size(path, ec) == 0)
     throw MeshError(fmt::format("mesh file '{}' is empty: expected an OBJ, PLY or OFF mesh", path));
 
+  // Check the file's structure (counts, indices, numbers) ourselves before assimp reads it:
+  // assimp trusts the counts a header declares (mesh_file_check.h).
+  std::string bytes;
+  {
+    std::ifstream in(path, std::ios::binary);
+    bytes.resize(static_cast<size_t>(fs::file_size(path, ec)));
+    if (ec || !in.read(bytes.data(), static_cast<std::streamsize>(bytes.size())))
+      throw MeshError(fmt::format("mesh file '{}' could not be read", path));
+  }
+  std::string extension = fs::path(path).extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  detail::checkMeshFile(path, bytes, extension);
+
   Assimp::Importer importer;
+  importer.SetIOHandler(new RegularFilesOnly);  // the importer owns and deletes it
   // Keep only what we use; triangulate polygons, drop points and lines, join identical vertices.
+  // ValidateDataStructure runs first and rejects a scene with indices out of range.
   importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
   const aiScene* scene = importer.ReadFile(
-      path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_SortByPType |
+      path, aiProcess_ValidateDataStructure | aiProcess_Triangulate |
+                aiProcess_JoinIdenticalVertices | aiProcess_SortByPType |
                 aiProcess_PreTransformVertices);
-  if (scene == nullptr)
-    throw MeshError(fmt::format("mesh file '{}' could not be read: {}", path,
-                                importer.GetErrorString()));
+  if (scene == nullptr) {
+    const std::string error = importer.GetErrorString();
+    // SortByPType removed every mesh (all points or lines): say so rather than assimp's words.
+    if (error.find("No output meshes") != std::string::npos)
+      throw MeshError(fmt::format("mesh file '{}' has no faces (only points or lines): expected "
+                                  "a triangle mesh", path));
+    throw MeshError(fmt::format("mesh file '{}' could not be read: {}", path, error));
+  }
 
   TriangleMesh mesh;
   bool allNormals = true, allTexcoords = true;
   for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
     const aiMesh* am = scene->mMeshes[m];
-    if ((am->mPrimitiveTypes & aiPrimitiveType_TRIANGLE) == 0) continue;
+    if (am == nullptr || (am->mPrimitiveTypes & aiPrimitiveType_TRIANGLE) == 0) continue;
+    // Checked before anything indexes: the arrays exist and every index is in range.
+    if (am->mNumVertices > 0 && am->mVertices == nullptr)
+      throw MeshError(fmt::format("mesh file '{}': mesh {} has {} vertices but no positions", path,
+                                  m, am->mNumVertices));
+    if (am->mNumFaces > 0 && am->mFaces == nullptr)
+      throw MeshError(fmt::format("mesh file '{}': mesh {} has {} faces but no face data", path, m,
+                                  am->mNumFaces));
+    for (unsigned f = 0; f < am->mNumFaces; ++f) {
+      const aiFace& face = am->mFaces[f];
+      if (face.mNumIndices > 0 && face.mIndices == nullptr)
+        throw MeshError(fmt::format("mesh file '{}': mesh {} face {} has no indices", path, m, f));
+      for (unsigned k = 0; k < face.mNumIndices; ++k)
+        if (face.mIndices[k] >= am->mNumVertices)
+          throw MeshError(fmt::format("mesh file '{}': mesh {} face {} has vertex index {}: "
+                                      "expected 0 to {}", path, m, f, face.mIndices[k],
+                                      am->mNumVertices - 1));
+    }
     const auto base = static_cast<uint32_t>(mesh.positions.size());
     for (unsigned v = 0; v < am->mNumVertices; ++v) {
       const aiVector3D& p = am->mVertices[v];
@@ -174,10 +232,14 @@ TriangleMesh loadMesh(const std::string& path) {
                                   "coordinates", path, i, p.x, p.y, p.z));
   }
   // assimp keeps degenerate triangles; drop them rather than fail (they carry no area).
+  const size_t loaded = mesh.triangles.size();
   std::erase_if(mesh.triangles, [&](const glm::uvec3& t) {
     return !(glm::length(glm::cross(mesh.positions[t.y] - mesh.positions[t.x],
                                     mesh.positions[t.z] - mesh.positions[t.x])) > 0.0);
   });
+  if (mesh.triangles.empty() && loaded > 0)
+    throw MeshError(fmt::format("mesh file '{}': all {} triangles have zero area: expected a "
+                                "triangle mesh with positive area", path, loaded));
   if (mesh.triangles.empty())
     throw MeshError(fmt::format("mesh file '{}' has no triangles: expected a triangle mesh", path));
   mesh.validate(fmt::format("mesh file '{}'", path));
