@@ -162,6 +162,26 @@ void ShadowMap::render(const GpuMesh& mesh, const gpu::ShaderProgram& program,
   gpu::checkGlError("rendering a shadow map");
 }
 
+BoundingSphereOf boundingSphere(const geometry::TriangleMesh& mesh) {
+  BoundingSphereOf b;
+  b.center = mesh.bounds().center();
+  for (const auto& p : mesh.positions) b.radius = std::max(b.radius, glm::length(p - b.center));
+  return b;
+}
+
+PlaceholderTextures PlaceholderTextures::create() {
+  PlaceholderTextures t;
+  t.shadow = gpu::Texture::create(GL_TEXTURE_2D);
+  glTextureStorage2D(t.shadow.id(), 1, GL_DEPTH_COMPONENT32F, 1, 1);
+  glTextureParameteri(t.shadow.id(), GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+  t.filter = gpu::Texture::create(GL_TEXTURE_2D);
+  glTextureStorage2D(t.filter.id(), 1, GL_RGBA32F, 1, 1);
+  const float white[4] = {1.0f, 1.0f, 1.0f, 1.0f};
+  glTextureSubImage2D(t.filter.id(), 0, 0, 0, 1, 1, GL_RGBA, GL_FLOAT, white);
+  gpu::checkGlError("creating the placeholder textures");
+  return t;
+}
+
 CameraMatrices cameraMatrices(const reference::Camera& camera, double near, double far,
                               const glm::dvec3& center, double radius, int width, int height) {
   CameraMatrices m;

@@ -88,6 +88,22 @@ struct ShadowLookup {
 void setShadowUniforms(const gpu::ShaderProgram& program, const ShadowMap* map,
                        const ShadowLookup& lookup, const gpu::Texture& dummy);
 
+// The smallest sphere about the bounding box's centre that holds every vertex (what the shadow
+// maps and the camera's automatic clip distances cover).
+struct BoundingSphereOf {
+  glm::dvec3 center{0.0};
+  double radius = 0.0;
+};
+BoundingSphereOf boundingSphere(const geometry::TriangleMesh& mesh);
+
+// 1x1 textures bound where a sampler has nothing to read (no shadow map, no filter texture), so
+// that every sampler refers to a complete texture of its type: a depth texture with comparison
+// (sampler2DShadow) and a white RGBA32F texture.
+struct PlaceholderTextures {
+  gpu::Texture shadow, filter;
+  static PlaceholderTextures create();
+};
+
 // Camera matrices of a reference::Camera (pinhole: vertical fov; orthographic: view_height),
 // with near/far clip distances (0: from the bounding sphere (center, radius): 1.1 radii in
 // front of and behind its centre).

@@ -138,10 +138,9 @@ struct EmpiricalTechnique::Impl {
     normals = geometry::ambientOcclusionNormals(mesh);
     for (glm::dvec3& n : normals)
       if (glm::dot(n, n) == 0.0) n = {0.0, 0.0, 1.0};  // unused vertex
-    const geometry::Bounds b = mesh.bounds();
-    center = b.center();
-    radius = 0.0;
-    for (const auto& p : mesh.positions) radius = std::max(radius, glm::length(p - center));
+    const techniques::BoundingSphereOf bs = techniques::boundingSphere(mesh);
+    center = bs.center;
+    radius = bs.radius;
     meshKey = key;
     aoKey.clear();
   }

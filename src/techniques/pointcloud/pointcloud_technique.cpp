@@ -237,14 +237,11 @@ struct PointCloudTechnique::Impl {
         gpu::ShaderProgram::graphics("pointcloud/gbuffer.vert", "pointcloud/gbuffer.frag"));
     irradianceProgram.emplace(gpu::ShaderProgram::compute("pointcloud/irradiance.comp"));
     refitProgram.emplace(gpu::ShaderProgram::compute("pointcloud/refit.comp"));
-    // Dummy textures so that every sampler refers to a complete texture of its type.
-    dummyShadow = gpu::Texture::create(GL_TEXTURE_2D);
-    glTextureStorage2D(dummyShadow.id(), 1, GL_DEPTH_COMPONENT32F, 1, 1);
-    glTextureParameteri(dummyShadow.id(), GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
-    dummyFilter = gpu::Texture::create(GL_TEXTURE_2D);
-    glTextureStorage2D(dummyFilter.id(), 1, GL_RGBA32F, 1, 1);
-    const float white[4] = {1.0f, 1.0f, 1.0f, 1.0f};
-    glTextureSubImage2D(dummyFilter.id(), 0, 0, 0, 1, 1, GL_RGBA, GL_FLOAT, white);
+    {
+      techniques::PlaceholderTextures t = techniques::PlaceholderTextures::create();
+      dummyShadow = std::move(t.shadow);
+      dummyFilter = std::move(t.filter);
+    }
     gpu::checkGlError("building the point-cloud programs");
   }
 
@@ -255,10 +252,9 @@ struct PointCloudTechnique::Impl {
     m.requireClosed(fmt::format("mesh file '{}'", s.mesh_file.string()));
     m.orientOutwards();
     mesh = std::move(m);
-    const geometry::Bounds b = mesh.bounds();
-    center = b.center();
-    radius = 0.0;
-    for (const auto& p : mesh.positions) radius = std::max(radius, glm::length(p - center));
+    const techniques::BoundingSphereOf bs = techniques::boundingSphere(mesh);
+    center = bs.center;
+    radius = bs.radius;
     gpuMesh.emplace(mesh);
     meshKey = key;
     geometryDirty = true;
