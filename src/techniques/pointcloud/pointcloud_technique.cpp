@@ -22,6 +22,7 @@
 #include "gpu/pass_timer.h"
 #include "lights/environment_map.h"
 #include "techniques/common/gl_resources.h"
+#include "techniques/common/light_shadows.h"
 #include "techniques/common/profile_kernel.h"
 
 namespace translucent::pointcloud {
@@ -413,12 +414,7 @@ struct PointCloudTechnique::Impl {
   // ---- frame ------------------------------------------------------------------------------------
 
   void setShadowUniforms(const gpu::ShaderProgram& p, const ShadowMap* map) {
-    techniques::ShadowLookup lookup;
-    lookup.samples = params.getInt("shadow_samples");
-    lookup.offset = static_cast<float>(params.getFloat("shadow_offset"));
-    lookup.bias = static_cast<float>(params.getFloat("shadow_bias"));
-    lookup.radius = static_cast<float>(params.getFloat("shadow_radius"));
-    techniques::setShadowUniforms(p, map, lookup, dummyShadow);
+    techniques::setShadowUniforms(p, map, techniques::shadowLookup(params), dummyShadow);
   }
 
   void dispatchIrradiance(int mode) {
@@ -428,15 +424,7 @@ struct PointCloudTechnique::Impl {
   }
 
   void renderShadow(LightState& st) {
-    const auto& e = st.light.emitter;
-    if (const auto* d = std::get_if<reference::DirectionalLight>(&e))
-      st.shadow->renderDirectional(*gpuMesh, *depthProgram, d->direction, center, radius);
-    else if (const auto* f = std::get_if<scene::FilteredDirectionalLight>(&e))
-      st.shadow->renderDirectional(*gpuMesh, *depthProgram, f->direction, center, radius);
-    else if (const auto* b = std::get_if<reference::BeamLight>(&e))
-      st.shadow->renderDirectional(*gpuMesh, *depthProgram, -b->direction, center, radius);
-    else if (const auto* pl = std::get_if<reference::PointLight>(&e))
-      st.shadow->renderPoint(*gpuMesh, *depthProgram, pl->position, center, radius);
+    techniques::renderLightShadow(*st.shadow, st.light, *gpuMesh, *depthProgram, center, radius);
   }
 
   void lightDispatch(LightState& st) {

@@ -20,6 +20,7 @@
 #include "gpu/pass_timer.h"
 #include "lights/environment_map.h"
 #include "techniques/common/gl_resources.h"
+#include "techniques/common/light_shadows.h"
 #include "techniques/common/profile_kernel.h"
 #include "techniques/pointcloud/pointcloud_technique.h"  // kDefaultRadianceConvention
 
@@ -305,13 +306,7 @@ struct TsisTechnique::Impl {
   }
 
   void renderShadow(LightState& st) {
-    const auto& e = st.light.emitter;
-    if (const auto* d = std::get_if<reference::DirectionalLight>(&e))
-      st.shadow->renderDirectional(*gpuMesh, *depthProgram, d->direction, center, radius);
-    else if (const auto* b = std::get_if<reference::BeamLight>(&e))
-      st.shadow->renderDirectional(*gpuMesh, *depthProgram, -b->direction, center, radius);
-    else if (const auto* pl = std::get_if<reference::PointLight>(&e))
-      st.shadow->renderPoint(*gpuMesh, *depthProgram, pl->position, center, radius);
+    techniques::renderLightShadow(*st.shadow, st.light, *gpuMesh, *depthProgram, center, radius);
   }
 
   void dispatchIrradiance(int mode) {
@@ -322,12 +317,7 @@ struct TsisTechnique::Impl {
   // One light into E, with the point cloud's conventions (irradiance.comp's modes).
   void lightDispatch(const LightState& st) {
     const gpu::ShaderProgram& p = *irradianceProgram;
-    techniques::ShadowLookup lookup;
-    lookup.samples = params.getInt("shadow_samples");
-    lookup.offset = static_cast<float>(params.getFloat("shadow_offset"));
-    lookup.bias = static_cast<float>(params.getFloat("shadow_bias"));
-    lookup.radius = static_cast<float>(params.getFloat("shadow_radius"));
-    techniques::setShadowUniforms(p, st.shadow.get(), lookup, dummyShadow);
+    techniques::setShadowUniforms(p, st.shadow.get(), techniques::shadowLookup(params), dummyShadow);
     glBindTextureUnit(1, dummyFilter.id());
     const glm::vec3 color = toVec3(st.light.color);
     const auto& e = st.light.emitter;
