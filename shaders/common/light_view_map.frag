@@ -1,7 +1,8 @@
 #version 450 core
 // Light-view irradiance map (techniques/common/light_view_map.h), one texel per fragment:
 //   0  xyz world position, w = 1 (covered)
-//   1  xyz unit shading normal n, w = cos θ_g = n_g · ω_l, n_g the triangle's geometric normal
+//   1  xyz the triangle's unit geometric normal n_g (facing the light: the plane the texel's
+//      surface lies in), w = cos θ_g = n_g · ω_l
 //   2  rgb transmitted irradiance E = V Ft(η, n·ω_l) (n·ω_l)          (directional: V = E_l)
 //                                   = I_l Ft(η, n·ω_l) (n·ω_l) / d²    (point light)
 // with the conventions of shaders/pointcloud/irradiance.comp (exact Fresnel transmittance, smooth
@@ -33,10 +34,11 @@ void main() {
   // The triangle's own normal (the front face the light sees): its cosine converts the
   // texel's projected area into surface area (light_view_map.glsl, lvmSurfaceArea).
   vec3 ng = normalize(cross(dFdx(vPosition), dFdy(vPosition)));
-  float cosG = abs(dot(ng, l));
+  if (dot(ng, l) < 0.0) ng = -ng;
+  float cosG = dot(ng, l);
   float cosTheta = dot(n, l);
   vec3 e = cosTheta > 0.0 ? value * (pcFresnelTransmittance(cosTheta, Eta) * cosTheta) : vec3(0.0);
   outPosition = vec4(vPosition, 1.0);
-  outNormal = vec4(n, cosG);
+  outNormal = vec4(ng, cosG);
   outIrradiance = vec4(e, 0.0);
 }

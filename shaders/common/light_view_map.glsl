@@ -3,7 +3,7 @@
 #pragma once
 
 uniform sampler2D LvmPosition;    // xyz world position, w = 1 where covered
-uniform sampler2D LvmNormal;      // xyz unit normal, w = cos θ_g (geometric normal · to light)
+uniform sampler2D LvmNormal;      // xyz unit geometric normal n_g, w = cos θ_g = n_g · ω_l
 uniform sampler2D LvmIrradiance;  // rgb transmitted irradiance E [W / scene unit²]
 uniform mat4 LvmMatrix;           // world -> [0,1]³ (after the perspective divide)
 uniform bool LvmPerspective;      // point light

@@ -4,8 +4,9 @@
 // over the fixed pattern around x_o's projection p_o on the map's plane,
 //     B(x_o) += Σ_i E(x_i) W_i · a_i / A_i,
 //     a_i / A_i = lvmSurfaceArea(x_i, ...) / (A_i at x_o's plane)   (1 / cos θ_g orthographic),
-// with W_i the sample's weight (RegionWeights: ∫ over its region of Rd(√(ρ² + h_i²)), h_i the
-// offset along the light's rays, tabulated; else Rd(|x_i − x_o|) A_i), then the radiance
+// with W_i the sample's weight (RegionWeights: ∫ over its region mapped onto x_i's tilted surface
+// plane of Rd(√(q² + h_i²)), h_i x_o's distance from that plane, tabulated over h and cos θ_g;
+// else Rd(|x_i − x_o|) A_i), then the radiance
 // L = s Ft(η, n·ω_o) B / π (seed Eq. 3.6), as shaders/tsis/radiance.comp. One dispatch per light:
 // First writes, the others add.
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -33,16 +34,21 @@ uniform bool First;            // the first light: write instead of add
 uniform bool Clear;            // no light at all: write zeros
 uniform bool RegionWeights;
 uniform float FilterRadius;    // R [scene units] on x_o's plane
-uniform uint RegionCount;      // entries per region, h_j = ProfileRMax j / (n − 1)
+uniform uint RegionH;          // table entries in h: h_j = ProfileRMax j / (n − 1)
+uniform uint RegionC;          // and in cos θ_g: MinCosG + (1 − MinCosG) m / (n − 1)
+uniform float MinCosG;
 uniform vec4 Pattern[TSM_SAMPLES];  // xy offset / R, z area / R², w region
 
-vec3 tsmRegionWeight(int region, float h) {
-  float x = h / ProfileRMax * float(RegionCount - 1u);
-  if (x >= float(RegionCount - 1u)) return tsmRegion[uint(region) * RegionCount + RegionCount - 1u].rgb;
-  uint i = uint(x);
-  float t = x - float(i);
-  uint base = uint(region) * RegionCount;
-  return mix(tsmRegion[base + i].rgb, tsmRegion[base + i + 1u].rgb, t);
+// W_k(h, cos θ_g) bilinearly from the table: [region][cos θ_g][h], RGB.
+vec3 tsmRegionWeight(int region, float h, float cosG) {
+  float x = clamp(h / ProfileRMax, 0.0, 1.0) * float(RegionH - 1u);
+  float y = clamp((cosG - MinCosG) / (1.0 - MinCosG), 0.0, 1.0) * float(RegionC - 1u);
+  uint i = min(uint(x), RegionH - 2u), m = min(uint(y), RegionC - 2u);
+  float tx = x - float(i), ty = y - float(m);
+  uint base = (uint(region) * RegionC + m) * RegionH + i;
+  vec3 lo = mix(tsmRegion[base].rgb, tsmRegion[base + 1u].rgb, tx);
+  vec3 hi = mix(tsmRegion[base + RegionH].rgb, tsmRegion[base + RegionH + 1u].rgb, tx);
+  return mix(lo, hi, ty);
 }
 
 void main() {
@@ -59,8 +65,6 @@ void main() {
   vec3 xo = g.xyz;
   vec3 n = normalize(texelFetch(GNormal, ivec2(px), 0).xyz);
   vec3 po = lvmProject(xo);
-  // The light's rays at x_o: h_i is measured along them.
-  vec3 ray = LvmPerspective ? normalize(xo - LvmOrigin) : LvmAxis;
   float uvPerWorld = 1.0 / lvmWorldPerUv(xo);
   float rUv = FilterRadius * uvPerWorld;
   float areaO = FilterRadius * FilterRadius;  // A_i / (Pattern.z) at x_o's plane [scene units²]
@@ -74,7 +78,10 @@ void main() {
     float a = lvmSurfaceArea(xi, cosG, areaUv);  // surface area of the sample's region at x_i
     vec3 w;
     if (RegionWeights)
-      w = tsmRegionWeight(int(q.w), abs(dot(xi - xo, ray))) * (a / (q.z * areaO));
+      // The tabulated weight is already the surface integral (its 1/cos θ_g included): only the
+      // perspective magnification from x_o's plane to x_i's remains (1 orthographic).
+      w = tsmRegionWeight(int(q.w), abs(dot(xo - xi, ni)), cosG) *
+          (a * max(cosG, MinCosG) / (q.z * areaO));
     else
       w = pcKernel(xo, n, xi, ni) * a;
     b += e * w;

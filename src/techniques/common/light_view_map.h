@@ -1,6 +1,6 @@
 // A light-view irradiance map (techniques/common): the mesh rasterised from a light into float
 // textures holding, per texel, the world position of the surface the light sees first, its
-// normal, and the irradiance it transmits into the medium. It is the "translucent shadow map" of
+// geometric normal, and the irradiance it transmits into the medium. It is the "translucent shadow map" of
 // Dachsbacher & Stamminger 2003 ("Translucent Shadow Maps", EGSR 2003), which stores depth,
 // irradiance and normal per texel; storing the world position instead of the depth gives the true
 // 3D distance |x_i − x_o| of a texel to any surface point directly.
@@ -56,7 +56,8 @@ class LightViewMap {
 
   // RGBA32F: xyz world position, w = 1 where a surface covers the texel (0 elsewhere).
   const gpu::Texture& position() const { return position_; }
-  // RGBA32F: xyz unit shading normal, w = cos θ_g (geometric normal · direction to the light).
+  // RGBA32F: xyz the triangle's unit geometric normal n_g (towards the light: the plane the
+  // texel's surface lies in), w = cos θ_g = n_g · (direction to the light).
   const gpu::Texture& normal() const { return normal_; }
   // RGBA32F: rgb transmitted irradiance E [W / scene unit²], w unused.
   const gpu::Texture& irradiance() const { return irradiance_; }

@@ -34,7 +34,8 @@ using techniques::ParameterInfo;
 enum Binding : GLuint { kProfile = 5, kRegions = 6, kRadianceOut = 7, kExitanceOut = 8 };
 
 constexpr size_t kTableSize = 4096;    // profile entries, uniform in r up to r_max
-constexpr size_t kRegionEntries = 512;  // region weights per region, uniform in h over [0, r_max]
+constexpr size_t kRegionH = 64;   // region weights: entries in h, uniform over [0, r_max]
+constexpr size_t kRegionC = 20;   // and in cos θ_g, uniform over [kMinCosG, 1]
 constexpr int kPatternSize = 21;        // TSM_SAMPLES in filter.comp
 
 std::vector<ParameterInfo> parameterInfos() {
@@ -86,15 +87,26 @@ std::vector<PatternSample> tsm21Pattern() {
   return out;
 }
 
-double regionWeight(const bssrdf::ProfileTable& table, double radius, int region, double h, int steps) {
+double regionWeight(const bssrdf::ProfileTable& table, double radius, int region, double h,
+                    double cosG, int steps) {
   const double a = region == 0 ? 0.0 : kTsm21Bounds[size_t(region - 1)] * radius;
   const double b = kTsm21Bounds[size_t(region)] * radius;
   const int samples = region == 0 ? 1 : 5;
-  // ∫ R(√(ρ² + h²)) 2πρ dρ = π ∫ R(√(u + h²)) du over u = ρ² ∈ [a², b²].
-  const double u0 = a * a, du = (b * b - u0) / steps;
+  const double c = std::clamp(cosG, kMinCosG, 1.0);
+  // Over the projection plane, p = (ρ cos φ, ρ sin φ) with the tilt along φ = 0, the surface
+  // point lies at in-plane offset (ρ cos φ / c, ρ sin φ) and dA_S = dA_P / c:
+  //   W = (1/n) ∫∫ R(√(ρ² (cos²φ / c² + sin²φ) + h²)) ρ dρ dφ / c,
+  // by the midpoint rule in u = ρ² (ρ dρ = du / 2) and in φ over a quarter (symmetry).
+  const int phiSteps = c < 1.0 ? 16 : 1;
+  const double u0 = a * a, du = (b * b - u0) / steps, dphi = 0.5 * std::numbers::pi / phiSteps;
   double sum = 0.0;
-  for (int i = 0; i < steps; ++i) sum += table.lookup(std::sqrt(u0 + (i + 0.5) * du + h * h));
-  return std::numbers::pi * sum * du / samples;
+  for (int j = 0; j < phiSteps; ++j) {
+    const double phi = (j + 0.5) * dphi, cp = std::cos(phi), sp = std::sin(phi);
+    const double stretch = cp * cp / (c * c) + sp * sp;
+    for (int i = 0; i < steps; ++i) sum += table.lookup(std::sqrt((u0 + (i + 0.5) * du) * stretch + h * h));
+  }
+  // (1/2) du · 4 dφ · sum over the quarter = 2π · mean over φ · (1/2) du Σ.
+  return std::numbers::pi * (sum / phiSteps) * du / (c * samples);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -195,18 +207,22 @@ struct TsmTechnique::Impl {
       kernelKey = key;
       regionKey.clear();
     }
-    // Region weights W_k(h) per channel, h_j = r_max j / (n − 1): they depend on R.
+    // Region weights W_k(h, cos θ_g) per channel, h_j = r_max j / (n_h − 1),
+    // c_m = kMinCosG + (1 − kMinCosG) m / (n_c − 1): they depend on R.
     const std::string rkey = fmt::format("{}", params.getFloat("filter_radius"));
     if (rkey == regionKey) return;
     const double R = filterRadius();
     const double rMax = tables[0].r_max;
-    std::vector<glm::vec4> w(kTsm21Bounds.size() * kRegionEntries, glm::vec4(0.0f));
+    std::vector<glm::vec4> w(kTsm21Bounds.size() * kRegionC * kRegionH, glm::vec4(0.0f));
     for (size_t k = 0; k < kTsm21Bounds.size(); ++k)
-      for (size_t j = 0; j < kRegionEntries; ++j) {
-        const double h = rMax * double(j) / double(kRegionEntries - 1);
-        for (int c = 0; c < 3; ++c)
-          w[k * kRegionEntries + j][c] =
-              static_cast<float>(regionWeight(tables[size_t(c)], R, int(k), h));
+      for (size_t m = 0; m < kRegionC; ++m) {
+        const double c = kMinCosG + (1.0 - kMinCosG) * double(m) / double(kRegionC - 1);
+        for (size_t j = 0; j < kRegionH; ++j) {
+          const double h = rMax * double(j) / double(kRegionH - 1);
+          for (int ch = 0; ch < 3; ++ch)
+            w[(k * kRegionC + m) * kRegionH + j][ch] =
+                static_cast<float>(regionWeight(tables[size_t(ch)], R, int(k), h, c, 96));
+        }
       }
     regions = gpu::makeStorageBuffer(std::span<const glm::vec4>(w));
     regionKey = rkey;
@@ -275,7 +291,9 @@ struct TsmTechnique::Impl {
       p.set("Orthographic", s.camera.projection == reference::Camera::Projection::Orthographic);
       p.set("ProfileRMax", static_cast<float>(tables[0].r_max));
       p.set("ProfileCount", static_cast<unsigned>(tables[0].size()));
-      p.set("RegionCount", static_cast<unsigned>(kRegionEntries));
+      p.set("RegionH", static_cast<unsigned>(kRegionH));
+      p.set("RegionC", static_cast<unsigned>(kRegionC));
+      p.set("MinCosG", static_cast<float>(kMinCosG));
       p.set("FilterRadius", static_cast<float>(filterRadius()));
       p.set("RegionWeights", params.getEnum("weights") == "region");
       const std::vector<PatternSample> pattern = tsm21Pattern();

@@ -14,13 +14,20 @@
 //     B(x_o) ≈ Σ_i E(x_i) W_i / cos θ_g,i · (d_i² / d_o²)             (d_i/d_o = 1 orthographic)
 // where W_i is the sample's weight, an area of P at x_o's distance times the profile:
 //     weights = point   W_i = Rd(|x_i − x_o|) A_i                     (Eq. 3.8 as written)
-//     weights = region  W_i = ∫_{P_i} Rd(√(ρ² + h_i²)) dA             (default)
-// with h_i = |(x_i − x_o)·ω_l| the sample's offset along the light's rays. The region weights are
+//     weights = region  W_i = cos θ_g,i ∫_{S_i} Rd(√(q² + h_i²)) dA_S   (default)
+// with S_i the region P_i mapped onto the plane of x_i's surface (tilted by θ_g: stretched by
+// 1 / cos θ_g across the tilt), q the distance within it from the pattern's centre and
+// h_i = |(x_o − x_i)·n_i| x_o's distance from that plane (the factor cos θ_g cancels the 1/cos θ_g
+// of the estimator: the tabulated weight is the surface integral). The region weights are
 // the paper's precomputed filter weights made distance-aware: on a plane facing the light (h = 0)
 // they integrate Rd over the pattern's disc exactly, whereas a point rule with 21 samples cannot
 // follow the profile's peak at r → 0 (errors of tens of per cent); behind a thin part (h = the
 // thickness) they integrate Rd at the true 3D distances, so light crossing thin parts shows, which
-// is the point of TSM. They are tabulated per region over h ∈ [0, r_max].
+// is the point of TSM; on a tilted plane lit obliquely they still give ∫Rd dA (a weight taken on
+// the projection plane would give ∫Rd dA / cos θ_g). They are tabulated per region over
+// h ∈ [0, r_max] and cos θ_g ∈ [0.05, 1]. (Assumed: E and the surface's plane constant over each
+// region, and x_o's foot on that plane at the pattern's centre, exact when h = 0 or the light
+// falls along the normal.)
 // E already holds cos θ (E = E_l Ft(η, cos θ) cos θ, shaders/pointcloud/irradiance.comp's
 // convention), so E / cos θ_g · (projected area) is the power the texel's surface takes in.
 // The radiance is L = s Ft(η, n·ω_o) B / π (seed Eq. 3.6, s the radiance_convention scale), as
@@ -75,10 +82,18 @@ struct PatternSample {
 std::vector<PatternSample> tsm21Pattern();
 inline constexpr std::array<double, 5> kTsm21Bounds = {1.0 / 16.0, 1.0 / 8.0, 0.25, 0.5, 1.0};
 
-// The region weight of one sample: (1 / samples in the region) ∫_{region} R(√(ρ² + h²)) 2πρ dρ
-// for a profile table and pattern radius R (world units), by the midpoint rule in ρ² with
-// `steps` steps. What the GPU tabulates over h (tests use it as the reference).
-double regionWeight(const bssrdf::ProfileTable& table, double radius, int region, double h, int steps = 512);
+// The smallest cos θ_g the weights use (shaders/common/light_view_map.glsl clamps the same way).
+inline constexpr double kMinCosG = 0.05;
+
+// The region weight of one sample (region weights, above): the region of the projection plane
+// mapped onto the plane of the sample's surface, tilted by θ_g (stretched by 1 / cos θ_g across
+// the tilt, area × 1 / cos θ_g), at distance h from x_o:
+//     W = (1 / samples in the region) ∫_{region} R(√(q² + h²)) dA_S,
+// for a profile table and pattern radius R (world units), by the midpoint rule in ρ² with `steps`
+// steps (and 16 in φ when tilted). What the GPU tabulates over h and cos θ_g (tests use it as the
+// reference). On a plane, Σ over all regions → ∫_{disc R} Rd dA for any tilt when h = 0.
+double regionWeight(const bssrdf::ProfileTable& table, double radius, int region, double h,
+                    double cosG = 1.0, int steps = 512);
 
 class TsmTechnique final : public techniques::Technique {
  public:
