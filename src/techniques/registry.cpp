@@ -6,6 +6,7 @@
 #include "techniques/empirical/empirical_technique.h"
 #include "techniques/pointcloud/pointcloud_technique.h"
 #include "techniques/tsis/tsis_technique.h"
+#include "techniques/tsm/tsm_technique.h"
 
 namespace translucent::techniques {
 namespace {
@@ -24,6 +25,8 @@ constexpr Entry kTechniques[] = {
      &empirical::makeEmpiricalTechnique},
     {"tsis", "texture-space importance sampling of the irradiance over a surface atlas (seed chapter 3)",
      &tsis::makeTsisTechnique},
+    {"tsm", "translucent shadow maps: a 21-sample filter of light-view irradiance maps (Dachsbacher & Stamminger 2003)",
+     &tsm::makeTsmTechnique},
 };
 
 const Entry& find(std::string_view name) {
