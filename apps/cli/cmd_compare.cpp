@@ -109,14 +109,61 @@ Rendered renderTimed(techniques::Technique& t, const scene::Scene& s, int warmup
   return r;
 }
 
+// A row of the comparison: a technique, or a variant of one, "name:key=value:key=value" (e.g.
+// tsis:mode=hybrid:samples=900), so that one report compares settings of the same technique
+// side by side; the spec is the row's name.
+struct TechniqueSpec {
+  std::string base;
+  std::vector<std::pair<std::string, std::string>> settings;
+};
+
+TechniqueSpec parseSpec(const std::string& spec) {
+  TechniqueSpec out;
+  std::vector<std::string> parts;
+  size_t start = 0;
+  for (;;) {
+    const size_t colon = spec.find(':', start);
+    parts.push_back(spec.substr(start, colon == std::string::npos ? std::string::npos : colon - start));
+    if (colon == std::string::npos) break;
+    start = colon + 1;
+  }
+  out.base = parts[0];
+  for (size_t i = 1; i < parts.size(); ++i) {
+    const size_t eq = parts[i].find('=');
+    if (eq == std::string::npos || eq == 0 || eq + 1 == parts[i].size())
+      throw ParameterError(fmt::format("--techniques: '{}': '{}' is not key=value (a variant is "
+                                       "name:key=value:key=value)", spec, parts[i]));
+    out.settings.emplace_back(parts[i].substr(0, eq), parts[i].substr(eq + 1));
+  }
+  return out;
+}
+
+// Makes the technique of a spec and applies its settings (the scene's first when the scene
+// names the base technique); errors name the spec and the setting.
+std::unique_ptr<techniques::Technique> makeSpec(const std::string& spec, const scene::Scene* scene) {
+  const TechniqueSpec ts = parseSpec(spec);
+  std::unique_ptr<techniques::Technique> t = techniques::make(ts.base);
+  if (scene && ts.base == scene->technique) techniques::applySettings(*t, *scene);
+  for (const auto& [key, value] : ts.settings) {
+    try {
+      t->setParameter(key, value);
+    } catch (const std::exception& e) {
+      throw ParameterError(fmt::format("--techniques '{}': {}", spec, e.what()));
+    }
+  }
+  return t;
+}
+
 std::vector<std::string> techniqueList(const std::string& text) {
   const std::vector<std::string> all = techniques::names();
   if (text == "all") return all;
   std::vector<std::string> out;
   for (const std::string& n : splitList(text)) {
-    if (std::find(all.begin(), all.end(), n) == all.end())
+    const std::string base = parseSpec(n).base;
+    if (std::find(all.begin(), all.end(), base) == all.end())
       throw ParameterError(fmt::format("--techniques '{}': unknown technique '{}': valid techniques "
-                                       "are {} (or all)", text, n, fmt::join(all, ", ")));
+                                       "are {} (or all)", text, base, fmt::join(all, ", ")));
+    (void)makeSpec(n, nullptr);  // the settings exist and take their values
     if (std::find(out.begin(), out.end(), n) == out.end()) out.push_back(n);
   }
   if (out.empty())
@@ -301,13 +348,13 @@ SceneOutcome compareScene(const CompareArgs& a, const Parsed& parsed, const std:
   for (const std::string& name : names) {
     analysis::TechniqueRun run;
     run.images.name = name;
-    run.description = techniques::description(name);
+    run.description = techniques::description(parseSpec(name).base);
     std::unique_ptr<techniques::Technique> t;
     std::vector<PairMetrics> rows;
     try {
-      t = techniques::make(name);
-      // The scene's settings belong to the scene's technique; the others run at their defaults.
-      if (name == s.technique) techniques::applySettings(*t, s);
+      // The scene's settings belong to the scene's technique; the others run at their defaults;
+      // then a variant's own settings.
+      t = makeSpec(name, &s);
       fmt::print(stderr, "{}: preparing on {}\n", name, report.gpu);
       t->prepare(s, gl);
       Rendered r = renderTimed(*t, s, a.warmup, a.frames);
@@ -341,6 +388,16 @@ SceneOutcome compareScene(const CompareArgs& a, const Parsed& parsed, const std:
     // The sweep: each quality parameter over its values (the others as above), then restored. A
     // value that fails ends that parameter's sweep with a note; the technique's own result stands.
     if (a.sweep && !InterruptGuard::interrupted()) {
+      // A sweep measures the real-time image at each value: a technique that accumulates frames
+      // into a converged image (tsis) would give every sample count the same converged error,
+      // so its accumulation is off during the sweep (and restored after).
+      std::optional<techniques::ParameterValue> accumulate;
+      for (const auto& p : t->parameters())
+        if (p.name == "accumulate" && p.type == techniques::ParameterType::Bool) {
+          accumulate = t->parameter(p.name);
+          t->setParameter(p.name, false);
+        }
+      if (accumulate) run.notes.push_back("sweep: accumulate false (real-time frames)");
       for (const auto& p : t->parameters()) {
         if (p.sweep.empty()) continue;
         const techniques::ParameterValue keep = t->parameter(p.name);
@@ -373,6 +430,7 @@ SceneOutcome compareScene(const CompareArgs& a, const Parsed& parsed, const std:
         t->setParameter(p.name, keep);
         for (auto& [ref, xy] : series) sweepSeries.push_back(std::move(xy));
       }
+      if (accumulate) t->setParameter("accumulate", *accumulate);
     }
     report.techniques.push_back(std::move(run));
   }
@@ -536,7 +594,9 @@ void addCompareCommand(CLI::App& app) {
                   "Compare every scene (*.json, by name) of this folder into OUT/<scene>/ and write "
                   "OUT/leaderboard.md, leaderboard.json and index.html (instead of a scene)");
   cmd->add_option("--techniques", a->techniques,
-                  fmt::format("Techniques to compare, comma-separated: {} or all",
+                  fmt::format("Techniques to compare, comma-separated: {} or all; a variant with "
+                              "its own settings is name:key=value:key=value (e.g. "
+                              "tsis:mode=hybrid:samples=900), its row named so",
                               fmt::join(techniques::names(), ", ")))
       ->capture_default_str();
   cmd->add_option("--reference", a->references,

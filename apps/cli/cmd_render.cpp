@@ -33,7 +33,8 @@ struct RenderArgs {
   std::optional<int> width, height;
   std::optional<std::string> model;
   std::string out, exr;
-  std::string debug_dir;  // every frame layer as <layer>.exr (linear) and <layer>.png (scaled)
+  std::string debug_dir;  // every frame layer as <layer>.exr (linear) and <layer>.png (scaled),
+                          // every view as view-<name>.exr/.png
   std::optional<double> exposure, gamma;
   int frames = 1;
   std::map<std::string, std::string> settings;  // technique parameter -> value as typed
@@ -109,6 +110,7 @@ void runRender(const RenderArgs& a) {
   for (;;) {
     techniques::FrameRequest request;
     request.converge = true;
+    request.views = !a.debug_dir.empty();
     frame = t->render(request);
     ++rendered;
     for (const auto& note : frame.notes) fmt::print("  {}\n", note);
@@ -153,7 +155,15 @@ void runRender(const RenderArgs& a) {
     if (ec)
       throw ParameterError(fmt::format("--debug-dir '{}': cannot create the folder: {}",
                                        a.debug_dir, ec.message()));
-    if (frame.layers.empty()) fmt::print("--debug-dir: technique {} has no debug layers\n", s.technique);
+    if (frame.layers.empty() && frame.views.empty())
+      fmt::print("--debug-dir: technique {} has no debug layers\n", s.technique);
+    // The technique's inspection views: display-ready [0, 1], written as they are.
+    for (const auto& [name, view] : frame.views) {
+      const std::filesystem::path base = std::filesystem::path(a.debug_dir) / ("view-" + name);
+      analysis::writeExr(base.string() + ".exr", view.width, view.height, view.rgb);
+      analysis::writePng(base.string() + ".png", view.width, view.height, view.rgb, {0.0, 1.0});
+      fmt::print("wrote {}.exr/.png: {}\n", base.string(), view.description);
+    }
     for (const auto& [name, data] : frame.layers) {
       const std::filesystem::path base = std::filesystem::path(a.debug_dir) / name;
       analysis::writeExr(base.string() + ".exr", frame.width, frame.height, data);

@@ -48,8 +48,21 @@ json pairJson(const PairMetrics& p) {
   return j;
 }
 
+// A technique's row name as a file name: a variant "tsis:mode=hybrid:samples=900" (cmd_compare)
+// holds ':' and '=', which a relative URL would read as a scheme; letters, digits, '.', '-' and
+// '_' are kept, '=' becomes '-', anything else '_'.
+std::string fileStem(const std::string& name) {
+  std::string out = name;
+  for (char& c : out) {
+    const auto u = static_cast<unsigned char>(c);
+    if (std::isalnum(u) || c == '.' || c == '-' || c == '_') continue;
+    c = c == '=' ? '-' : '_';
+  }
+  return out;
+}
+
 std::string pairStem(const PairMetrics& p) {
-  return fmt::format("err-{}-vs-{}-{}{}", p.test, p.reference, p.quantity,
+  return fmt::format("err-{}-vs-{}-{}{}", fileStem(p.test), p.reference, p.quantity,
                      p.convention.empty() ? "" : "-" + p.convention);
 }
 
@@ -263,15 +276,16 @@ std::vector<std::string> writeReport(const fs::path& dir, const CompareReport& r
         {"translucent:quantity",
          fmt::format("radiance L ({} convention); layer exitance: B", toString(t.images.convention))},
         {"translucent:technique", n}};
-    writeExr(w.file(n + ".exr"), width, height, t.images.radiance.rgb, layers, attrs);
-    s.radiance = w.png(n + "-radiance.png", t.images.radiance, false);
-    if (!t.images.exitance.empty()) s.exitance = w.png(n + "-exitance.png", t.images.exitance, true);
+    const std::string f = fileStem(n);
+    writeExr(w.file(f + ".exr"), width, height, t.images.radiance.rgb, layers, attrs);
+    s.radiance = w.png(f + "-radiance.png", t.images.radiance, false);
+    if (!t.images.exitance.empty()) s.exitance = w.png(f + "-exitance.png", t.images.exitance, true);
     shownRows.push_back(s);
     json tj = {{"name", n}, {"description", t.description}, {"status", "done"},
                {"convention", toString(t.images.convention)},
                {"frame_ms", t.frame_ms}, {"timed_frames", t.timed_frames},
                {"warmup_frames", t.warmup_frames}, {"notes", t.notes},
-               {"has_exitance", !t.images.exitance.empty()}, {"exr", n + ".exr"}};
+               {"has_exitance", !t.images.exitance.empty()}, {"exr", f + ".exr"}};
     for (const auto& [k, v] : t.parameters) tj["parameters"][k] = v;
     for (const PassStat& p : t.passes)
       tj["passes"].push_back({{"name", p.name}, {"depth", p.depth}, {"median_ms", p.median_ms},

@@ -104,6 +104,18 @@ struct FrameRequest {
   // timed as usual). For benchmarks of the GPU work of back-to-back frames, as a viewer that
   // draws from GPU memory would render them; reading images back stalls the pipeline.
   bool readback = true;
+  // Also the technique's inspection views (Frame::views), which cost a read-back of their own:
+  // for the explorer's views dock and `translucent render --debug-dir`.
+  bool views = false;
+};
+
+// An image a technique shows about its own state, of its own size (e.g. tsis: the irradiance
+// atlas with the frame's samples drawn over it, seed Fig. 3.1): display-ready RGB in [0, 1]
+// (rows from the top), shown as it is (no exposure, gamma 1).
+struct FrameView {
+  int width = 0, height = 0;
+  std::vector<float> rgb;
+  std::string description;
 };
 
 // One rendered frame: linear RGB radiance [W/(unit² sr) per unit light flux], rows from the top.
@@ -112,6 +124,8 @@ struct Frame {
   std::vector<float> rgb;
   // Extra images of the same size (RGB), e.g. "exitance" (radiant exitance B).
   std::map<std::string, std::vector<float>> layers;
+  // Inspection views (only when FrameRequest::views; none for most techniques).
+  std::map<std::string, FrameView> views;
   std::vector<PassTime> passes;
   // False while a progressive technique is still accumulating (render again to refine).
   bool converged = true;

@@ -489,8 +489,55 @@ struct TsisTechnique::Impl {
           exitance[i * 3 + size_t(c)] = ex[i][c];
         }
     }
+    if (request.views) frame.views["atlas"] = atlasView();
     for (const auto& pass : timer->collect()) frame.passes.push_back({pass.name, pass.ms, pass.depth});
     return frame;
+  }
+
+  // Seed Fig. 3.1: the atlas's importance s_t = ΣE'_c a_t (the sum mipmap's base), white on black
+  // scaled to its maximum with a square root (the irradiance spans decades), uncovered texels dark
+  // blue, and the last frame's N samples in red over it; at most 1024² (blocks of texels summed).
+  techniques::FrameView atlasView() const {
+    const uint32_t side = atlasSize;
+    const uint32_t factor = std::max<uint32_t>(1, side / 1024);
+    const auto w = int(side / factor);
+    const std::vector<float> s = gpu::download<float>(levels, size_t(side) * side);
+    std::vector<double> v(size_t(w) * size_t(w), 0.0);
+    std::vector<uint8_t> covered(v.size(), 0);
+    for (const TexelPoint& t : texels) covered[size_t((t.texel / side) / factor) * size_t(w) + (t.texel % side) / factor] = 1;
+    double peak = 0.0;
+    for (uint32_t y = 0; y < side; ++y)
+      for (uint32_t x = 0; x < side; ++x) {
+        double& b = v[size_t(y / factor) * size_t(w) + x / factor];
+        b += double(s[size_t(y) * side + x]);
+        peak = std::max(peak, b);
+      }
+    techniques::FrameView out;
+    out.width = out.height = w;
+    out.rgb.assign(v.size() * 3, 0.0f);
+    // Atlas row y = 0 is v = 0, drawn at the bottom.
+    auto at = [&](size_t i) { return ((size_t(w) - 1 - i / size_t(w)) * size_t(w) + i % size_t(w)) * 3; };
+    for (size_t i = 0; i < v.size(); ++i) {
+      const size_t o = at(i);
+      if (!covered[i]) {
+        out.rgb[o + 2] = 0.12f;
+        continue;
+      }
+      const auto g = static_cast<float>(peak > 0.0 ? std::sqrt(v[i] / peak) : 0.0);
+      out.rgb[o] = out.rgb[o + 1] = out.rgb[o + 2] = 0.85f * g;
+    }
+    const auto samp = gpu::download<glm::vec4>(samples, 2 * sampleCapacity);
+    for (size_t i = 0; i < sampleCapacity; ++i) {
+      const auto t = static_cast<uint32_t>(samp[2 * i].w);
+      if (t >= side * side) continue;
+      const size_t o = at(size_t((t / side) / factor) * size_t(w) + (t % side) / factor);
+      out.rgb[o] = 1.0f;
+      out.rgb[o + 1] = out.rgb[o + 2] = 0.1f;
+    }
+    out.description = fmt::format("irradiance atlas {}² (importance E' a_t, square root, scaled to its "
+                                  "maximum; blue: no surface) with the frame's {} samples in red",
+                                  side, sampleCapacity);
+    return out;
   }
 };
 
