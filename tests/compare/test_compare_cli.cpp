@@ -130,7 +130,7 @@ TEST_F(CompareCli, ReportIsCompleteAndSelfContained) {
       EXPECT_TRUE(m.at("metrics").at(key).is_number()) << m.dump();
     EXPECT_GT(m.at("metrics").at("pixels").get<uint64_t>(), 100u) << m.dump();
   }
-  ASSERT_EQ(j.at("techniques").size(), 3u);  // pointcloud, empirical, tsis
+  ASSERT_EQ(j.at("techniques").size(), 4u);  // pointcloud, empirical, tsis, tsm
   for (const auto& t : j.at("techniques")) {
     const std::string n = t.at("name");
     EXPECT_GT(t.at("frame_ms").get<double>(), 0.0) << n;
@@ -156,6 +156,7 @@ TEST_F(CompareCli, ReportIsCompleteAndSelfContained) {
   EXPECT_GE(points["pointcloud"], 3);
   EXPECT_GE(points["empirical"], 3);
   EXPECT_GE(points["tsis"], 3);
+  EXPECT_GE(points["tsm"], 3);
   EXPECT_TRUE(fs::is_regular_file(dir / "sweep.png"));
 }
 
