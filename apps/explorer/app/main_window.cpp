@@ -18,6 +18,7 @@
 
 #include "app/command_line.h"
 #include "app/console_dock.h"
+#include "app/technique_views_dock.h"
 #include "app/viewport_dock.h"
 #include "core/explorer_state.h"
 
@@ -75,8 +76,11 @@ MainWindow::MainWindow(ExplorerState& state, MainWindowOptions options, QWidget*
   auto* compare = new CompareDock(state_, this);
   addDockWidget(Qt::RightDockWidgetArea, compare);
   tabifyDockWidget(spheres, compare);
+  auto* views = new TechniqueViewsDock(*viewport_, this);
+  addDockWidget(Qt::RightDockWidgetArea, views);
+  tabifyDockWidget(compare, views);
   plot->raise();
-  docks << spheres << compare;
+  docks << spheres << compare << views;
   resize(1600, 1000);
   default_state_ = saveState();  // dock sizes: applyDefaultSizes() once the window is shown
 

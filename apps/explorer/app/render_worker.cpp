@@ -190,6 +190,7 @@ void RenderWorker::run(std::stop_token stop) {
       fr.width = r.width > 0 ? r.width : r.scene.camera.width;
       fr.height = r.height > 0 ? r.height : r.scene.camera.height;
       fr.converge = r.converge;
+      fr.views = r.views;
       out->frame = technique->render(fr);
     } catch (const std::exception& e) {
       emit prepareFailed(r.id, QString::fromStdString(e.what()), nullptr);

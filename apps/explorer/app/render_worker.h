@@ -38,6 +38,7 @@ struct RenderRequest {
   int width = 0, height = 0;  // image size [pixels] (the scene camera's size is not used)
   bool continuous = false;    // keep rendering frames (random lighting, benchmarks)
   bool converge = false;      // finish progressive work in one frame (FrameRequest::converge)
+  bool views = false;         // also the technique's inspection views (FrameRequest::views)
   std::uint64_t id = 0;       // assigned by RenderWorker::request
 };
 

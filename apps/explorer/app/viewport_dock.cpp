@@ -446,6 +446,12 @@ void ViewportDock::setContinuous(bool on) {
   requestFullFrame();
 }
 
+void ViewportDock::setViewsWanted(bool on) {
+  if (on == views_) return;
+  views_ = on;
+  if (on) requestFullFrame();
+}
+
 void ViewportDock::requestFullFrame() {
   rest_timer_.stop();
   request(true);
@@ -466,6 +472,7 @@ void ViewportDock::request(bool full) {
   r.width = size.width();
   r.height = size.height();
   r.continuous = continuous_ || settingIsTrue(r.scene, "random_lighting");
+  r.views = views_ && full;
   last_request_ = worker_->request(std::move(r));
   // Only the newest request counts as the full-resolution view of the current state: a full
   // frame of an older state arriving later is shown, but not as "full".

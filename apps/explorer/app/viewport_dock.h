@@ -68,6 +68,9 @@ class ViewportDock : public QDockWidget {
   void setContinuous(bool on);
   // Asks for a full-resolution frame now (no half-resolution frame first).
   void requestFullFrame();
+  // Ask for the technique's inspection views in full-resolution frames (the views dock's
+  // visibility); turning it on requests a full frame.
+  void setViewsWanted(bool on);
 
  signals:
   void frameShown(std::shared_ptr<const translucent::explorer::RenderedFrame> frame, bool full);
@@ -97,6 +100,7 @@ class ViewportDock : public QDockWidget {
   double render_scale_ = 1.0;
   bool scale_fixed_ = false;
   bool continuous_ = false;
+  bool views_ = false;  // the views dock is visible: full frames carry Frame::views
   bool renderer_ok_ = false;
   std::uint64_t last_request_ = 0, last_full_request_ = 0;
   std::shared_ptr<const RenderedFrame> last_, last_full_;

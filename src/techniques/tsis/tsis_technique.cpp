@@ -530,9 +530,15 @@ struct TsisTechnique::Impl {
     for (size_t i = 0; i < sampleCapacity; ++i) {
       const auto t = static_cast<uint32_t>(samp[2 * i].w);
       if (t >= side * side) continue;
-      const size_t o = at(size_t((t / side) / factor) * size_t(w) + (t % side) / factor);
-      out.rgb[o] = 1.0f;
-      out.rgb[o + 1] = out.rgb[o + 2] = 0.1f;
+      // A cross a few pixels wide, so that the samples show at any atlas size.
+      const int cx = int((t % side) / factor), cy = int((t / side) / factor), arm = std::max(1, w / 256);
+      for (int d = -arm; d <= arm; ++d)
+        for (const auto& [x, y] : {std::pair{cx + d, cy}, std::pair{cx, cy + d}}) {
+          if (x < 0 || y < 0 || x >= w || y >= w) continue;
+          const size_t o = at(size_t(y) * size_t(w) + size_t(x));
+          out.rgb[o] = 1.0f;
+          out.rgb[o + 1] = out.rgb[o + 2] = 0.1f;
+        }
     }
     out.description = fmt::format("irradiance atlas {}² (importance E' a_t, square root, scaled to its "
                                   "maximum; blue: no surface) with the frame's {} samples in red",

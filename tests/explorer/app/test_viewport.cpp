@@ -12,10 +12,12 @@
 
 #include "analysis/image_io.h"
 #include "app/console_dock.h"
+#include "app/technique_views_dock.h"
 #include "app/main_window.h"
 #include "app/viewport_dock.h"
 #include "app/viewport_widget.h"
 #include "core/explorer_state.h"
+#include "geometry/icosphere.h"
 
 using namespace translucent;
 using namespace translucent::explorer;
@@ -190,6 +192,44 @@ class Viewport : public QObject {
     double sum = 0.0;
     for (float v : f->frame.rgb) sum += double(v);
     QVERIFY(sum > 0.0);
+  }
+
+  // The technique views dock (seed Fig. 3.1 for tsis): visible, it asks the viewport for the
+  // views; it then shows tsis's atlas, in which the frame's samples are drawn in red over the
+  // grey irradiance.
+  void techniqueViewsDockShowsTheTsisAtlasWithItsSamples() {
+    auto* views = new TechniqueViewsDock(*dock_, window_);
+    window_->addDockWidget(Qt::RightDockWidgetArea, views);
+    views->show();
+    const QString sphere = dir_.filePath(QStringLiteral("sphere.obj"));
+    {
+      const geometry::TriangleMesh m = geometry::makeIcosphere(2, 1.0);
+      std::ofstream out(sphere.toStdString());
+      for (const auto& p : m.positions) out << "v " << p.x << ' ' << p.y << ' ' << p.z << '\n';
+      for (const auto& t : m.triangles) out << "f " << t.x + 1 << ' ' << t.y + 1 << ' ' << t.z + 1 << '\n';
+    }
+    dock_->loadMesh(sphere);
+    state_->setTechnique("tsis");
+    state_->setTechniqueSetting("atlas_size", 64.0);
+    state_->setTechniqueSetting("samples", 64.0);
+    state_->setTechniqueSetting("accumulate", false);
+    state_->setTechniqueSetting("shadow_map_size", 256.0);
+    QVERIFY2(nextFull("tsis") != nullptr, qPrintable(console_->text()));
+    QVERIFY2(QTest::qWaitFor([&] { return !views->image().isNull(); }, kFrameTimeoutMs),
+             qPrintable(console_->text()));
+    QCOMPARE(views->viewNames(), QStringList{QStringLiteral("atlas")});
+    QCOMPARE(views->image().width(), 64);
+    int red = 0, grey = 0;
+    for (int y = 0; y < 64; ++y)
+      for (int x = 0; x < 64; ++x) {
+        const QRgb p = views->image().pixel(x, y);
+        red += qRed(p) > 200 && qGreen(p) < 80;
+        grey += qRed(p) > 40 && std::abs(qRed(p) - qGreen(p)) < 4 && std::abs(qRed(p) - qBlue(p)) < 4;
+      }
+    qInfo("atlas view: %d red (sample) pixels, %d lit grey pixels", red, grey);
+    QVERIFY(red >= 20);    // 64 samples, crosses of 5 pixels, some on the same texels
+    QVERIFY(grey >= 200);  // the lit half of the sphere's charts
+    delete views;
   }
 };
 
