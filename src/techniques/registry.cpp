@@ -4,6 +4,7 @@
 #include <fmt/ranges.h>
 
 #include "techniques/empirical/empirical_technique.h"
+#include "techniques/lss/lss_technique.h"
 #include "techniques/pointcloud/pointcloud_technique.h"
 #include "techniques/tsis/tsis_technique.h"
 
@@ -24,6 +25,8 @@ constexpr Entry kTechniques[] = {
      &empirical::makeEmpiricalTechnique},
     {"tsis", "texture-space importance sampling of the irradiance over a surface atlas (seed chapter 3)",
      &tsis::makeTsisTechnique},
+    {"lss", "local subsurface scattering: per-pixel importance sampling of Rd on the image plane (Mertens et al. 2003)",
+     &lss::makeLssTechnique},
 };
 
 const Entry& find(std::string_view name) {
