@@ -12,7 +12,6 @@
 #include <glm/geometric.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
-#include "analysis/image_io.h"
 #include "bssrdf/bssrdf_file.h"
 #include "bssrdf/exit_radiance.h"
 #include "bssrdf/registry.h"
@@ -20,37 +19,22 @@
 #include "gpu/bssrdf_profiles.h"
 #include "gpu/compute.h"
 #include "gpu/pass_timer.h"
-#include "lights/environment_map.h"
 #include "techniques/common/gl_resources.h"
 #include "techniques/common/light_shadows.h"
 #include "techniques/common/profile_kernel.h"
+#include "techniques/common/surface_irradiance.h"
 
 namespace translucent::pointcloud {
 namespace {
 
-using lights::EnvironmentMap;
 using techniques::GBuffer;
 using techniques::GpuMesh;
 using techniques::ShadowMap;
 using techniques::cameraViewProjection;
 using techniques::vertexNormals;
-using lights::EnvironmentSampler;
 using techniques::ParameterInfo;
 using techniques::ParameterValue;
 namespace desc = geometry::descriptor;
-
-// Irradiance pass modes (irradiance.comp).
-enum Mode : int {
-  kClear = 0,
-  kDirectional = 1,
-  kPoint = 2,
-  kBeam = 3,
-  kFiltered = 4,
-  kEnvironmentSh = 5,
-  kEnvironmentSample = 6,
-  kEnvironmentResolve = 7,
-  kClearEnvironment = 8,
-};
 
 // SSBO bindings shared by the shaders.
 enum Binding : GLuint {
@@ -66,7 +50,7 @@ enum Binding : GLuint {
 };
 
 std::vector<ParameterInfo> parameterInfos() {
-  return {
+  std::vector<ParameterInfo> infos{
       ParameterInfo::integer("points", 100000, 1000, 5000000,
                              "number of area-uniform surface samples (irradiance points)"),
       ParameterInfo::enumeration("sampling", "elimination", {"elimination", "random"},
@@ -88,19 +72,6 @@ std::vector<ParameterInfo> parameterInfos() {
       ParameterInfo::integer("table_size", 4096, 64, 65536,
                              "entries of the tabulated profile (uniform in r up to the radius "
                              "holding 99.9% of Rd)"),
-      ParameterInfo::integer("shadow_map_size", 2048, 64, 8192, "shadow map resolution", "texels"),
-      ParameterInfo::floating("shadow_offset", 1.0, 0.0, 16.0,
-                              "shadow lookup offset along the point's normal", "texels"),
-      ParameterInfo::floating("shadow_bias", 1.0, 0.0, 16.0,
-                              "depth offset of the shadow comparison (orthographic maps)", "texels"),
-      ParameterInfo::integer("shadow_samples", 8, 1, 64,
-                             "jittered hardware-PCF lookups per point (seed Fig. 3.3 d)"),
-      ParameterInfo::floating("shadow_radius", 1.5, 0.0, 16.0, "radius of the jittered lookups",
-                              "texels"),
-      ParameterInfo::integer("ibl_samples", 256, 1, 65536,
-                             "occluded environment lighting: shadow-mapped directions in total"),
-      ParameterInfo::integer("ibl_samples_per_frame", 16, 1, 1024,
-                             "occluded environment lighting: directions added per frame"),
       ParameterInfo::enumeration("radiance_convention", kDefaultRadianceConvention,
                                  bssrdf::exitConventionNames(),
                                  "radiance from the exitance B (seed Eq. 2.16): jensen Ft B/π, or "
@@ -110,6 +81,9 @@ std::vector<ParameterInfo> parameterInfos() {
                              "add a GGX specular reflection of the directional lights (unshadowed)"),
       ParameterInfo::floating("roughness", 0.3, 0.01, 1.0, "GGX roughness α of the specular term"),
   };
+  // The shared irradiance pass's shadow and environment settings (surface_irradiance.h).
+  for (ParameterInfo& p : techniques::lightingParameters()) infos.push_back(std::move(p));
+  return infos;
 }
 
 glm::vec3 toVec3(const glm::dvec3& v) { return glm::vec3(v); }
@@ -118,60 +92,6 @@ glm::vec3 toVec3(const Rgb& c) {
 }
 
 bool isBssrdfFile(const std::string& model) { return bssrdf::hasBssrdfExtension(model); }
-
-// A texture for the filtered directional light: a file, or a built-in 8x8 checker.
-gpu::Texture filterTexture(const std::filesystem::path& file) {
-  gpu::Texture tex = gpu::Texture::create(GL_TEXTURE_2D);
-  std::vector<float> rgba;
-  int w = 0, h = 0;
-  if (file == "checker") {
-    w = h = 8;
-    for (int y = 0; y < h; ++y)
-      for (int x = 0; x < w; ++x) {
-        const float v = ((x + y) % 2 == 0) ? 1.0f : 0.05f;
-        rgba.insert(rgba.end(), {v, v, v, 1.0f});
-      }
-  } else {
-    analysis::RgbImage img;
-    try {
-      img = analysis::readRgb(file.string());
-    } catch (const std::exception& e) {
-      throw ParameterError(fmt::format("filter texture '{}' cannot be read: {}", file.string(), e.what()));
-    }
-    w = img.width;
-    h = img.height;
-    if (w < 1 || h < 1) throw ParameterError(fmt::format("filter texture '{}' is empty", file.string()));
-    // Image rows start at the top; texture rows at v = 0 (the bottom).
-    for (int y = h - 1; y >= 0; --y)
-      for (int x = 0; x < w; ++x) {
-        const size_t i = (size_t(y) * size_t(w) + size_t(x)) * 3;
-        for (int c = 0; c < 3; ++c) {
-          const float v = img.rgb[i + size_t(c)];
-          if (!std::isfinite(v) || v < 0.0f)
-            throw ParameterError(fmt::format("filter texture '{}': pixel ({}, {}) holds {}: "
-                                             "expected finite values >= 0", file.string(), x, y, v));
-          rgba.push_back(v);
-        }
-        rgba.push_back(1.0f);
-      }
-  }
-  glTextureStorage2D(tex.id(), 1, GL_RGBA32F, w, h);
-  glTextureSubImage2D(tex.id(), 0, 0, 0, w, h, GL_RGBA, GL_FLOAT, rgba.data());
-  const GLint filter = file == "checker" ? GL_NEAREST : GL_LINEAR;
-  glTextureParameteri(tex.id(), GL_TEXTURE_MIN_FILTER, filter);
-  glTextureParameteri(tex.id(), GL_TEXTURE_MAG_FILTER, filter);
-  glTextureParameteri(tex.id(), GL_TEXTURE_WRAP_S, GL_REPEAT);
-  glTextureParameteri(tex.id(), GL_TEXTURE_WRAP_T, GL_REPEAT);
-  gpu::checkGlError("uploading a filter texture");
-  return tex;
-}
-
-// u, v axes perpendicular to a light direction (scene::FilteredDirectionalLight).
-void filterAxes(const glm::dvec3& l, glm::dvec3& u, glm::dvec3& v) {
-  const glm::dvec3 ref = std::abs(l.x) < 0.9 ? glm::dvec3(1.0, 0.0, 0.0) : glm::dvec3(0.0, 0.0, 1.0);
-  u = glm::normalize(ref - glm::dot(ref, l) * l);
-  v = glm::cross(l, u);
-}
 
 }  // namespace
 
@@ -194,7 +114,7 @@ struct PointCloudTechnique::Impl {
   geometry::Octree octree;
   std::vector<std::pair<uint32_t, uint32_t>> levels;  // (offset, count) deepest first
   uint32_t stackSize = 1;
-  gpu::Buffer descriptors, nodes, points, irradiance, envAccum, levelNodes;
+  gpu::Buffer descriptors, nodes, points, levelNodes;
 
   // Kernel.
   std::string kernelKey;
@@ -205,22 +125,11 @@ struct PointCloudTechnique::Impl {
   bool shaderKernel = false;
 
   // Programs.
-  std::optional<gpu::ShaderProgram> depthProgram, gbufferProgram, irradianceProgram, refitProgram;
-  gpu::Texture dummyShadow, dummyFilter;
+  std::optional<gpu::ShaderProgram> gbufferProgram, refitProgram;
 
-  // Lights.
-  struct LightState {
-    scene::Light light;
-    std::unique_ptr<ShadowMap> shadow;
-    gpu::Texture filter;
-    std::shared_ptr<EnvironmentMap> env;
-    std::unique_ptr<EnvironmentSampler> sampler;
-    std::array<glm::vec3, 9> sh{};
-  };
-  std::vector<LightState> lights;
+  // Lights: the shared irradiance pass (techniques/common/surface_irradiance.h).
+  techniques::SurfaceIrradiance lighting;
   bool lightingDirty = true;
-  std::unique_ptr<ShadowMap> envShadow;
-  uint64_t envSamples = 0;  // occluded environment: directions accumulated so far
 
   // Frame.
   GBuffer gbuffer;
@@ -232,17 +141,10 @@ struct PointCloudTechnique::Impl {
   // ---- preparation ----------------------------------------------------------------------------
 
   void buildPrograms() {
-    if (depthProgram) return;
-    depthProgram.emplace(gpu::ShaderProgram::graphics("pointcloud/depth.vert", "pointcloud/depth.frag"));
+    if (gbufferProgram) return;
     gbufferProgram.emplace(
         gpu::ShaderProgram::graphics("pointcloud/gbuffer.vert", "pointcloud/gbuffer.frag"));
-    irradianceProgram.emplace(gpu::ShaderProgram::compute("pointcloud/irradiance.comp"));
     refitProgram.emplace(gpu::ShaderProgram::compute("pointcloud/refit.comp"));
-    {
-      techniques::PlaceholderTextures t = techniques::PlaceholderTextures::create();
-      dummyShadow = std::move(t.shadow);
-      dummyFilter = std::move(t.filter);
-    }
     gpu::checkGlError("building the point-cloud programs");
   }
 
@@ -262,43 +164,7 @@ struct PointCloudTechnique::Impl {
   }
 
   void prepareLights(const scene::Scene& s) {
-    lights.clear();
-    int environments = 0;
-    const int shadowSize = params.getInt("shadow_map_size");
-    for (size_t i = 0; i < s.lights.size(); ++i) {
-      LightState st;
-      st.light = s.lights[i];
-      const auto& e = st.light.emitter;
-      if (const auto* b = std::get_if<reference::BeamLight>(&e); b && !(b->radius > 0.0))
-        throw ParameterError(fmt::format("lights[{}]: a beam of radius 0 (a pencil beam) carries no "
-                                         "irradiance the point cloud can sample: expected radius > 0",
-                                         i));
-      if (std::holds_alternative<reference::PointLight>(e)) {
-        const auto& p = std::get<reference::PointLight>(e);
-        if (!(glm::length(p.position - center) > 1.02 * radius))
-          throw ParameterError(fmt::format("lights[{}]: the point light lies inside the mesh's "
-                                           "bounding sphere: the point-cloud technique's shadow map "
-                                           "needs it outside", i));
-      }
-      if (const auto* f = std::get_if<scene::FilteredDirectionalLight>(&e))
-        st.filter = filterTexture(f->texture);
-      if (const auto* env = std::get_if<scene::EnvironmentLight>(&e)) {
-        if (++environments > 1)
-          throw ParameterError(fmt::format("lights[{}]: a second environment light: the point-cloud "
-                                           "technique takes at most one", i));
-        st.env = std::make_shared<EnvironmentMap>(EnvironmentMap::load(env->file));
-        const glm::dvec3 scale = env->intensity * glm::dvec3(st.light.color[0], st.light.color[1],
-                                                             st.light.color[2]);
-        if (env->occlusion)
-          st.sampler = std::make_unique<EnvironmentSampler>(*st.env, env->rotate);
-        else
-          st.sh = lights::irradianceSh9(*st.env, env->rotate, s.medium.eta, scale);
-      } else {
-        st.shadow = std::make_unique<ShadowMap>(shadowSize);
-      }
-      lights.push_back(std::move(st));
-    }
-    envShadow.reset();
+    lighting.prepareLights(s, center, radius, params.getInt("shadow_map_size"), "point-cloud");
     lightingDirty = true;
   }
 
@@ -341,8 +207,6 @@ struct PointCloudTechnique::Impl {
     descriptors = gpu::makeStorageBuffer(std::span<const uint32_t>(d));
     nodes = gpu::makeStorageBuffer(std::span<const geometry::OctreeNode>(octree.nodes()));
     points = gpu::makeStorageBuffer(std::span<const geometry::OctreePoint>(octree.points()));
-    irradiance = gpu::makeStorageBuffer(octree.pointCount() * sizeof(glm::vec4));
-    envAccum = gpu::makeStorageBuffer(octree.pointCount() * sizeof(glm::vec4));
     levelNodes = gpu::makeStorageBuffer(std::span<const uint32_t>(order));
     geometryDirty = false;
     lightingDirty = true;
@@ -413,74 +277,6 @@ struct PointCloudTechnique::Impl {
 
   // ---- frame ------------------------------------------------------------------------------------
 
-  void setShadowUniforms(const gpu::ShaderProgram& p, const ShadowMap* map) {
-    techniques::setShadowUniforms(p, map, techniques::shadowLookup(params), dummyShadow);
-  }
-
-  void dispatchIrradiance(int mode) {
-    const gpu::ShaderProgram& p = *irradianceProgram;
-    p.set("Mode", mode);
-    gpu::dispatch1D(p, octree.pointCount());
-  }
-
-  void renderShadow(LightState& st) {
-    techniques::renderLightShadow(*st.shadow, st.light, *gpuMesh, *depthProgram, center, radius);
-  }
-
-  void lightDispatch(LightState& st) {
-    const gpu::ShaderProgram& p = *irradianceProgram;
-    const glm::vec3 color = toVec3(st.light.color);
-    const auto& e = st.light.emitter;
-    setShadowUniforms(p, st.shadow.get());
-    glBindTextureUnit(1, dummyFilter.id());
-    if (const auto* d = std::get_if<reference::DirectionalLight>(&e)) {
-      p.set("LightDirection", toVec3(d->direction));
-      p.set("LightValue", color * float(d->irradiance));
-      dispatchIrradiance(kDirectional);
-    } else if (const auto* pl = std::get_if<reference::PointLight>(&e)) {
-      p.set("LightPosition", toVec3(pl->position));
-      p.set("LightValue", color * float(pl->intensity));
-      dispatchIrradiance(kPoint);
-    } else if (const auto* b = std::get_if<reference::BeamLight>(&e)) {
-      p.set("LightDirection", toVec3(-b->direction));
-      p.set("BeamOrigin", toVec3(b->origin));
-      p.set("BeamRadius", float(b->radius));
-      p.set("LightValue", color * float(b->power / (std::numbers::pi * b->radius * b->radius)));
-      dispatchIrradiance(kBeam);
-    } else if (const auto* f = std::get_if<scene::FilteredDirectionalLight>(&e)) {
-      glm::dvec3 u, v;
-      filterAxes(f->direction, u, v);
-      glBindTextureUnit(1, st.filter.id());
-      p.set("LightDirection", toVec3(f->direction));
-      p.set("LightValue", color * float(f->irradiance));
-      p.set("FilterU", toVec3(u));
-      p.set("FilterV", toVec3(v));
-      p.set("FilterSize", float(f->texture_size));
-      dispatchIrradiance(kFiltered);
-    } else if (!st.sampler) {
-      glProgramUniform3fv(p.id(), p.uniformLocation("Sh"), 9, glm::value_ptr(st.sh[0]));
-      dispatchIrradiance(kEnvironmentSh);
-    }
-  }
-
-  // Occluded environment light: `count` more shadow-mapped directions into the accumulator.
-  void environmentSamples(LightState& st, uint64_t count) {
-    const auto& env = std::get<scene::EnvironmentLight>(st.light.emitter);
-    const gpu::ShaderProgram& p = *irradianceProgram;
-    if (!envShadow) envShadow = std::make_unique<ShadowMap>(params.getInt("shadow_map_size"));
-    const glm::dvec3 scale = env.intensity * glm::dvec3(st.light.color[0], st.light.color[1], st.light.color[2]);
-    for (uint64_t k = 0; k < count; ++k) {
-      const EnvironmentSampler::Sample s = st.sampler->sequence(envSamples + k, 1);
-      envShadow->renderDirectional(*gpuMesh, *depthProgram, s.direction, center, radius);
-      setShadowUniforms(p, envShadow.get());
-      glBindTextureUnit(1, dummyFilter.id());
-      p.set("LightDirection", toVec3(s.direction));
-      p.set("LightValue", toVec3(s.radiance * scale / s.pdf));
-      dispatchIrradiance(kEnvironmentSample);
-    }
-    envSamples += count;
-  }
-
   techniques::Frame render(const techniques::FrameRequest& request) {
     if (!scene) throw ParameterError("pointcloud: render() before prepare(): expected a scene");
     const scene::Scene& s = *scene;
@@ -501,49 +297,18 @@ struct PointCloudTechnique::Impl {
     gpu::bindStorage(kDescriptors, descriptors);
     gpu::bindStorage(kNodes, nodes);
     gpu::bindStorage(kPoints, points);
-    gpu::bindStorage(kIrradiance, irradiance);
-    gpu::bindStorage(kEnvAccum, envAccum);
     gpu::bindStorage(kProfile, profile);
     gpu::bindStorage(kLevels, levelNodes);
 
-    const gpu::ShaderProgram& ip = *irradianceProgram;
-    ip.set("PointCount", static_cast<unsigned>(octree.pointCount()));
-    ip.set("Eta", static_cast<float>(s.medium.eta));
-    LightState* occluded = nullptr;
-    for (auto& st : lights)
-      if (st.sampler) occluded = &st;
-    if (lightingDirty) {
-      envSamples = 0;
-      if (occluded) dispatchIrradiance(kClearEnvironment);
-    }
+    // The irradiance of every light at the points (the shared pass), then bound for the refit and
+    // the traversal.
+    if (lightingDirty) lighting.restartEnvironment();
     lightingDirty = false;
-
-    // Shadow maps, then the irradiance of every light.
-    {
-      auto t = timer->scope("shadow maps");
-      for (auto& st : lights)
-        if (st.shadow) renderShadow(st);
-    }
-    {
-      auto t = timer->scope("irradiance");
-      dispatchIrradiance(kClear);
-      for (auto& st : lights) lightDispatch(st);
-    }
-    if (occluded) {
-      const auto total = static_cast<uint64_t>(params.getInt("ibl_samples"));
-      const uint64_t remaining = total - std::min(total, envSamples);
-      const uint64_t count = request.converge
-                                 ? remaining
-                                 : std::min<uint64_t>(remaining, static_cast<uint64_t>(
-                                                                     params.getInt("ibl_samples_per_frame")));
-      {
-        auto t = timer->scope("environment samples");
-        environmentSamples(*occluded, count);
-        ip.set("EnvWeight", envSamples > 0 ? 1.0f / float(envSamples) : 0.0f);
-        dispatchIrradiance(kEnvironmentResolve);
-      }
-      frame.converged = envSamples >= total;
-    }
+    const bool lit = lighting.update(*gpuMesh, points, octree.pointCount(),
+                                     static_cast<float>(s.medium.eta), techniques::shadowLookup(params),
+                                     techniques::environmentBudget(params, request.converge), &*timer);
+    if (lighting.hasOccludedEnvironment()) frame.converged = lit;
+    gpu::bindStorage(kIrradiance, lighting.irradiance());
 
     // Refit, deepest level first.
     {
@@ -596,14 +361,14 @@ struct PointCloudTechnique::Impl {
       int spec = 0;
       if (params.getBool("specular")) {
         std::vector<glm::vec3> dirs, values;
-        for (const auto& st : lights) {
+        for (const auto& light : lighting.lights()) {
           if (spec == 4) break;
-          const glm::vec3 color = toVec3(st.light.color);
-          if (const auto* d = std::get_if<reference::DirectionalLight>(&st.light.emitter)) {
+          const glm::vec3 color = toVec3(light.color);
+          if (const auto* d = std::get_if<reference::DirectionalLight>(&light.emitter)) {
             dirs.push_back(toVec3(d->direction));
             values.push_back(color * float(d->irradiance));
             ++spec;
-          } else if (const auto* f = std::get_if<scene::FilteredDirectionalLight>(&st.light.emitter)) {
+          } else if (const auto* f = std::get_if<scene::FilteredDirectionalLight>(&light.emitter)) {
             dirs.push_back(toVec3(f->direction));
             values.push_back(color * float(f->irradiance));
             ++spec;
@@ -708,7 +473,7 @@ const geometry::TriangleMesh& PointCloudTechnique::mesh() const { return impl_->
 const geometry::PointCloud& PointCloudTechnique::pointCloud() const { return impl_->cloud; }
 
 std::vector<glm::vec3> PointCloudTechnique::gpuIrradiance() const {
-  const auto slots = gpu::download<glm::vec4>(impl_->irradiance, impl_->octree.pointCount());
+  const auto slots = gpu::download<glm::vec4>(impl_->lighting.irradiance(), impl_->octree.pointCount());
   const auto& order = impl_->octree.pointOrder();
   std::vector<glm::vec3> out(slots.size());
   for (size_t s = 0; s < slots.size(); ++s) out[order[s]] = glm::vec3(slots[s]);

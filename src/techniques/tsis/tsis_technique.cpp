@@ -18,10 +18,10 @@
 #include "gpu/bssrdf_kernels.h"
 #include "gpu/compute.h"
 #include "gpu/pass_timer.h"
-#include "lights/environment_map.h"
 #include "techniques/common/gl_resources.h"
 #include "techniques/common/light_shadows.h"
 #include "techniques/common/profile_kernel.h"
+#include "techniques/common/surface_irradiance.h"
 #include "techniques/pointcloud/pointcloud_technique.h"  // kDefaultRadianceConvention
 
 namespace translucent::tsis {
@@ -32,11 +32,8 @@ using techniques::GpuMesh;
 using techniques::ParameterInfo;
 using techniques::ShadowMap;
 
-// Modes of shaders/pointcloud/irradiance.comp used here.
-enum IrradianceMode : int { kClear = 0, kDirectional = 1, kPoint = 2, kBeam = 3, kEnvironmentSh = 5 };
-
-// SSBO bindings: 2, 3, 5, 7, 8 as the point cloud's shaders (shared irradiance.comp,
-// kernel_table.glsl); 9.. the tsis buffers.
+// SSBO bindings: 2, 3, 5, 7, 8 as the point cloud's shaders (the shared irradiance pass binds
+// 2, 3, 4; kernel_table.glsl 5); 9.. the tsis buffers.
 enum Binding : GLuint {
   kPoints = 2,
   kIrradiance = 3,
@@ -52,7 +49,7 @@ enum Binding : GLuint {
 constexpr int kMaxLevels = 13;  // log2(4096) + 1: LevelOffset[14] in sample.comp
 
 std::vector<ParameterInfo> parameterInfos() {
-  return {
+  std::vector<ParameterInfo> infos{
       ParameterInfo::integer("samples", 1024, 49, 14400,
                              "N: texture-space samples per frame, shared by every pixel (Eq. 3.5)")
           // Error falls as 1/√N per frame: each step quadruples N.
@@ -79,25 +76,17 @@ std::vector<ParameterInfo> parameterInfos() {
       ParameterInfo::integer("table_size", 4096, 64, 65536,
                              "entries of the tabulated profile (uniform in r up to the radius "
                              "holding 99.9% of Rd)"),
-      ParameterInfo::integer("shadow_map_size", 2048, 64, 8192, "shadow map resolution", "texels"),
-      ParameterInfo::floating("shadow_offset", 1.0, 0.0, 16.0,
-                              "shadow lookup offset along the texel's normal", "texels"),
-      ParameterInfo::floating("shadow_bias", 1.0, 0.0, 16.0,
-                              "depth offset of the shadow comparison (orthographic maps)", "texels"),
-      ParameterInfo::integer("shadow_samples", 8, 1, 64, "jittered hardware-PCF lookups per texel"),
-      ParameterInfo::floating("shadow_radius", 1.5, 0.0, 16.0, "radius of the jittered lookups",
-                              "texels"),
       ParameterInfo::enumeration("radiance_convention", pointcloud::kDefaultRadianceConvention,
                                  bssrdf::exitConventionNames(),
                                  "radiance from the exitance B (seed Eq. 2.16): jensen Ft B/π, or "
                                  "normalized Ft B/(π 4Cφ(1/η)); as the point-cloud technique"),
   };
+  // The shared irradiance pass's shadow and environment settings (surface_irradiance.h).
+  for (ParameterInfo& p : techniques::lightingParameters()) infos.push_back(std::move(p));
+  return infos;
 }
 
 glm::vec3 toVec3(const glm::dvec3& v) { return glm::vec3(v); }
-glm::vec3 toVec3(const Rgb& c) {
-  return {static_cast<float>(c[0]), static_cast<float>(c[1]), static_cast<float>(c[2])};
-}
 
 // Rotation of frame k: the golden-ratio additive recurrence, equidistributed in [0, 1), so the
 // frames' stratified sample sets tile the u interval ever more finely as they accumulate.
@@ -126,7 +115,7 @@ struct TsisTechnique::Impl {
   int levelCount = 0;  // log2(atlasSize)
   std::array<uint32_t, kMaxLevels + 1> levelOffset{};
   std::vector<TexelPoint> texels;
-  gpu::Buffer points, irradiance, levels, texelPoint, samples, accum;
+  gpu::Buffer points, levels, texelPoint, samples, accum;
   size_t sampleCapacity = 0;
 
   // Kernel.
@@ -134,40 +123,30 @@ struct TsisTechnique::Impl {
   std::array<bssrdf::ProfileTable, 3> tables;
   gpu::Buffer profile;
 
-  std::optional<gpu::ShaderProgram> depthProgram, gbufferProgram, irradianceProgram,
-      importanceProgram, reduceProgram, sampleProgram, radianceProgram;
-  gpu::Texture dummyShadow, dummyFilter;
+  std::optional<gpu::ShaderProgram> gbufferProgram, importanceProgram, reduceProgram, sampleProgram,
+      radianceProgram;
 
-  struct LightState {
-    scene::Light light;
-    std::unique_ptr<ShadowMap> shadow;
-    std::array<glm::vec3, 9> sh{};
-  };
-  std::vector<LightState> lights;
+  // Stage 1's lights: the shared irradiance pass (techniques/common/surface_irradiance.h).
+  techniques::SurfaceIrradiance lighting;
+  bool lightingDirty = true;
 
   GBuffer gbuffer;
   gpu::Buffer radianceOut, exitanceOut;
   size_t outPixels = 0;
+  bool irradianceFinal = true;  // false while an occluded environment still adds directions
   uint64_t frameIndex = 0;  // frames accumulated so far (and the next frame's rotation index)
   bool accumulationDirty = true;
   std::optional<gpu::PassTimer> timer;
   std::vector<std::string> notes;
 
   void buildPrograms() {
-    if (depthProgram) return;
-    depthProgram.emplace(gpu::ShaderProgram::graphics("pointcloud/depth.vert", "pointcloud/depth.frag"));
+    if (gbufferProgram) return;
     gbufferProgram.emplace(
         gpu::ShaderProgram::graphics("pointcloud/gbuffer.vert", "pointcloud/gbuffer.frag"));
-    irradianceProgram.emplace(gpu::ShaderProgram::compute("pointcloud/irradiance.comp"));
     importanceProgram.emplace(gpu::ShaderProgram::compute("tsis/importance.comp"));
     reduceProgram.emplace(gpu::ShaderProgram::compute("tsis/reduce.comp"));
     sampleProgram.emplace(gpu::ShaderProgram::compute("tsis/sample.comp"));
     radianceProgram.emplace(gpu::ShaderProgram::compute("tsis/radiance.comp"));
-    {
-      techniques::PlaceholderTextures t = techniques::PlaceholderTextures::create();
-      dummyShadow = std::move(t.shadow);
-      dummyFilter = std::move(t.filter);
-    }
     gpu::checkGlError("building the tsis programs");
   }
 
@@ -188,37 +167,8 @@ struct TsisTechnique::Impl {
   }
 
   void prepareLights(const scene::Scene& s) {
-    lights.clear();
-    const int shadowSize = params.getInt("shadow_map_size");
-    for (size_t i = 0; i < s.lights.size(); ++i) {
-      LightState st;
-      st.light = s.lights[i];
-      const auto& e = st.light.emitter;
-      if (std::holds_alternative<scene::FilteredDirectionalLight>(e))
-        throw ParameterError(fmt::format("lights[{}]: a filtered directional light: the tsis technique "
-                                         "does not support it yet (directional, point, beam and "
-                                         "unoccluded environment lights)", i));
-      if (const auto* b = std::get_if<reference::BeamLight>(&e); b && !(b->radius > 0.0))
-        throw ParameterError(fmt::format("lights[{}]: a beam of radius 0 (a pencil beam) carries no "
-                                         "irradiance the atlas texels can sample: expected radius > 0", i));
-      if (const auto* p = std::get_if<reference::PointLight>(&e);
-          p && !(glm::length(p->position - center) > 1.02 * radius))
-        throw ParameterError(fmt::format("lights[{}]: the point light lies inside the mesh's bounding "
-                                         "sphere: the tsis technique's shadow map needs it outside", i));
-      if (const auto* env = std::get_if<scene::EnvironmentLight>(&e)) {
-        if (env->occlusion)
-          throw ParameterError(fmt::format("lights[{}]: an occluded environment light (occlusion true): "
-                                           "the tsis technique does not support it yet; set occlusion "
-                                           "false for unoccluded SH lighting", i));
-        const lights::EnvironmentMap map = lights::EnvironmentMap::load(env->file);
-        const glm::dvec3 scale =
-            env->intensity * glm::dvec3(st.light.color[0], st.light.color[1], st.light.color[2]);
-        st.sh = lights::irradianceSh9(map, env->rotate, s.medium.eta, scale);
-      } else {
-        st.shadow = std::make_unique<ShadowMap>(shadowSize);
-      }
-      lights.push_back(std::move(st));
-    }
+    lighting.prepareLights(s, center, radius, params.getInt("shadow_map_size"), "tsis");
+    lightingDirty = true;
   }
 
   // The atlas's covered texels, their surface points and areas, and the sum mipmap's storage.
@@ -267,7 +217,6 @@ struct TsisTechnique::Impl {
       records[2 * i + 1] = glm::vec4(texels[i].normal, float(texels[i].texel));
     }
     points = gpu::makeStorageBuffer(std::span<const glm::vec4>(records));
-    irradiance = gpu::makeStorageBuffer(texels.size() * sizeof(glm::vec4));
     texelPoint = gpu::makeStorageBuffer(std::span<const uint32_t>(texelToPoint));
     uint32_t offset = 0;
     for (int k = 0; k <= levelCount; ++k) {
@@ -305,63 +254,26 @@ struct TsisTechnique::Impl {
     accumulationDirty = true;
   }
 
-  void renderShadow(LightState& st) {
-    techniques::renderLightShadow(*st.shadow, st.light, *gpuMesh, *depthProgram, center, radius);
-  }
-
-  void dispatchIrradiance(int mode) {
-    irradianceProgram->set("Mode", mode);
-    gpu::dispatch1D(*irradianceProgram, texels.size());
-  }
-
-  // One light into E, with the point cloud's conventions (irradiance.comp's modes).
-  void lightDispatch(const LightState& st) {
-    const gpu::ShaderProgram& p = *irradianceProgram;
-    techniques::setShadowUniforms(p, st.shadow.get(), techniques::shadowLookup(params), dummyShadow);
-    glBindTextureUnit(1, dummyFilter.id());
-    const glm::vec3 color = toVec3(st.light.color);
-    const auto& e = st.light.emitter;
-    if (const auto* d = std::get_if<reference::DirectionalLight>(&e)) {
-      p.set("LightDirection", toVec3(d->direction));
-      p.set("LightValue", color * float(d->irradiance));
-      dispatchIrradiance(kDirectional);
-    } else if (const auto* pl = std::get_if<reference::PointLight>(&e)) {
-      p.set("LightPosition", toVec3(pl->position));
-      p.set("LightValue", color * float(pl->intensity));
-      dispatchIrradiance(kPoint);
-    } else if (const auto* b = std::get_if<reference::BeamLight>(&e)) {
-      p.set("LightDirection", toVec3(-b->direction));
-      p.set("BeamOrigin", toVec3(b->origin));
-      p.set("BeamRadius", float(b->radius));
-      p.set("LightValue", color * float(b->power / (std::numbers::pi * b->radius * b->radius)));
-      dispatchIrradiance(kBeam);
-    } else {
-      glProgramUniform3fv(p.id(), p.uniformLocation("Sh"), 9, glm::value_ptr(st.sh[0]));
-      dispatchIrradiance(kEnvironmentSh);
-    }
-  }
-
   // Stages 1 and 2 and the radiance of one frame into the output (and accumulation) buffers.
-  void renderOnce(int width, int height, int sampleCount, bool accumulate, bool irradiancePass) {
+  void renderOnce(int width, int height, int sampleCount, bool accumulate, bool irradiancePass,
+                  bool converge) {
     const scene::Scene& s = *scene;
+    if (irradiancePass) {
+      // Stage 1: E of every texel point (every light type, shadowed), then s_t = ΣE'_c a_t.
+      if (lightingDirty) lighting.restartEnvironment();
+      lightingDirty = false;
+      irradianceFinal = lighting.update(*gpuMesh, points, texels.size(), static_cast<float>(s.medium.eta),
+                                        techniques::shadowLookup(params),
+                                        techniques::environmentBudget(params, converge), &*timer);
+    }
     gpu::bindStorage(kPoints, points);
-    gpu::bindStorage(kIrradiance, irradiance);
+    gpu::bindStorage(kIrradiance, lighting.irradiance());
     gpu::bindStorage(kLevels, levels);
     gpu::bindStorage(kTexelPoint, texelPoint);
     gpu::bindStorage(kSamples, samples);
     gpu::bindStorage(kProfile, profile);
     if (irradiancePass) {
-      auto t = timer->scope("shadow maps");
-      for (auto& st : lights)
-        if (st.shadow) renderShadow(st);
-    }
-    if (irradiancePass) {
-      auto t = timer->scope("irradiance");
-      const gpu::ShaderProgram& ip = *irradianceProgram;
-      ip.set("PointCount", static_cast<unsigned>(texels.size()));
-      ip.set("Eta", static_cast<float>(s.medium.eta));
-      dispatchIrradiance(kClear);
-      for (const auto& st : lights) lightDispatch(st);
+      auto t = timer->scope("importance");
       importanceProgram->set("PointCount", static_cast<unsigned>(texels.size()));
       gpu::dispatch1D(*importanceProgram, texels.size());
     }
@@ -461,8 +373,9 @@ struct TsisTechnique::Impl {
     if (accumulate && request.converge && frameIndex < target) count = target - frameIndex;
     // The lights and the scene stay the same within one call: Stage 1 and the sum mipmap once,
     // then only new samples and their sums.
-    for (uint64_t f = 0; f < count; ++f) renderOnce(width, height, sampleCount, accumulate, f == 0);
-    frame.converged = !accumulate || frameIndex >= target;
+    for (uint64_t f = 0; f < count; ++f)
+      renderOnce(width, height, sampleCount, accumulate, f == 0, request.converge);
+    frame.converged = (!accumulate || frameIndex >= target) && irradianceFinal;
     gpu::checkGlError("tsis frame");
 
     frame.width = width;
@@ -506,6 +419,7 @@ void TsisTechnique::setParameter(std::string_view name, const techniques::Parame
   impl_->accumulationDirty = true;
   if (name == "atlas_size" || name == "atlas_method") impl_->atlasDirty = true;
   if (name == "shadow_map_size" && impl_->scene) impl_->prepareLights(*impl_->scene);
+  if (name.starts_with("shadow_") || name.starts_with("ibl_")) impl_->lightingDirty = true;
 }
 
 techniques::ParameterValue TsisTechnique::parameter(std::string_view name) const {
@@ -535,7 +449,7 @@ uint32_t TsisTechnique::atlasSize() const { return impl_->atlasSize; }
 const std::vector<TexelPoint>& TsisTechnique::texelPoints() const { return impl_->texels; }
 
 std::vector<glm::vec3> TsisTechnique::texelIrradiance() const {
-  const auto e = gpu::download<glm::vec4>(impl_->irradiance, impl_->texels.size());
+  const auto e = gpu::download<glm::vec4>(impl_->lighting.irradiance(), impl_->texels.size());
   std::vector<glm::vec3> out(e.size());
   for (size_t i = 0; i < e.size(); ++i) out[i] = glm::vec3(e[i]);
   return out;

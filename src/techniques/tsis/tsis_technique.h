@@ -30,13 +30,13 @@
 //   samples 1024 [49, 14400]; sequence stratified|random; atlas_size 512 [16, 4096] texels; atlas_method lscm|authalic|
 //   triangles; mode global (hybrid: not implemented yet, an error); accumulate true;
 //   accumulate_samples 65536 [49, 2^24] (samples per pixel of a converged image: frames of N
-//   samples, Stage 1 once per batch); table_size 4096 [64, 65536];
-//   shadow_map_size 2048; shadow_offset 1; shadow_bias 1; shadow_samples 8; shadow_radius 1.5
-//   (as the point cloud's); radiance_convention normalized | jensen.
+//   samples, Stage 1 once per batch); table_size 4096 [64, 65536]; radiance_convention
+//   normalized | jensen; and the shared lighting's shadow_* and ibl_* (surface_irradiance.h).
 //
-// Lights: directional, point (outside the bounding sphere), beam (radius > 0) and unoccluded
-// environment (SH9); filtered directional and occluded environment lights are refused with an
-// error naming the light for now.
+// Lights: every type the shared irradiance pass takes (directional, filtered directional, point
+// outside the bounding sphere, beam of radius > 0, environment with SH9 or, with occlusion,
+// shadow-mapped directions that accumulate over frames: the frames' mean stays unbiased since
+// each frame's E is).
 #pragma once
 
 #include <array>
