@@ -8,7 +8,6 @@
 #include <optional>
 
 #include <glm/geometric.hpp>
-#include <glm/gtc/type_ptr.hpp>
 #include <glm/matrix.hpp>
 
 #include "bssrdf/bssrdf_file.h"
@@ -17,8 +16,9 @@
 #include "gpu/compute.h"
 #include "gpu/pass_timer.h"
 #include "techniques/common/gl_resources.h"
-#include "techniques/common/light_shadows.h"
+#include "techniques/common/light_shadows.h"  // shadowLookup
 #include "techniques/common/profile_kernel.h"
+#include "techniques/common/surface_irradiance.h"
 #include "techniques/pointcloud/pointcloud_technique.h"  // kDefaultRadianceConvention
 
 namespace translucent::lss {
@@ -27,7 +27,6 @@ namespace {
 using techniques::GBuffer;
 using techniques::GpuMesh;
 using techniques::ParameterInfo;
-using techniques::ShadowMap;
 
 // SSBO bindings: 2, 3, 5, 7, 8 as the point cloud's shaders (the shared irradiance pass,
 // kernel_table.glsl, the output images); 9.. the lss buffers.
@@ -42,7 +41,7 @@ enum Binding : GLuint {
 };
 
 std::vector<ParameterInfo> parameterInfos() {
-  return {
+  std::vector<ParameterInfo> infos{
       ParameterInfo::integer("samples", 64, 4, 4096,
                              "N: image-plane samples per pixel and frame, drawn with density "
                              "following 2πr Rd(r) around the pixel")
@@ -61,25 +60,17 @@ std::vector<ParameterInfo> parameterInfos() {
       ParameterInfo::integer("table_size", 4096, 64, 65536,
                              "entries of the tabulated profile and of its radial CDFs (uniform in r "
                              "up to the radius holding 99.9% of Rd)"),
-      ParameterInfo::integer("shadow_map_size", 2048, 64, 8192, "shadow map resolution", "texels"),
-      ParameterInfo::floating("shadow_offset", 1.0, 0.0, 16.0,
-                              "shadow lookup offset along the pixel's normal", "texels"),
-      ParameterInfo::floating("shadow_bias", 1.0, 0.0, 16.0,
-                              "depth offset of the shadow comparison (orthographic maps)", "texels"),
-      ParameterInfo::integer("shadow_samples", 8, 1, 64, "jittered hardware-PCF lookups per pixel"),
-      ParameterInfo::floating("shadow_radius", 1.5, 0.0, 16.0, "radius of the jittered lookups",
-                              "texels"),
       ParameterInfo::enumeration("radiance_convention", pointcloud::kDefaultRadianceConvention,
                                  bssrdf::exitConventionNames(),
                                  "radiance from the exitance B (seed Eq. 2.16): jensen Ft B/π, or "
                                  "normalized Ft B/(π 4Cφ(1/η)); as the point-cloud technique"),
   };
+  // The shared irradiance pass's shadow and environment settings (surface_irradiance.h).
+  for (ParameterInfo& p : techniques::lightingParameters()) infos.push_back(std::move(p));
+  return infos;
 }
 
 glm::vec3 toVec3(const glm::dvec3& v) { return glm::vec3(v); }
-glm::vec3 toVec3(const Rgb& c) {
-  return {static_cast<float>(c[0]), static_cast<float>(c[1]), static_cast<float>(c[2])};
-}
 
 }  // namespace
 
@@ -101,19 +92,16 @@ struct LssTechnique::Impl {
   RadialSampler sampler;
   gpu::Buffer profile, cdf;
 
-  std::optional<gpu::ShaderProgram> depthProgram, gbufferProgram, packProgram, irradianceProgram,
-      radianceProgram;
-  gpu::Texture dummyShadow, dummyFilter;
+  std::optional<gpu::ShaderProgram> gbufferProgram, packProgram, radianceProgram;
 
-  // TODO(SurfaceIrradiance): directional lights only, until techniques::SurfaceIrradiance lands.
-  struct LightState {
-    scene::Light light;
-    std::unique_ptr<ShadowMap> shadow;
-  };
-  std::vector<LightState> lights;
+  // The camera-view irradiance: the shared pass (techniques/common/surface_irradiance.h) over
+  // the pixels' points, every light type.
+  techniques::SurfaceIrradiance lighting;
+  bool lightingDirty = true;     // restart an occluded environment's accumulation
+  bool irradianceFinal = true;   // false while an occluded environment still adds directions
 
   GBuffer gbuffer;
-  gpu::Buffer points, irradiance, radianceOut, exitanceOut, accum;
+  gpu::Buffer points, radianceOut, exitanceOut, accum;
   size_t outPixels = 0;
   uint64_t frameIndex = 0;  // frames accumulated so far
   uint64_t frameSeed = 0;   // every frame rendered (seeds the sequences)
@@ -122,18 +110,11 @@ struct LssTechnique::Impl {
   std::vector<std::string> notes;
 
   void buildPrograms() {
-    if (depthProgram) return;
-    depthProgram.emplace(gpu::ShaderProgram::graphics("pointcloud/depth.vert", "pointcloud/depth.frag"));
+    if (gbufferProgram) return;
     gbufferProgram.emplace(
         gpu::ShaderProgram::graphics("pointcloud/gbuffer.vert", "pointcloud/gbuffer.frag"));
     packProgram.emplace(gpu::ShaderProgram::compute("lss/pack.comp"));
-    irradianceProgram.emplace(gpu::ShaderProgram::compute("pointcloud/irradiance.comp"));
     radianceProgram.emplace(gpu::ShaderProgram::compute("lss/radiance.comp"));
-    {
-      techniques::PlaceholderTextures t = techniques::PlaceholderTextures::create();
-      dummyShadow = std::move(t.shadow);
-      dummyFilter = std::move(t.filter);
-    }
     gpu::checkGlError("building the lss programs");
   }
 
@@ -153,17 +134,8 @@ struct LssTechnique::Impl {
   }
 
   void prepareLights(const scene::Scene& s) {
-    lights.clear();
-    const int shadowSize = params.getInt("shadow_map_size");
-    for (size_t i = 0; i < s.lights.size(); ++i) {
-      LightState st;
-      st.light = s.lights[i];
-      if (!std::holds_alternative<reference::DirectionalLight>(st.light.emitter))
-        throw ParameterError(fmt::format("lights[{}]: the lss technique supports directional lights "
-                                         "only for now", i));
-      st.shadow = std::make_unique<ShadowMap>(shadowSize);
-      lights.push_back(std::move(st));
-    }
+    lighting.prepareLights(s, center, radius, params.getInt("shadow_map_size"), "lss");
+    lightingDirty = true;
   }
 
   void buildKernel() {
@@ -212,37 +184,12 @@ struct LssTechnique::Impl {
     p.set("PixelScale", static_cast<float>(scale));
   }
 
-  // E of every pixel's point: the shared irradiance pass (pointcloud/irradiance.comp).
-  void lightPoints(size_t count) {
-    const scene::Scene& s = *scene;
-    {
-      auto t = timer->scope("shadow maps");
-      for (auto& st : lights)
-        techniques::renderLightShadow(*st.shadow, st.light, *gpuMesh, *depthProgram, center, radius);
-    }
-    auto t = timer->scope("irradiance");
-    const gpu::ShaderProgram& p = *irradianceProgram;
-    p.set("PointCount", static_cast<unsigned>(count));
-    p.set("Eta", static_cast<float>(s.medium.eta));
-    p.set("Mode", 0);
-    gpu::dispatch1D(p, count);
-    for (const auto& st : lights) {
-      techniques::setShadowUniforms(p, st.shadow.get(), techniques::shadowLookup(params), dummyShadow);
-      glBindTextureUnit(1, dummyFilter.id());
-      const auto& d = std::get<reference::DirectionalLight>(st.light.emitter);
-      p.set("LightDirection", toVec3(d.direction));
-      p.set("LightValue", toVec3(st.light.color) * float(d.irradiance));
-      p.set("Mode", 1);
-      gpu::dispatch1D(p, count);
-    }
-  }
-
   // The radiance of one frame into the output (and accumulation) buffers.
   void radiancePass(const glm::mat4& viewProj, int width, int height, bool accumulate) {
     const scene::Scene& s = *scene;
     auto t = timer->scope("radiance");
     const gpu::ShaderProgram& p = *radianceProgram;
-    gpu::bindStorage(kIrradiance, irradiance);
+    gpu::bindStorage(kIrradiance, lighting.irradiance());
     gpu::bindStorage(kProfile, profile);
     gpu::bindStorage(kCdf, cdf);
     gpu::bindStorage(kRadianceOut, radianceOut);
@@ -286,7 +233,6 @@ struct LssTechnique::Impl {
     const size_t pixels = size_t(width) * size_t(height);
     if (pixels != outPixels || gbuffer.width() != width || gbuffer.height() != height) {
       points = gpu::makeStorageBuffer(pixels * 2 * sizeof(glm::vec4));
-      irradiance = gpu::makeStorageBuffer(pixels * sizeof(glm::vec4));
       radianceOut = gpu::makeStorageBuffer(pixels * sizeof(glm::vec4));
       exitanceOut = gpu::makeStorageBuffer(pixels * sizeof(glm::vec4));
       accum = gpu::makeStorageBuffer(pixels * sizeof(glm::vec4));
@@ -309,9 +255,19 @@ struct LssTechnique::Impl {
       setCamera(p, vp, width, height);
       gpu::dispatch(p, {(unsigned(width) + 7u) / 8u, (unsigned(height) + 7u) / 8u, 1u});
     }
-    gpu::bindStorage(kPoints, points);
-    gpu::bindStorage(kIrradiance, irradiance);
-    lightPoints(pixels);
+    // E of every pixel's point (every light type, shadowed); the update's shadow maps, lights and
+    // environment directions are timed as passes of their own. (A new image size is a new point
+    // count, which restarts an occluded environment by itself; a new scene or camera comes
+    // through prepare(), which sets lightingDirty.)
+    if (lightingDirty) lighting.restartEnvironment();
+    lightingDirty = false;
+    const bool wasFinal = irradianceFinal;
+    irradianceFinal = lighting.update(*gpuMesh, points, pixels, static_cast<float>(s.medium.eta),
+                                      techniques::shadowLookup(params),
+                                      techniques::environmentBudget(params, request.converge), &*timer);
+    // While an occluded environment adds directions E changes from frame to frame: frames of
+    // different E must not be averaged, so accumulation starts over until E is final.
+    if (!wasFinal || !irradianceFinal) accumulationDirty = true;
 
     const bool accumulate = params.getBool("accumulate");
     // A parameter, the scene or the image size changed: the accumulated frames are stale.
@@ -325,7 +281,7 @@ struct LssTechnique::Impl {
     // The lights and the scene stay the same within one call: the irradiance once, then only
     // new samples.
     for (uint64_t f = 0; f < count; ++f) radiancePass(vp, width, height, accumulate);
-    frame.converged = !accumulate || frameIndex >= target;
+    frame.converged = (!accumulate || frameIndex >= target) && irradianceFinal;
     gpu::checkGlError("lss frame");
 
     frame.width = width;
@@ -365,6 +321,7 @@ void LssTechnique::setParameter(std::string_view name, const techniques::Paramet
   if (!impl_->params.set(name, value)) return;
   impl_->accumulationDirty = true;
   if (name == "shadow_map_size" && impl_->scene) impl_->prepareLights(*impl_->scene);
+  if (name.starts_with("shadow_") || name.starts_with("ibl_")) impl_->lightingDirty = true;
 }
 
 techniques::ParameterValue LssTechnique::parameter(std::string_view name) const {
@@ -393,7 +350,7 @@ const RadialSampler& LssTechnique::radialSampler() const { return impl_->sampler
 
 std::vector<glm::vec3> LssTechnique::pixelIrradiance() const {
   const int w = impl_->gbuffer.width(), h = impl_->gbuffer.height();
-  const auto e = gpu::download<glm::vec4>(impl_->irradiance, size_t(w) * size_t(h));
+  const auto e = gpu::download<glm::vec4>(impl_->lighting.irradiance(), size_t(w) * size_t(h));
   const auto p = gpu::download<glm::vec4>(impl_->points, 2 * size_t(w) * size_t(h));
   std::vector<glm::vec3> out(e.size());
   for (int y = 0; y < h; ++y)
