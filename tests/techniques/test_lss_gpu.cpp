@@ -18,6 +18,7 @@
 #include <glm/geometric.hpp>
 #include <glm/matrix.hpp>
 
+#include "analysis/image_io.h"
 #include "bssrdf/registry.h"
 #include "optics/fresnel.h"
 #include "reference/flat_slab.h"
@@ -230,6 +231,71 @@ TEST_F(LssGpu, FlatSlabSeenObliquelyByAPinholeCamera) {
   std::printf("%zu pixels, r_max %.3f\n", pixels.size(), rMax);
   ASSERT_GT(pixels.size(), 50u);
   expectHalfSpace(f.layers.at("exitance"), pixels, s.expected(), 1e-3);
+}
+
+// Every light type comes through the shared irradiance pass (techniques/common/
+// surface_irradiance.h, tested there and by tsis): here, that lss sums what it gets. On the flat
+// slab (a) a beam along the normal, wider than the view, of power P = π r² carries the
+// directional light's unit irradiance: the same E and, with the same seeds, the same exitance
+// (to float rounding, 1e-5); (b) a uniform sky of radiance L, occluded (shadow-mapped directions,
+// converged in one batch frame) and not (SH9, exact for a constant), gives the top face
+// E = 2πL ∫ Ft(μ) μ dμ (nothing occludes a face of a convex body): the SH to 0.5% (its λ_0 with
+// Ft comes from the shared pass's own quadrature, lights/environment_map.h: measured −0.11%), the 1024
+// importance-sampled directions to 3% (the same directions for every pixel: one common error),
+// and B = E Rd in the central pixels to the 5σ of test (a) for the measured E.
+TEST_F(LssGpu, OtherLightTypesLightTheVisibleSurface) {
+  const techniques::Frame ref = [] {
+    FlatSlab s(64, "random", false);
+    return s.technique.render({});
+  }();
+  {
+    FlatSlab s(64, "random", false);
+    scene::Light beam;
+    beam.emitter = reference::BeamLight{{0.0, 0.0, 10.0}, {0.0, 0.0, -1.0}, 4.0, std::numbers::pi * 16.0};
+    scene::Scene sc = s.scene;
+    sc.lights = {beam};
+    s.technique.prepare(sc, gpu::testing::context());
+    const techniques::Frame f = s.technique.render({});
+    const auto& a = ref.layers.at("exitance");
+    const auto& b = f.layers.at("exitance");
+    for (size_t p : s.centralPixels())
+      for (size_t c = 0; c < 3; ++c)
+        ASSERT_NEAR(double(b[3 * p + c]), double(a[3 * p + c]), 1e-5 * double(a[3 * p + c])) << "pixel " << p;
+  }
+  FlatSlab s(64, "random", true);
+  const int w = 32, h = 16;
+  const std::vector<float> sky(size_t(w) * size_t(h) * 3, 0.5f);
+  const auto file = s.dir.path() / "sky.exr";
+  analysis::writeExr(file.string(), w, h, sky);
+  double ftMean = 0.0;  // 2 ∫ Ft(μ) μ dμ by the midpoint rule
+  for (int i = 0; i < 10000; ++i) {
+    const double mu = (i + 0.5) / 10000.0;
+    ftMean += 2.0 * fresnelTransmittance(mu, s.scene.medium.eta) * mu / 10000.0;
+  }
+  const double wantE = std::numbers::pi * 0.5 * ftMean;
+  for (bool occlusion : {false, true}) {
+    scene::Light env;
+    env.emitter = scene::EnvironmentLight{file, 1.0, 0.0, occlusion};
+    scene::Scene sc = s.scene;
+    sc.lights = {env};
+    s.technique.setParameter("ibl_samples", 1024);
+    s.technique.setParameter("accumulate_samples", 8 * 64);
+    s.technique.prepare(sc, gpu::testing::context());
+    const techniques::Frame f = s.technique.render({.converge = true});
+    EXPECT_TRUE(f.converged) << "occlusion " << occlusion;
+    EXPECT_EQ(s.technique.accumulatedFrames(), 8);
+    const auto e = s.technique.pixelIrradiance();
+    const auto pixels = s.centralPixels();
+    double meanE = 0.0;
+    for (size_t p : pixels) meanE += double(e[p].g) / double(pixels.size());
+    std::printf("sky, occlusion %d: E %.5f, expected %.5f (%+.2f%%)\n", int(occlusion), meanE, wantE,
+                100.0 * (meanE / wantE - 1.0));
+    EXPECT_NEAR(meanE, wantE, (occlusion ? 0.03 : 5e-3) * wantE) << "occlusion " << occlusion;
+    for (size_t p : pixels) ASSERT_NEAR(double(e[p].g), meanE, 1e-3 * meanE) << "pixel " << p;
+    std::array<double, 3> want = s.expected();
+    for (double& v : want) v *= meanE / fresnelTransmittance(1.0, s.scene.medium.eta);
+    expectHalfSpace(f.layers.at("exitance"), pixels, want, 1e-3);
+  }
 }
 
 // (b) χ² of 200,000 radii drawn by the CPU mirror of the shader's sampler (the same table, CDF
