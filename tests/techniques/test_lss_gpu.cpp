@@ -412,7 +412,15 @@ TEST_F(LssGpu, BadInputFailsNamingTheParameterOrLight) {
   scene::Light point;
   point.emitter = reference::PointLight{{0.0, 0.0, 0.5}, 1.0};
   s.lights.push_back(point);
-  expectError([&] { t.prepare(s, gpu::testing::context()); }, "lights[1]");
+  // Inside the bounding sphere: the shared pass's shadow map cannot hold it.
+  expectError([&] { t.prepare(s, gpu::testing::context()); }, "lights[1]: the point light");
+  expectError([&] { t.prepare(s, gpu::testing::context()); }, "lss technique");
+  s.lights.pop_back();
+  scene::Light pencil;
+  pencil.emitter = reference::BeamLight{{0.0, 0.0, 10.0}, {0.0, 0.0, -1.0}, 0.0, 1.0};
+  s.lights.push_back(pencil);
+  expectError([&] { t.prepare(s, gpu::testing::context()); }, "lights[1]: a beam of radius 0");
+  expectError([&] { t.setParameter("shadow_map_size", 32); }, "shadow_map_size");
 }
 
 }  // namespace

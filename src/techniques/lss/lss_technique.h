@@ -12,8 +12,9 @@
 // Per frame (each pass timed on the GPU):
 //   g-buffer     world position and normal of the visible surface (pointcloud/gbuffer.*)
 //   pack         a surface point per pixel: position, normal, area (lss/pack.comp)
-//   shadow maps, irradiance
-//                E of every pixel's surface point, transmitted (Ft(η, ω_i)), shadowed
+//   shadow maps, irradiance, environment samples
+//                E of every pixel's surface point, transmitted (Ft(η, ω_i)), shadowed: the shared
+//                pass of techniques/common/surface_irradiance.h
 //   radiance     B per pixel from N image-plane samples, L = s Ft(η, ω_o) B/π (s: the
 //                radiance_convention as the point cloud's); accumulated over frames
 //                (lss/radiance.comp)
@@ -23,9 +24,13 @@
 //
 // Parameters (name, default, range; see parameters() for the help text):
 //   samples 64 [4, 4096] per pixel; sequence stratified|random; accumulate true;
-//   accumulate_samples 4096 [4, 2^24]; table_size 4096 [64, 65536]; shadow_map_size 2048;
-//   shadow_offset 1; shadow_bias 1; shadow_samples 8; shadow_radius 1.5 (as the point cloud's);
-//   radiance_convention normalized | jensen.
+//   accumulate_samples 4096 [4, 2^24]; table_size 4096 [64, 65536]; radiance_convention
+//   normalized | jensen; and the shared irradiance pass's shadow_map_size, shadow_offset,
+//   shadow_bias, shadow_samples, shadow_radius, ibl_samples, ibl_samples_per_frame
+//   (techniques/common/surface_irradiance.h lightingParameters()).
+//
+// Lights: every type the shared pass takes (directional, point outside the bounding sphere, beam
+// of radius > 0, filtered directional, environment with or without occlusion).
 //
 // Limits (those of the method): only light entering the visible surface scatters (the far side
 // of a thin object lit from behind stays dark; a sample on an uncovered pixel or off screen adds
