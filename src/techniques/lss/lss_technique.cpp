@@ -187,7 +187,6 @@ struct LssTechnique::Impl {
   // The radiance of one frame into the output (and accumulation) buffers.
   void radiancePass(const glm::mat4& viewProj, int width, int height, bool accumulate) {
     const scene::Scene& s = *scene;
-    auto t = timer->scope("radiance");
     const gpu::ShaderProgram& p = *radianceProgram;
     gpu::bindStorage(kIrradiance, lighting.irradiance());
     gpu::bindStorage(kProfile, profile);
@@ -280,7 +279,11 @@ struct LssTechnique::Impl {
     if (accumulate && request.converge && frameIndex < target) count = target - frameIndex;
     // The lights and the scene stay the same within one call: the irradiance once, then only
     // new samples.
-    for (uint64_t f = 0; f < count; ++f) radiancePass(vp, width, height, accumulate);
+    {
+      // One pass however many frames a batch render accumulates in this call.
+      auto t = timer->scope(count == 1 ? std::string("radiance") : fmt::format("radiance ({} frames)", count));
+      for (uint64_t f = 0; f < count; ++f) radiancePass(vp, width, height, accumulate);
+    }
     frame.converged = (!accumulate || frameIndex >= target) && irradianceFinal;
     gpu::checkGlError("lss frame");
 
