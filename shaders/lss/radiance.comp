@@ -30,8 +30,9 @@
 // That R itself is evaluated at the true distance |x̃ − x_o| (not at r) is what keeps it unbiased
 // where S is not flat: the plane-offset r only steers the sampling. Samples falling off screen or
 // on uncovered pixels contribute 0: the limitation of LSS, which sees only the visible surface.
-// On a flat surface seen head-on with uniform E, f/q_c = E Rd for every sample of channel c
-// (zero variance); the MIS over channels adds the variance of the other channels' ratios.
+// On a flat surface seen head-on with uniform E, channel c's own ratio f_c/q_c = E 2πr R_c W_c/w_c(r)
+// is E Rd_c up to the O(h²) difference of w_c(r) and r R_c(r) (nearly zero variance); the MIS
+// denominator mixes the channels' densities, which is where the variance comes from there.
 //
 // Sequences: stratified, u1 = (k + ½)/N + φ1 and u2 = k g + φ2 (mod 1, g the golden ratio: a
 // rotated rank-1 lattice), or random (independent u). φ1, φ2 hash the pixel and the frame, so
