@@ -11,6 +11,13 @@
 // (2π cancels in the normalisation). It is not exactly r R^lin(r) (the product of the interpolated
 // R with r is quadratic on a segment), but the estimator divides by this p_c, the density the
 // samples really have, so it stays unbiased; the mismatch only costs variance, O(h²).
+// Why one CDF per channel (combined in the shader by MIS with the balance heuristic) rather than
+// one on the luminance or the channel maximum: the channels' diffusion lengths differ (Marble's
+// red reaches about twice as far as its blue), so a single density fitted to one mix
+// under-samples the other channels' peak or tail, and their weights R_c/q grow without bound
+// there; with the balance heuristic every channel's weight is at most 1/n_c times its own
+// importance-sampling weight, so no channel's variance exceeds three times that of sampling it
+// alone.
 // Inverting the CDF: a binary search for the segment, then the quadratic
 //     h (w_i t + (w_{i+1} − w_i) t²/2) = m   (m the mass left in the segment)
 // solved in the cancellation-free form t = 2c / (b + √(b² + 4ac)), a = (w_{i+1} − w_i)/2, b = w_i,
