@@ -15,9 +15,9 @@
 // one on the luminance or the channel maximum: the channels' diffusion lengths differ (Marble's
 // red reaches about twice as far as its blue), so a single density fitted to one mix
 // under-samples the other channels' peak or tail, and their weights R_c/q grow without bound
-// there; with the balance heuristic every channel's weight is at most 1/n_c times its own
-// importance-sampling weight, so no channel's variance exceeds three times that of sampling it
-// alone.
+// there; with the balance heuristic, f_c / Σ_k n_k q_k <= f_c / (n_c q_c), so every channel's
+// per-sample weights stay below 1/n_c (= 3/N) times its own importance-sampling ratio f_c/q_c,
+// which is nearly constant (f_c/q_c ≈ E Rd_c J/s_o² on a surface seen head-on).
 // Inverting the CDF: a binary search for the segment, then the quadratic
 //     h (w_i t + (w_{i+1} − w_i) t²/2) = m   (m the mass left in the segment)
 // solved in the cancellation-free form t = 2c / (b + √(b² + 4ac)), a = (w_{i+1} − w_i)/2, b = w_i,
