@@ -7,6 +7,7 @@
 #include "techniques/lss/lss_technique.h"
 #include "techniques/pointcloud/pointcloud_technique.h"
 #include "techniques/tsis/tsis_technique.h"
+#include "techniques/tsm/tsm_technique.h"
 
 namespace translucent::techniques {
 namespace {
@@ -25,6 +26,8 @@ constexpr Entry kTechniques[] = {
      &empirical::makeEmpiricalTechnique},
     {"tsis", "texture-space importance sampling of the irradiance over a surface atlas (seed chapter 3)",
      &tsis::makeTsisTechnique},
+    {"tsm", "translucent shadow maps: a 21-sample filter of light-view irradiance maps (Dachsbacher & Stamminger 2003)",
+     &tsm::makeTsmTechnique},
     {"lss", "local subsurface scattering: per-pixel importance sampling of Rd on the image plane (Mertens et al. 2003)",
      &lss::makeLssTechnique},
 };

@@ -105,23 +105,25 @@ glm::dvec3 upFor(const glm::dvec3& forward) {
 }
 }  // namespace
 
-void ShadowMap::renderDirectional(const GpuMesh& mesh, const gpu::ShaderProgram& program,
-                                  const glm::dvec3& towardsLight, const glm::dvec3& center,
-                                  double radius) {
+LightProjection directionalLightProjection(const glm::dvec3& towardsLight, const glm::dvec3& center,
+                                           double radius) {
   const double r = radius * 1.02;
   const glm::dvec3 l = glm::normalize(towardsLight);
   const glm::dmat4 view = glm::lookAt(center + 2.0 * r * l, center, upFor(l));
   const glm::dmat4 proj = glm::ortho(-r, r, -r, r, 0.5 * r, 3.5 * r);
-  const glm::mat4 viewProj(proj * view);
-  perspective_ = false;
-  texel_ = static_cast<float>(2.0 * r / size_);
-  range_ = static_cast<float>(3.0 * r);
-  matrix_ = kBias * viewProj;
-  render(mesh, program, viewProj);
+  LightProjection p;
+  p.viewProj = glm::mat4(proj * view);
+  p.perspective = false;
+  p.extent = static_cast<float>(2.0 * r);
+  p.range = static_cast<float>(3.0 * r);
+  p.toTexture = kBias * p.viewProj;
+  p.axis = glm::vec3(-l);
+  p.origin = glm::vec3(center + 2.0 * r * l);
+  return p;
 }
 
-void ShadowMap::renderPoint(const GpuMesh& mesh, const gpu::ShaderProgram& program,
-                            const glm::dvec3& position, const glm::dvec3& center, double radius) {
+LightProjection pointLightProjection(const glm::dvec3& position, const glm::dvec3& center,
+                                     double radius) {
   const double r = radius * 1.02;
   const double d = glm::length(center - position);
   if (!(d > r))
@@ -133,12 +135,36 @@ void ShadowMap::renderPoint(const GpuMesh& mesh, const gpu::ShaderProgram& progr
   const glm::dmat4 view = glm::lookAt(position, center, upFor(f));
   const double near = std::max(d - r, 1e-4 * r), far = d + r;
   const glm::dmat4 proj = glm::perspective(2.0 * halfAngle, 1.0, near, far);
-  const glm::mat4 viewProj(proj * view);
+  LightProjection p;
+  p.viewProj = glm::mat4(proj * view);
+  p.perspective = true;
+  p.extent = static_cast<float>(2.0 * std::tan(halfAngle));
+  p.range = static_cast<float>(far - near);
+  p.toTexture = kBias * p.viewProj;
+  p.axis = glm::vec3(f);
+  p.origin = glm::vec3(position);
+  return p;
+}
+
+void ShadowMap::renderDirectional(const GpuMesh& mesh, const gpu::ShaderProgram& program,
+                                  const glm::dvec3& towardsLight, const glm::dvec3& center,
+                                  double radius) {
+  const LightProjection p = directionalLightProjection(towardsLight, center, radius);
+  perspective_ = false;
+  texel_ = p.extent / static_cast<float>(size_);
+  range_ = p.range;
+  matrix_ = p.toTexture;
+  render(mesh, program, p.viewProj);
+}
+
+void ShadowMap::renderPoint(const GpuMesh& mesh, const gpu::ShaderProgram& program,
+                            const glm::dvec3& position, const glm::dvec3& center, double radius) {
+  const LightProjection p = pointLightProjection(position, center, radius);
   perspective_ = true;
-  texel_ = static_cast<float>(2.0 * std::tan(halfAngle) / size_);
-  range_ = static_cast<float>(far - near);
-  matrix_ = kBias * viewProj;
-  render(mesh, program, viewProj);
+  texel_ = p.extent / static_cast<float>(size_);
+  range_ = p.range;
+  matrix_ = p.toTexture;
+  render(mesh, program, p.viewProj);
 }
 
 void ShadowMap::render(const GpuMesh& mesh, const gpu::ShaderProgram& program,

@@ -39,6 +39,28 @@ class GpuMesh {
   size_t triangles_ = 0;
 };
 
+// The view of a light that covers the sphere (center, radius), shared by the depth maps
+// (ShadowMap) and the light-view irradiance maps (light_view_map.h): orthographic along a
+// directional light, or perspective from a point light outside the sphere.
+struct LightProjection {
+  glm::mat4 viewProj{1.0f};  // world -> light clip space
+  glm::mat4 toTexture{1.0f};  // world -> [0,1]³ texture coordinates and depth (after the divide)
+  bool perspective = false;
+  // World size of the map's side (orthographic), or its side on the plane at unit distance from
+  // the light (perspective: 2 tan(half angle)).
+  float extent = 0.0f;
+  float range = 1.0f;          // depth range in world units (far - near)
+  glm::vec3 axis{0.0f};        // unit, from the light towards the sphere's centre
+  glm::vec3 origin{0.0f};      // the light's position (perspective)
+};
+// Orthographic view along -towardsLight covering the sphere (1.02 radii).
+LightProjection directionalLightProjection(const glm::dvec3& towardsLight, const glm::dvec3& center,
+                                           double radius);
+// Perspective view from `position` enclosing the sphere; throws gpu::GlError when the light
+// lies inside it.
+LightProjection pointLightProjection(const glm::dvec3& position, const glm::dvec3& center,
+                                     double radius);
+
 // A square depth map rendered from a light, sampled with hardware PCF (sampler2DShadow:
 // GL_COMPARE_REF_TO_TEXTURE, GL_LEQUAL, bilinear). Back faces only are drawn (the mesh is
 // closed and outward-oriented), plus a slope-scaled polygon offset, so lit surfaces never

@@ -20,9 +20,11 @@
 #include "gpu/pass_timer.h"
 #include "techniques/common/gl_resources.h"
 #include "techniques/common/light_shadows.h"
+#include "techniques/common/light_view_map.h"
 #include "techniques/common/profile_kernel.h"
 #include "techniques/common/surface_irradiance.h"
 #include "techniques/pointcloud/pointcloud_technique.h"  // kDefaultRadianceConvention
+#include "techniques/tsis/hybrid_split.h"
 
 namespace translucent::tsis {
 namespace {
@@ -44,7 +46,12 @@ enum Binding : GLuint {
   kTexelPoint = 10,
   kSamples = 11,
   kAccum = 12,
+  kPattern = 13,
+  kLocalProfile = 14,
 };
+
+// Texture units of the radiance pass: 0, 1 the G-buffer, 2..4 the light-view map.
+constexpr unsigned kLightViewUnit = 2;
 
 constexpr int kMaxLevels = 13;  // log2(4096) + 1: LevelOffset[14] in sample.comp
 
@@ -65,8 +72,25 @@ std::vector<ParameterInfo> parameterInfos() {
       ParameterInfo::enumeration("atlas_method", "lscm", {"lscm", "authalic", "triangles"},
                                  "parameterisation of the atlas (geometry/atlas.h)"),
       ParameterInfo::enumeration("mode", "global", {"global", "hybrid"},
-                                 "global: importance sampling of the whole Rd (seed 3.1); hybrid "
-                                 "(seed 3.3): not implemented yet"),
+                                 "global: texture-space importance sampling of the whole Rd (seed "
+                                 "3.1); hybrid (seed 3.3): Rd W_g by TSIS plus Rd W_l by the Local "
+                                 "Translucent Shadow Map of one directional or point light"),
+      ParameterInfo::enumeration("term", "full", {"full", "local", "global"},
+                                 "which part of B the image shows: full B = B_l + B_g, or the "
+                                 "local (Rd W_l) or global (Rd W_g) term alone (seed Fig. 3.6); in "
+                                 "global mode TSIS integrates that part"),
+      ParameterInfo::floating("split_k", 1.5, 0.01, 100.0,
+                              "K of the split's weighting W_l (seed 3.3.1), per mm of the medium",
+                              "1/mm"),
+      ParameterInfo::floating("split_bound", 0.1, 1e-6, 100.0,
+                              "R_p is the largest r with 2πr Rd(r) above this bound (seed Fig. "
+                              "3.5), per mm", "1/mm", true),
+      ParameterInfo::integer("circles", 20, 1, 64,
+                             "L: circles of the local pattern (L×C + 1 samples; seed Fig. 3.9)"),
+      ParameterInfo::integer("circle_samples", 20, 1, 64,
+                             "C: samples on each circle of the local pattern"),
+      ParameterInfo::integer("ltsm_map_size", 1024, 64, 4096,
+                             "resolution of the hybrid's light-view irradiance map", "texels"),
       ParameterInfo::boolean("accumulate", true,
                              "average the frames (rotated samples) into a converging image; false: "
                              "every frame is the real-time image of N samples"),
@@ -121,7 +145,13 @@ struct TsisTechnique::Impl {
   // Kernel.
   std::string kernelKey;
   std::array<bssrdf::ProfileTable, 3> tables;
-  gpu::Buffer profile;
+  gpu::Buffer profile;  // R, or R W_g / R W_l (term, hybrid)
+  // Hybrid (seed 3.3): the split, R W_l for the local term, the LTSM pattern.
+  HybridSplit split;
+  gpu::Buffer localProfile, pattern;
+  uint32_t patternCount = 0;
+  std::unique_ptr<techniques::LightViewMap> lightView;
+  std::optional<gpu::ShaderProgram> lightViewProgram;
 
   std::optional<gpu::ShaderProgram> gbufferProgram, importanceProgram, reduceProgram, sampleProgram,
       radianceProgram;
@@ -235,9 +265,11 @@ struct TsisTechnique::Impl {
 
   void buildKernel() {
     const scene::Scene& s = *scene;
-    const std::string key = fmt::format("{}|{}|{}|{}|{}|{}|{}", s.model, s.medium.sigma_a, s.medium.sigma_s,
-                                        s.medium.g, s.medium.eta, s.medium.scale,
-                                        params.getInt("table_size"));
+    const std::string key = fmt::format(
+        "{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}", s.model, s.medium.sigma_a, s.medium.sigma_s, s.medium.g,
+        s.medium.eta, s.medium.scale, params.getInt("table_size"), params.getEnum("mode"),
+        params.getEnum("term"), params.getFloat("split_k"), params.getFloat("split_bound"),
+        params.getInt("circles"), params.getInt("circle_samples"));
     if (key == kernelKey) return;
     kernelKey.clear();
     s.medium.validate();
@@ -249,9 +281,59 @@ struct TsisTechnique::Impl {
     techniques::RgbProfileTable t = techniques::tabulateRgbProfile(
         s, static_cast<size_t>(params.getInt("table_size")), evaluator ? &*evaluator : nullptr);
     tables = std::move(t.tables);
-    profile = gpu::makeStorageBuffer(std::span<const glm::vec4>(t.gpu));
+    // The split: K and the bound per mm, one scene unit = scale mm (hybrid_split.h).
+    split = makeHybridSplit(tables, params.getFloat("split_k"), params.getFloat("split_bound"),
+                            s.medium.scale);
+    const bool hybrid = params.getEnum("mode") == "hybrid";
+    const std::string& term = params.getEnum("term");
+    // TSIS's table: R W_g in hybrid mode (the local part is the LTSM's), else the part shown.
+    if (hybrid || term == "global")
+      profile = gpu::makeStorageBuffer(std::span<const glm::vec4>(weightedProfile(tables, split, false)));
+    else if (term == "local")
+      profile = gpu::makeStorageBuffer(std::span<const glm::vec4>(weightedProfile(tables, split, true)));
+    else
+      profile = gpu::makeStorageBuffer(std::span<const glm::vec4>(t.gpu));
+    localProfile = gpu::makeStorageBuffer(std::span<const glm::vec4>(weightedProfile(tables, split, true)));
+    const std::vector<glm::vec4> pat =
+        localPattern(tables, split, params.getInt("circles"), params.getInt("circle_samples"));
+    pattern = gpu::makeStorageBuffer(std::span<const glm::vec4>(pat));
+    patternCount = static_cast<uint32_t>(pat.size() / 2);
+    if (hybrid)
+      notes.push_back(fmt::format("hybrid: R_p = {:.4g}, {:.4g}, {:.4g} scene units, K = {:.4g} per unit, "
+                                  "{} + {} samples", split.rp[0], split.rp[1], split.rp[2], split.k,
+                                  params.getInt("samples"), patternCount));
     kernelKey = key;
     accumulationDirty = true;
+  }
+
+  // Hybrid: the one light must have a light-view map (seed 3.3.2's LTSM is rendered from it).
+  void checkHybridLights() const {
+    if (params.getEnum("mode") != "hybrid" || params.getEnum("term") == "global") return;
+    const auto& lights = scene->lights;
+    if (lights.size() != 1)
+      throw ParameterError(fmt::format("tsis: mode 'hybrid' takes exactly one light (its local term is "
+                                       "a light-view map of one directional or point light): the scene "
+                                       "has {}", lights.size()));
+    const auto& e = lights[0].emitter;
+    if (!std::holds_alternative<reference::DirectionalLight>(e) &&
+        !std::holds_alternative<reference::PointLight>(e))
+      throw ParameterError("lights[0]: mode 'hybrid' of the tsis technique needs a directional or point "
+                           "light for its local term (a light-view map); use mode 'global' for this light");
+  }
+
+  void renderLightView() {
+    const int size = params.getInt("ltsm_map_size");
+    if (!lightView || lightView->size() != size) lightView = std::make_unique<techniques::LightViewMap>(size);
+    if (!lightViewProgram) lightViewProgram.emplace(techniques::LightViewMap::program());
+    const scene::Light& light = scene->lights[0];
+    const glm::vec3 color(float(light.color[0]), float(light.color[1]), float(light.color[2]));
+    const double eta = scene->medium.eta;
+    if (const auto* d = std::get_if<reference::DirectionalLight>(&light.emitter))
+      lightView->renderDirectional(*gpuMesh, *lightViewProgram, d->direction, color * float(d->irradiance),
+                                   eta, center, radius);
+    else if (const auto* pl = std::get_if<reference::PointLight>(&light.emitter))
+      lightView->renderPoint(*gpuMesh, *lightViewProgram, pl->position, color * float(pl->intensity), eta,
+                             center, radius);
   }
 
   // Stages 1 and 2 and the radiance of one frame into the output (and accumulation) buffers.
@@ -272,6 +354,13 @@ struct TsisTechnique::Impl {
     gpu::bindStorage(kTexelPoint, texelPoint);
     gpu::bindStorage(kSamples, samples);
     gpu::bindStorage(kProfile, profile);
+    const bool hybrid = params.getEnum("mode") == "hybrid";
+    const std::string& term = params.getEnum("term");
+    const bool local = hybrid && term != "global";
+    if (local && irradiancePass) {
+      auto t = timer->scope("light-view map");
+      renderLightView();
+    }
     if (irradiancePass) {
       auto t = timer->scope("importance");
       importanceProgram->set("PointCount", static_cast<unsigned>(texels.size()));
@@ -320,6 +409,13 @@ struct TsisTechnique::Impl {
       p.set("ProfileCount", static_cast<unsigned>(tables[0].size()));
       p.set("Accumulate", accumulate);
       p.set("FrameIndex", static_cast<unsigned>(accumulate ? frameIndex : 0));
+      p.set("Global", !hybrid || term != "local");
+      p.set("Local", local);
+      gpu::bindStorage(kPattern, pattern);
+      gpu::bindStorage(kLocalProfile, localProfile);
+      p.set("PatternCount", patternCount);
+      p.set("PatternAngle", static_cast<float>(2.0 * std::numbers::pi * double(rotation(frameIndex))));
+      if (local) lightView->bind(p, kLightViewUnit);
       gpu::dispatch(p, {(unsigned(width) + 7u) / 8u, (unsigned(height) + 7u) / 8u, 1u});
     }
     ++frameIndex;
@@ -334,6 +430,7 @@ struct TsisTechnique::Impl {
       throw ParameterError(fmt::format("image size {}x{}: expected width and height in [1, 16384]",
                                        width, height));
     buildPrograms();
+    checkHybridLights();
     buildAtlas();
     buildKernel();
     if (!timer) timer.emplace();
@@ -412,9 +509,6 @@ const std::vector<techniques::ParameterInfo>& TsisTechnique::parameters() const 
 
 void TsisTechnique::setParameter(std::string_view name, const techniques::ParameterValue& value) {
   const techniques::ParameterValue checked = techniques::checkedValue(impl_->params.info(name), value);
-  if (name == "mode" && std::get<std::string>(checked) == "hybrid")
-    throw ParameterError("tsis: mode 'hybrid' (the local/global split of seed 3.3) is not implemented "
-                         "yet: expected 'global'");
   if (!impl_->params.set(name, checked)) return;
   impl_->accumulationDirty = true;
   if (name == "atlas_size" || name == "atlas_method") impl_->atlasDirty = true;
