@@ -4,6 +4,7 @@
 #include <fmt/ranges.h>
 
 #include "techniques/empirical/empirical_technique.h"
+#include "techniques/lss/lss_technique.h"
 #include "techniques/pointcloud/pointcloud_technique.h"
 #include "techniques/tsis/tsis_technique.h"
 #include "techniques/tsm/tsm_technique.h"
@@ -27,6 +28,8 @@ constexpr Entry kTechniques[] = {
      &tsis::makeTsisTechnique},
     {"tsm", "translucent shadow maps: a 21-sample filter of light-view irradiance maps (Dachsbacher & Stamminger 2003)",
      &tsm::makeTsmTechnique},
+    {"lss", "local subsurface scattering: per-pixel importance sampling of Rd on the image plane (Mertens et al. 2003)",
+     &lss::makeLssTechnique},
 };
 
 const Entry& find(std::string_view name) {

@@ -105,7 +105,7 @@ TEST_F(CompareCli, ReportIsCompleteAndSelfContained) {
     EXPECT_TRUE(fs::is_regular_file(dir / target)) << target;
     ((*it)[0].str().starts_with("src") ? images : links)++;
   }
-  EXPECT_GT(images, 30);  // images of 3 techniques and 2 references, 3 maps a pair, bars, masks
+  EXPECT_GT(images, 30);  // images of 5 techniques and 2 references, 3 maps a pair, bars, masks
   EXPECT_GT(links, 3);    // the EXRs and report.json
   EXPECT_NE(html.find("translucent compare"), std::string::npos);
   EXPECT_NE(html.find("--photons 20000"), std::string::npos);  // the reproducing command
@@ -130,7 +130,7 @@ TEST_F(CompareCli, ReportIsCompleteAndSelfContained) {
       EXPECT_TRUE(m.at("metrics").at(key).is_number()) << m.dump();
     EXPECT_GT(m.at("metrics").at("pixels").get<uint64_t>(), 100u) << m.dump();
   }
-  ASSERT_EQ(j.at("techniques").size(), 4u);  // pointcloud, empirical, tsis, tsm
+  ASSERT_EQ(j.at("techniques").size(), 5u);  // pointcloud, empirical, tsis, tsm, lss
   for (const auto& t : j.at("techniques")) {
     const std::string n = t.at("name");
     EXPECT_GT(t.at("frame_ms").get<double>(), 0.0) << n;
@@ -157,6 +157,7 @@ TEST_F(CompareCli, ReportIsCompleteAndSelfContained) {
   EXPECT_GE(points["empirical"], 3);
   EXPECT_GE(points["tsis"], 3);
   EXPECT_GE(points["tsm"], 3);
+  EXPECT_GE(points["lss"], 3);
   EXPECT_TRUE(fs::is_regular_file(dir / "sweep.png"));
 }
 
