@@ -71,7 +71,9 @@ struct Rendered {
   std::vector<std::string> notes;
 };
 
-Rendered renderTimed(techniques::Technique& t, const scene::Scene& s, int warmup, int frames) {
+// `row`: the row's name (the technique's, or a variant's spec).
+Rendered renderTimed(techniques::Technique& t, const std::string& row, const scene::Scene& s, int warmup,
+                     int frames) {
   Rendered r;
   techniques::FrameRequest request;
   request.converge = true;
@@ -81,7 +83,7 @@ Rendered renderTimed(techniques::Technique& t, const scene::Scene& s, int warmup
     throw std::runtime_error(fmt::format("technique {} rendered {}x{}: expected the camera's {}x{}",
                                          t.name(), f.width, f.height, s.camera.width,
                                          s.camera.height));
-  r.images.name = std::string(t.name());
+  r.images.name = row;
   r.images.convention = techniques::radianceConvention(t);
   r.images.radiance = {f.width, f.height, std::move(f.rgb), {}};
   if (auto it = f.layers.find("exitance"); it != f.layers.end())
@@ -357,7 +359,7 @@ SceneOutcome compareScene(const CompareArgs& a, const Parsed& parsed, const std:
       t = makeSpec(name, &s);
       fmt::print(stderr, "{}: preparing on {}\n", name, report.gpu);
       t->prepare(s, gl);
-      Rendered r = renderTimed(*t, s, a.warmup, a.frames);
+      Rendered r = renderTimed(*t, name, s, a.warmup, a.frames);
       fmt::print(stderr, "  frame {:.3f} ms (median of {}), L by the {} convention{}\n", r.frame_ms,
                  a.frames, toString(r.images.convention),
                  r.images.exitance.empty() ? ", no exitance" : "");
@@ -405,7 +407,7 @@ SceneOutcome compareScene(const CompareArgs& a, const Parsed& parsed, const std:
         for (double v : p.sweep) {
           try {
             t->setParameter(p.name, v);
-            Rendered sr = renderTimed(*t, s, a.warmup, a.frames);
+            Rendered sr = renderTimed(*t, name, s, a.warmup, a.frames);
             analysis::SweepPoint point{name, p.name, v, sr.frame_ms,
                                        analysis::techniqueMetrics(sr.images, report.references,
                                                                   eta, report.masks, display)};

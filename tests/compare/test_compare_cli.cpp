@@ -211,6 +211,38 @@ TEST_F(CompareCli, SecondRunReusesTheReferencesAndAChangedSceneMisses) {
   EXPECT_NE(changed.output.find("model reference: computed in"), std::string::npos) << changed.output;
 }
 
+// Variants of one technique side by side (name:key=value:...): each is a row of its own, named by
+// its spec, with its settings applied, and its files under a file-safe name; a setting the
+// technique does not have, or a value out of range, is refused naming the spec.
+TEST_F(CompareCli, TechniqueVariantsAreRowsOfTheirOwn) {
+  ASSERT_EQ(first_->status, 0) << first_->output;
+  const std::string spec = "tsis:atlas_size=64:samples=64:accumulate=false";
+  const CliRun r = run(testScene("cube.json", "1.0") + "--techniques tsis:atlas_size=64," + spec + " " +
+                           common(kRoot / "variants"), "variants");
+  ASSERT_EQ(r.status, 0) << r.output;
+  std::ifstream f(kRoot / "variants" / "report.json");
+  const json j = json::parse(f);
+  ASSERT_EQ(j.at("techniques").size(), 2u);
+  const json& v = j.at("techniques").at(1);
+  EXPECT_EQ(v.at("name"), spec);
+  EXPECT_EQ(v.at("parameters").at("samples"), "64");
+  EXPECT_EQ(v.at("parameters").at("accumulate"), "false");
+  EXPECT_EQ(j.at("techniques").at(0).at("parameters").at("samples"), "1024");
+  EXPECT_TRUE(fs::exists(kRoot / "variants" / "tsis_atlas_size-64_samples-64_accumulate-false.exr"));
+  int rows = 0;
+  for (const auto& m : j.at("metrics")) rows += m.at("test") == spec;
+  EXPECT_GE(rows, 2) << "the variant's metrics carry its name";
+
+  const CliRun bad = run(testScene("cube.json", "1.0") + "--techniques tsis:nosuch=1 " +
+                             common(kRoot / "variants-bad"), "variants-bad");
+  EXPECT_NE(bad.status, 0);
+  EXPECT_NE(bad.output.find("--techniques 'tsis:nosuch=1'"), std::string::npos) << bad.output;
+  const CliRun range = run(testScene("cube.json", "1.0") + "--techniques tsis:samples=5 " +
+                               common(kRoot / "variants-range"), "variants-range");
+  EXPECT_NE(range.status, 0);
+  EXPECT_NE(range.output.find("samples"), std::string::npos) << range.output;
+}
+
 TEST_F(CompareCli, FolderWithAUsersFilesIsRefused) {
   const fs::path mine = kRoot / "mine";
   fs::create_directories(mine);
