@@ -11,6 +11,8 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
+#include "gpu/compute.h"
+
 namespace translucent::techniques {
 
 std::vector<glm::dvec3> vertexNormals(const geometry::TriangleMesh& mesh) {
@@ -299,6 +301,35 @@ void setShadowUniforms(const gpu::ShaderProgram& p, const ShadowMap* map,
   }
   if (samples == 1) jitter[0] = glm::vec2(0.0f);
   glProgramUniform2fv(p.id(), p.uniformLocation("ShadowJitter"), samples, glm::value_ptr(jitter[0]));
+}
+
+bool ClosedMeshState::loadClosedMesh(const scene::Scene& s) {
+  const std::string key = scene::meshKey(s);
+  if (key == meshKey && gpuMesh) return false;
+  geometry::TriangleMesh m = scene::loadSceneMesh(s);
+  m.requireClosed(fmt::format("mesh file '{}'", s.mesh_file.string()));
+  m.orientOutwards();
+  mesh = std::move(m);
+  const BoundingSphereOf bs = boundingSphere(mesh);
+  center = bs.center;
+  radius = bs.radius;
+  gpuMesh.emplace(mesh);
+  meshKey = key;
+  return true;
+}
+
+void readRadianceAndExitance(Frame& frame, const gpu::Buffer& radiance, const gpu::Buffer& exitance,
+                             size_t pixels) {
+  const auto rad = gpu::download<glm::vec4>(radiance, pixels);
+  const auto ex = gpu::download<glm::vec4>(exitance, pixels);
+  frame.rgb.resize(pixels * 3);
+  std::vector<float>& out = frame.layers["exitance"];
+  out.resize(pixels * 3);
+  for (size_t i = 0; i < pixels; ++i)
+    for (int c = 0; c < 3; ++c) {
+      frame.rgb[i * 3 + size_t(c)] = rad[i][c];
+      out[i * 3 + size_t(c)] = ex[i][c];
+    }
 }
 
 }  // namespace translucent::techniques

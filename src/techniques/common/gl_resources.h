@@ -4,6 +4,9 @@
 // All need a current OpenGL 4.5 core context (gpu/context.h).
 #pragma once
 
+#include <optional>
+#include <string>
+
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 
@@ -11,6 +14,8 @@
 #include "gpu/objects.h"
 #include "gpu/program.h"
 #include "reference/camera.h"
+#include "scene/scene.h"
+#include "techniques/technique.h"
 
 namespace translucent::techniques {
 
@@ -156,5 +161,25 @@ class GBuffer {
   gpu::Texture position_, normal_, depth_;
   gpu::Framebuffer fbo_;
 };
+
+// What the techniques that draw shadow or light-view maps keep of the scene's mesh (their Impl
+// derives from it): closed (the maps draw one side of the surface only, gl_resources.h and
+// light_view_map.h), oriented outwards, its bounding sphere (the maps and the camera's automatic
+// clip distances cover it) and its copy on the GPU.
+struct ClosedMeshState {
+  std::string meshKey;  // scene::meshKey of the loaded mesh ("" before the first)
+  geometry::TriangleMesh mesh;
+  std::optional<GpuMesh> gpuMesh;
+  glm::dvec3 center{0.0};
+  double radius = 1.0;
+  // Loads the scene's mesh unless it is the one loaded (same scene::meshKey); true when it did.
+  // Throws geometry::MeshError naming the file for an open mesh.
+  bool loadClosedMesh(const scene::Scene& s);
+};
+
+// The radiance and exitance outputs of a technique's last pass (one vec4 per pixel, rows from
+// the top) into frame.rgb and frame.layers["exitance"].
+void readRadianceAndExitance(Frame& frame, const gpu::Buffer& radiance, const gpu::Buffer& exitance,
+                             size_t pixels);
 
 }  // namespace translucent::techniques

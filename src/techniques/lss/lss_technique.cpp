@@ -76,15 +76,11 @@ glm::vec3 toVec3(const glm::dvec3& v) { return glm::vec3(v); }
 
 // ---------------------------------------------------------------------------------------------
 
-struct LssTechnique::Impl {
+// The mesh, its bounding sphere and GPU copy: techniques::ClosedMeshState.
+struct LssTechnique::Impl : techniques::ClosedMeshState {
   techniques::ParameterSet params{parameterInfos()};
 
   std::optional<scene::Scene> scene;
-  std::string meshKey;
-  geometry::TriangleMesh mesh;
-  std::optional<GpuMesh> gpuMesh;
-  glm::dvec3 center{0.0};
-  double radius = 1.0;
 
   // Kernel: the profile table and the radial CDFs.
   std::string kernelKey;
@@ -118,20 +114,7 @@ struct LssTechnique::Impl {
     gpu::checkGlError("building the lss programs");
   }
 
-  void loadMesh(const scene::Scene& s) {
-    const std::string key = scene::meshKey(s);
-    if (key == meshKey && gpuMesh) return;
-    geometry::TriangleMesh m = scene::loadSceneMesh(s);
-    // Closed and outward: the shadow maps draw back faces only (gl_resources.h).
-    m.requireClosed(fmt::format("mesh file '{}'", s.mesh_file.string()));
-    m.orientOutwards();
-    mesh = std::move(m);
-    const techniques::BoundingSphereOf bs = techniques::boundingSphere(mesh);
-    center = bs.center;
-    radius = bs.radius;
-    gpuMesh.emplace(mesh);
-    meshKey = key;
-  }
+  void loadMesh(const scene::Scene& s) { (void)loadClosedMesh(s); }
 
   void prepareLights(const scene::Scene& s) {
     lighting.prepareLights(s, center, radius, params.getInt("shadow_map_size"), "lss");
@@ -289,18 +272,7 @@ struct LssTechnique::Impl {
 
     frame.width = width;
     frame.height = height;
-    if (request.readback) {
-      const auto rad = gpu::download<glm::vec4>(radianceOut, pixels);
-      const auto ex = gpu::download<glm::vec4>(exitanceOut, pixels);
-      frame.rgb.resize(pixels * 3);
-      std::vector<float>& exitance = frame.layers["exitance"];
-      exitance.resize(pixels * 3);
-      for (size_t i = 0; i < pixels; ++i)
-        for (int c = 0; c < 3; ++c) {
-          frame.rgb[i * 3 + size_t(c)] = rad[i][c];
-          exitance[i * 3 + size_t(c)] = ex[i][c];
-        }
-    }
+    if (request.readback) techniques::readRadianceAndExitance(frame, radianceOut, exitanceOut, pixels);
     for (const auto& pass : timer->collect()) frame.passes.push_back({pass.name, pass.ms, pass.depth});
     return frame;
   }

@@ -97,16 +97,12 @@ bool isBssrdfFile(const std::string& model) { return bssrdf::hasBssrdfExtension(
 
 // ---------------------------------------------------------------------------------------------
 
-struct PointCloudTechnique::Impl {
+// The mesh, its bounding sphere and GPU copy: techniques::ClosedMeshState.
+struct PointCloudTechnique::Impl : techniques::ClosedMeshState {
   techniques::ParameterSet params{parameterInfos()};
 
   // Scene.
   std::optional<scene::Scene> scene;
-  std::string meshKey;
-  geometry::TriangleMesh mesh;
-  std::optional<GpuMesh> gpuMesh;
-  glm::dvec3 center{0.0};
-  double radius = 1.0;
 
   // Point cloud and octree.
   bool geometryDirty = true;
@@ -149,17 +145,7 @@ struct PointCloudTechnique::Impl {
   }
 
   void loadMesh(const scene::Scene& s) {
-    const std::string key = scene::meshKey(s);
-    if (key == meshKey && gpuMesh) return;
-    geometry::TriangleMesh m = scene::loadSceneMesh(s);
-    m.requireClosed(fmt::format("mesh file '{}'", s.mesh_file.string()));
-    m.orientOutwards();
-    mesh = std::move(m);
-    const techniques::BoundingSphereOf bs = techniques::boundingSphere(mesh);
-    center = bs.center;
-    radius = bs.radius;
-    gpuMesh.emplace(mesh);
-    meshKey = key;
+    if (!loadClosedMesh(s)) return;
     geometryDirty = true;
   }
 
@@ -392,16 +378,7 @@ struct PointCloudTechnique::Impl {
       for (const auto& pass : timer->collect()) frame.passes.push_back({pass.name, pass.ms, pass.depth});
       return frame;
     }
-    const auto rad = gpu::download<glm::vec4>(radianceOut, pixels);
-    const auto ex = gpu::download<glm::vec4>(exitanceOut, pixels);
-    frame.rgb.resize(pixels * 3);
-    std::vector<float>& exitance = frame.layers["exitance"];
-    exitance.resize(pixels * 3);
-    for (size_t i = 0; i < pixels; ++i)
-      for (int c = 0; c < 3; ++c) {
-        frame.rgb[i * 3 + size_t(c)] = rad[i][c];
-        exitance[i * 3 + size_t(c)] = ex[i][c];
-      }
+    techniques::readRadianceAndExitance(frame, radianceOut, exitanceOut, pixels);
     for (const auto& pass : timer->collect()) frame.passes.push_back({pass.name, pass.ms, pass.depth});
     return frame;
   }

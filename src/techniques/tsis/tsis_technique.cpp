@@ -123,15 +123,11 @@ float rotation(uint64_t frame) {
 
 // ---------------------------------------------------------------------------------------------
 
-struct TsisTechnique::Impl {
+// The mesh, its bounding sphere and GPU copy: techniques::ClosedMeshState.
+struct TsisTechnique::Impl : techniques::ClosedMeshState {
   techniques::ParameterSet params{parameterInfos()};
 
   std::optional<scene::Scene> scene;
-  std::string meshKey;
-  geometry::TriangleMesh mesh;
-  std::optional<GpuMesh> gpuMesh;
-  glm::dvec3 center{0.0};
-  double radius = 1.0;
 
   // Atlas texels.
   bool atlasDirty = true;
@@ -181,18 +177,7 @@ struct TsisTechnique::Impl {
   }
 
   void loadMesh(const scene::Scene& s) {
-    const std::string key = scene::meshKey(s);
-    if (key == meshKey && gpuMesh) return;
-    geometry::TriangleMesh m = scene::loadSceneMesh(s);
-    // Closed and outward: the shadow maps draw back faces only (gl_resources.h).
-    m.requireClosed(fmt::format("mesh file '{}'", s.mesh_file.string()));
-    m.orientOutwards();
-    mesh = std::move(m);
-    const techniques::BoundingSphereOf bs = techniques::boundingSphere(mesh);
-    center = bs.center;
-    radius = bs.radius;
-    gpuMesh.emplace(mesh);
-    meshKey = key;
+    if (!loadClosedMesh(s)) return;
     atlasDirty = true;
   }
 
@@ -477,18 +462,7 @@ struct TsisTechnique::Impl {
 
     frame.width = width;
     frame.height = height;
-    if (request.readback) {
-      const auto rad = gpu::download<glm::vec4>(radianceOut, pixels);
-      const auto ex = gpu::download<glm::vec4>(exitanceOut, pixels);
-      frame.rgb.resize(pixels * 3);
-      std::vector<float>& exitance = frame.layers["exitance"];
-      exitance.resize(pixels * 3);
-      for (size_t i = 0; i < pixels; ++i)
-        for (int c = 0; c < 3; ++c) {
-          frame.rgb[i * 3 + size_t(c)] = rad[i][c];
-          exitance[i * 3 + size_t(c)] = ex[i][c];
-        }
-    }
+    if (request.readback) techniques::readRadianceAndExitance(frame, radianceOut, exitanceOut, pixels);
     if (request.views) frame.views["atlas"] = atlasView();
     for (const auto& pass : timer->collect()) frame.passes.push_back({pass.name, pass.ms, pass.depth});
     return frame;

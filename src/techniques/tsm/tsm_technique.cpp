@@ -111,14 +111,11 @@ double regionWeight(const bssrdf::ProfileTable& table, double radius, int region
 
 // ---------------------------------------------------------------------------------------------
 
-struct TsmTechnique::Impl {
+// The mesh, its bounding sphere and GPU copy: techniques::ClosedMeshState.
+struct TsmTechnique::Impl : techniques::ClosedMeshState {
   techniques::ParameterSet params{parameterInfos()};
 
   std::optional<scene::Scene> scene;
-  std::string meshKey;
-  std::optional<GpuMesh> gpuMesh;
-  glm::dvec3 center{0.0};
-  double radius = 1.0;
 
   std::string kernelKey;
   std::array<bssrdf::ProfileTable, 3> tables;
@@ -148,19 +145,7 @@ struct TsmTechnique::Impl {
     gpu::checkGlError("building the tsm programs");
   }
 
-  void loadMesh(const scene::Scene& s) {
-    const std::string key = scene::meshKey(s);
-    if (key == meshKey && gpuMesh) return;
-    geometry::TriangleMesh m = scene::loadSceneMesh(s);
-    // Closed and outward: the maps draw front faces only (light_view_map.h).
-    m.requireClosed(fmt::format("mesh file '{}'", s.mesh_file.string()));
-    m.orientOutwards();
-    const techniques::BoundingSphereOf bs = techniques::boundingSphere(m);
-    center = bs.center;
-    radius = bs.radius;
-    gpuMesh.emplace(m);
-    meshKey = key;
-  }
+  void loadMesh(const scene::Scene& s) { (void)loadClosedMesh(s); }
 
   void prepareLights(const scene::Scene& s) {
     lights.clear();
@@ -318,18 +303,7 @@ struct TsmTechnique::Impl {
 
     frame.width = width;
     frame.height = height;
-    if (request.readback) {
-      const auto rad = gpu::download<glm::vec4>(radianceOut, pixels);
-      const auto ex = gpu::download<glm::vec4>(exitanceOut, pixels);
-      frame.rgb.resize(pixels * 3);
-      std::vector<float>& exitance = frame.layers["exitance"];
-      exitance.resize(pixels * 3);
-      for (size_t i = 0; i < pixels; ++i)
-        for (int c = 0; c < 3; ++c) {
-          frame.rgb[i * 3 + size_t(c)] = rad[i][c];
-          exitance[i * 3 + size_t(c)] = ex[i][c];
-        }
-    }
+    if (request.readback) techniques::readRadianceAndExitance(frame, radianceOut, exitanceOut, pixels);
     for (const auto& pass : timer->collect()) frame.passes.push_back({pass.name, pass.ms, pass.depth});
     return frame;
   }
