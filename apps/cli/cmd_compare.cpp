@@ -161,6 +161,11 @@ std::vector<std::string> techniqueList(const std::string& text) {
   if (text == "all") return all;
   std::vector<std::string> out;
   for (const std::string& n : splitList(text)) {
+    if (n == "all") {  // every registered technique, beside variants: all,tsis:mode=hybrid
+      for (const std::string& a : all)
+        if (std::find(out.begin(), out.end(), a) == out.end()) out.push_back(a);
+      continue;
+    }
     const std::string base = parseSpec(n).base;
     if (std::find(all.begin(), all.end(), base) == all.end())
       throw ParameterError(fmt::format("--techniques '{}': unknown technique '{}': valid techniques "
@@ -598,7 +603,7 @@ void addCompareCommand(CLI::App& app) {
   cmd->add_option("--techniques", a->techniques,
                   fmt::format("Techniques to compare, comma-separated: {} or all; a variant with "
                               "its own settings is name:key=value:key=value (e.g. "
-                              "tsis:mode=hybrid:samples=900), its row named so",
+                              "all,tsis:mode=hybrid:samples=900), its row named so",
                               fmt::join(techniques::names(), ", ")))
       ->capture_default_str();
   cmd->add_option("--reference", a->references,
@@ -614,9 +619,18 @@ void addCompareCommand(CLI::App& app) {
                   "centre, where the techniques shade, so that technique vs model carries no "
                   "pixel-filter difference; more: pixel averages like the physical reference")
       ->capture_default_str();
+  // The swept parameters from the techniques' descriptors (those with sweep values).
+  std::vector<std::string> swept;
+  for (const std::string& n : techniques::names()) {
+    std::vector<std::string> ps;
+    for (const auto& p : techniques::make(n)->parameters())
+      if (!p.sweep.empty()) ps.push_back(p.name);
+    if (!ps.empty()) swept.push_back(fmt::format("{}: {}", n, fmt::join(ps, ", ")));
+  }
   cmd->add_flag("--sweep", a->sweep,
-                "Also render each technique's quality parameter over its sweep values and plot "
-                "error against GPU time (pointcloud: epsilon; empirical: kernel_size)");
+                fmt::format("Also render each technique's quality parameter over its sweep values "
+                            "and plot error against GPU time ({}; real-time frames: accumulation "
+                            "off)", fmt::join(swept, "; ")));
   cmd->add_option("--out", a->out, "Report folder (created; a previous report there is replaced)")
       ->capture_default_str();
   cmd->add_flag("--force", a->force,
