@@ -156,6 +156,21 @@ Atlas deserialize(const std::string& bytes, const fs::path& file, const Triangle
 
 }  // namespace
 
+Atlas readAtlasCache(const fs::path& file, const TriangleMesh& mesh) {
+  std::error_code ec;
+  // The size first: file_size's error value, (uintmax_t)-1, is no size to allocate.
+  const auto size = fs::is_regular_file(file, ec) ? fs::file_size(file, ec) : 0;
+  if (ec || !fs::is_regular_file(file, ec))
+    throw AtlasError(fmt::format("atlas cache file '{}' cannot be read: expected a regular file",
+                                 file.string()));
+  std::ifstream in(file, std::ios::binary);
+  std::string bytes(static_cast<size_t>(size), '\0');
+  in.read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  if (!in)
+    throw AtlasError(fmt::format("atlas cache file '{}' cannot be read", file.string()));
+  return deserialize(bytes, file, mesh);
+}
+
 std::string atlasCacheFileName(const TriangleMesh& mesh, const AtlasOptions& options) {
   std::string name = fmt::format("atlas-{:016x}", meshHash(mesh));
   if (options.useMeshUVs) name += fmt::format("-uv{:016x}", texcoordHash(mesh));
@@ -172,13 +187,7 @@ CachedAtlas loadOrBuildAtlas(const TriangleMesh& mesh, const AtlasOptions& optio
   std::error_code ec;
   if (fs::exists(result.file, ec)) {
     try {
-      std::ifstream in(result.file, std::ios::binary);
-      std::string bytes(static_cast<size_t>(fs::file_size(result.file, ec)), '\0');
-      in.read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-      if (ec || !in)
-        throw AtlasError(fmt::format("atlas cache file '{}' cannot be read",
-                                     result.file.string()));
-      result.atlas = deserialize(bytes, result.file, mesh);
+      result.atlas = readAtlasCache(result.file, mesh);
       if (result.atlas.size == options.size) {
         result.fromCache = true;
         return result;
