@@ -13,6 +13,7 @@
 #include "analysis/image_io.h"
 #include "bssrdf/bssrdf_file.h"
 #include "bssrdf/registry.h"
+#include "geometry/atomic_file.h"  // contentHash
 #include "geometry/point_cloud.h"  // defaultCacheDirectory
 #include "geometry/ray_scene.h"
 #include "reference/camera.h"
@@ -151,6 +152,15 @@ Layers layersOf(const Reference& r) {
 
 }  // namespace
 
+// The whole file (ImageError naming it when it cannot be read).
+static std::string readFileBytes(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  if (!in || in.bad()) throw ImageError(fmt::format("cannot read '{}'", path.string()));
+  return std::move(ss).str();
+}
+
 void writeReferenceExr(const fs::path& path, const Reference& r, const std::string& source) {
   const Layers l = layersOf(r);
   std::vector<ExrLayer> layers;
@@ -181,6 +191,17 @@ std::optional<Reference> ReferenceCache::load(ReferenceKind kind, const std::str
     const json j = json::parse(f);
     if (j.at("key").get<std::string>() != key || j.at("kind").get<std::string>() != toString(kind))
       return fail("does not match its name");
+    // The .exr's size and content hash, stored in the .json when it was written: a tampered or
+    // truncated .exr is recomputed, never used (an entry without them is from an older version).
+    if (!j.contains("exr_bytes") || !j.contains("exr_hash")) return fail("has no content hash");
+    const std::string bytes = readFileBytes(exr);
+    if (bytes.size() != j.at("exr_bytes").get<uint64_t>())
+      return fail(fmt::format("is {} bytes: expected {} (its .json)", bytes.size(),
+                              j.at("exr_bytes").get<uint64_t>()));
+    if (const std::string h = fmt::format("{:016x}", geometry::contentHash(bytes));
+        h != j.at("exr_hash").get<std::string>())
+      return fail(fmt::format("has content hash {}: expected {} (its .json): the file was "
+                              "changed", h, j.at("exr_hash").get<std::string>()));
     const LayeredImage img = readExrLayers(exr.string());
     if (img.width != width || img.height != height) return fail("has another image size");
     Reference r;
@@ -231,7 +252,10 @@ void ReferenceCache::store(Reference& r) const {
   fs::create_directories(dir_, ec);
   try {
     writeReferenceExr(tmpExr, r, "translucent compare (reference cache)");
-    json j = {{"key", r.key},         {"kind", toString(r.kind)},
+    const std::string bytes = readFileBytes(tmpExr);
+    json j = {{"exr_bytes", bytes.size()},
+              {"exr_hash", fmt::format("{:016x}", geometry::contentHash(bytes))},
+              {"key", r.key},         {"kind", toString(r.kind)},
               {"count", r.request.count}, {"count_done", r.count_done},
               {"seed", r.request.seed},   {"seconds", r.seconds},
               {"width", r.exitance.width}, {"height", r.exitance.height},

@@ -5,6 +5,7 @@
 #include <OpenImageIO/imageio.h>
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 
 namespace translucent::analysis {
 namespace {
@@ -61,10 +62,32 @@ void writeExr(const std::string& path, int width, int height, std::span<const fl
   write(path, spec, OIIO::TypeDesc::FLOAT, data.data());
 }
 
+// Checks before reading an image file: a directory or an empty file gets its own message
+// (OpenImageIO's is "could not find a format reader"), and a header's size is checked before
+// anything is allocated for it (a corrupt header can claim 0, negative or billions of pixels).
+static void checkImageFile(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw ImageError(fmt::format("cannot read '{}': it is a directory: expected an image file", path));
+  if (std::filesystem::exists(path, ec) && std::filesystem::is_regular_file(path, ec) &&
+      std::filesystem::file_size(path, ec) == 0 && !ec)
+    throw ImageError(fmt::format("cannot read '{}': the file is empty: expected an image", path));
+}
+static void checkImageSize(const std::string& path, const OIIO::ImageSpec& spec) {
+  constexpr long long kMaxPixels = 1LL << 28;  // 3 GiB of float RGB
+  const long long pixels = static_cast<long long>(spec.width) * spec.height;
+  if (spec.width < 1 || spec.height < 1 || spec.depth > 1 || pixels > kMaxPixels)
+    throw ImageError(fmt::format("cannot read '{}': image size {}x{}{}: expected at least 1x1 "
+                                 "and at most {} pixels", path, spec.width, spec.height,
+                                 spec.depth > 1 ? fmt::format("x{}", spec.depth) : "", kMaxPixels));
+}
+
 RgbImage readRgb(const std::string& path) {
+  checkImageFile(path);
   auto in = OIIO::ImageInput::open(path);
   if (!in) throw ImageError(fmt::format("cannot read '{}': {}", path, OIIO::geterror()));
   const OIIO::ImageSpec& spec = in->spec();
+  checkImageSize(path, spec);
   if (spec.nchannels < 3) {
     in->close();
     throw ImageError(fmt::format("cannot read '{}': {} channel(s): expected at least R, G, B",
@@ -85,9 +108,11 @@ RgbImage readRgb(const std::string& path) {
 }
 
 LayeredImage readExrLayers(const std::string& path) {
+  checkImageFile(path);
   auto in = OIIO::ImageInput::open(path);
   if (!in) throw ImageError(fmt::format("cannot read '{}': {}", path, OIIO::geterror()));
   const OIIO::ImageSpec spec = in->spec();
+  checkImageSize(path, spec);
   const size_t pixels = static_cast<size_t>(spec.width) * static_cast<size_t>(spec.height);
   const auto nc = static_cast<size_t>(spec.nchannels);
   std::vector<float> data(pixels * nc);

@@ -7,6 +7,7 @@
 #include <charconv>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 namespace translucent::bssrdf {
@@ -55,6 +56,8 @@ std::optional<double> parseNumber(std::string_view s) {
   double v = 0.0;
   const auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
   if (ec != std::errc{} || ptr != s.data() + s.size() || !std::isfinite(v)) return std::nullopt;
+  // Parameters become GLSL float uniforms: a larger double would be inf on the GPU.
+  if (std::abs(v) > double(std::numeric_limits<float>::max())) return std::nullopt;
   return v;
 }
 
@@ -75,6 +78,7 @@ class Parser {
   Parser(std::string_view text, std::string path) : text_(text) { file_.path = std::move(path); }
 
   BssrdfFile parse() {
+    checkText();
     const auto lines = splitLines(text_);
     if (lines.empty()) fail(0, "empty file: expected the attribute list (e.g. 'analytic radial no_wi no_wo') on line 1");
     parseAttributes(lines[0]);
@@ -126,6 +130,20 @@ class Parser {
  private:
   [[noreturn]] void fail(int line, const std::string& message) const {
     throw BssrdfFileError(file_.path, line, message);
+  }
+
+  // A .bssrdf file is text: a NUL or another control byte (other than tab, CR, LF, form feed)
+  // means binary data (a file picked by mistake, or corrupted). It is refused up front with its
+  // line and byte, so that no message quotes raw bytes and the GLSL compiler never sees them.
+  void checkText() const {
+    int line = 1;
+    for (size_t i = 0; i < text_.size(); ++i) {
+      const auto c = static_cast<unsigned char>(text_[i]);
+      if (c == '\n') ++line;
+      if (c < 0x20 && c != '\n' && c != '\r' && c != '\t' && c != '\f')
+        fail(line, fmt::format("byte {} is 0x{:02x}, a control character: expected a text file "
+                               "(binary data?)", i, c));
+    }
   }
 
   void parseAttributes(std::string_view line) {
@@ -241,7 +259,7 @@ class Parser {
       const auto v = parseNumber(w[k]);
       if (!v)
         fail(line, fmt::format("malformed parameter line '{}': {} '{}' is not a finite number "
-                               "(expected '{}')",
+                               "that fits a float (expected '{}')",
                                trimmed, what, w[k], form));
       return *v;
     };
@@ -298,6 +316,10 @@ BssrdfFile parseBssrdf(std::string_view text, const std::string& path) {
 }
 
 BssrdfFile loadBssrdf(const std::filesystem::path& path) {
+  // A directory opens as a stream on Linux and reads as nothing ("empty file"): say what it is.
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw BssrdfFileError(path.string(), 0, "is a directory: expected a .bssrdf text file");
   std::ifstream in(path, std::ios::binary);
   if (!in)
     throw BssrdfFileError(path.string(), 0, "cannot open the file for reading (does it exist?)");

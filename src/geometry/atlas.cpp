@@ -10,6 +10,7 @@
 #include <array>
 #include <atomic>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <mutex>
 #include <numbers>
@@ -23,6 +24,9 @@
 
 namespace translucent::geometry {
 namespace {
+
+// <cmath>'s INFINITY is a float (clang's -Wdouble-promotion flags it in a double).
+constexpr double kInf = std::numeric_limits<double>::infinity();
 
 using glm::dvec2;
 using glm::dvec3;
@@ -399,7 +403,7 @@ void orientChart(std::vector<dvec2>& uv, double& width, double& height) {
     const double len = glm::length(axis);
     if (!(len > 0.0)) continue;
     axis /= len;
-    double lo0 = INFINITY, hi0 = -INFINITY, lo1 = INFINITY, hi1 = -INFINITY;
+    double lo0 = kInf, hi0 = -kInf, lo1 = kInf, hi1 = -kInf;
     for (const dvec2& q : hull) {
       const double s = glm::dot(q, axis), t = cross2(axis, q);
       lo0 = std::min(lo0, s), hi0 = std::max(hi0, s), lo1 = std::min(lo1, t), hi1 = std::max(hi1, t);
@@ -410,7 +414,7 @@ void orientChart(std::vector<dvec2>& uv, double& width, double& height) {
       bestAxis = (hi0 - lo0) >= (hi1 - lo1) ? axis : dvec2(-axis.y, axis.x);
     }
   }
-  dvec2 lo(INFINITY), hi(-INFINITY);
+  dvec2 lo(kInf), hi(-kInf);
   for (dvec2& q : uv) {
     q = dvec2(glm::dot(q, bestAxis), cross2(bestAxis, q));
     lo = glm::min(lo, q);
@@ -563,7 +567,7 @@ AtlasMethod parseAtlasMethod(const std::string& name) {
 size_t countUVOverlaps(const std::vector<dvec2>& corners) {
   const size_t n = corners.size() / 3;
   if (n < 2) return 0;
-  dvec2 lo(INFINITY), hi(-INFINITY);
+  dvec2 lo(kInf), hi(-kInf);
   for (const dvec2& p : corners) {
     lo = glm::min(lo, p);
     hi = glm::max(hi, p);
@@ -854,7 +858,7 @@ dvec2 closestPointOnTriangle(const dvec2* t, const dvec2& p) {
   for (int e = 0; e < 3; ++e)
     if (orient(t[e], t[(e + 1) % 3], p) < 0.0) inside = false;
   if (inside) return p;
-  double best = INFINITY;
+  double best = kInf;
   dvec2 q = t[0];
   for (int e = 0; e < 3; ++e) {
     const dvec2 a = t[e], d = t[(e + 1) % 3] - a;
@@ -918,7 +922,7 @@ AtlasCoverage rasterizeCoverage(const Atlas& atlas) {
     const int y0 = std::max(0, static_cast<int>(std::floor(lo.y)));
     const int x1 = std::min(static_cast<int>(n) - 1, static_cast<int>(std::floor(hi.x)));
     const int y1 = std::min(static_cast<int>(n) - 1, static_cast<int>(std::floor(hi.y)));
-    double bestEmpty = INFINITY, bestShared = INFINITY;
+    double bestEmpty = kInf, bestShared = kInf;
     size_t empty = SIZE_MAX, shared = SIZE_MAX;
     for (int y = y0; y <= y1; ++y)
       for (int x = x0; x <= x1; ++x) {
@@ -995,8 +999,8 @@ AtlasStatistics atlasStatistics(const Atlas& atlas, const AtlasCoverage& coverag
   const double sumS = std::accumulate(atlas.surfaceArea.begin(), atlas.surfaceArea.end(), 0.0);
   const double sumT = std::accumulate(atlas.texelArea.begin(), atlas.texelArea.end(), 0.0);
   double m1 = 0.0, m2 = 0.0;
-  s.distortionMin = INFINITY;
-  s.distortionMax = -INFINITY;
+  s.distortionMin = kInf;
+  s.distortionMax = -kInf;
   for (size_t t = 0; t < nt; ++t) {
     m1 += atlas.surfaceArea[t] * d[t];
     m2 += atlas.surfaceArea[t] * d[t] * d[t];

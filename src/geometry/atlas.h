@@ -180,6 +180,9 @@ struct CachedAtlas {
   std::filesystem::path file;
   std::string note;  // empty, or why the cache could not be read or written
 };
+// Reads one atlas cache file for `mesh`: its content hash must match (a tampered or truncated
+// file is refused) and its counts the mesh. Throws AtlasError naming the file.
+Atlas readAtlasCache(const std::filesystem::path& file, const TriangleMesh& mesh);
 CachedAtlas loadOrBuildAtlas(const TriangleMesh& mesh, const AtlasOptions& options,
                              const std::filesystem::path& cacheDir,
                              const AtlasProgress& progress = {});

@@ -3,8 +3,9 @@
 //
 // Format (little endian): "TLATLAS\n", uint32 format version, uint32 size, uint32 method,
 // uint32 gutter, uint64 triangle count, uint32 chart count, uint32 folded and distorted charts, uint32 length
-// and bytes of meshUVRejection, float u v per corner (6 per triangle), uint32 chart per triangle.
-// Areas are recomputed from the mesh on reading.
+// and bytes of meshUVRejection, float u v per corner (6 per triangle), uint32 chart per triangle,
+// then uint64 contentHash of all the bytes before it (version 2: a tampered or truncated file is
+// detected and rebuilt, not used). Areas are recomputed from the mesh on reading.
 #include <fmt/format.h>
 #include <unistd.h>
 
@@ -27,7 +28,7 @@ namespace fs = std::filesystem;
 namespace {
 
 // Bumped whenever buildAtlas's output for given (mesh, options) changes, or the file format.
-constexpr uint32_t kAtlasVersion = 1;
+constexpr uint32_t kAtlasVersion = 2;
 constexpr char kMagic[8] = {'T', 'L', 'A', 'T', 'L', 'A', 'S', '\n'};
 
 uint64_t texcoordHash(const TriangleMesh& mesh) {
@@ -46,7 +47,8 @@ void put(std::string& out, const T& v) {
 
 class Reader {
  public:
-  Reader(const std::string& bytes, const fs::path& file) : bytes_(bytes), file_(file) {}
+  Reader(const std::string& bytes, const fs::path& file, size_t end)
+      : bytes_(bytes), file_(file), end_(end) {}
   template <typename T>
   T get() {
     T v;
@@ -54,16 +56,17 @@ class Reader {
     return v;
   }
   void read(void* dst, size_t n) {
-    if (pos_ + n > bytes_.size())
+    if (n > end_ - pos_)
       throw AtlasError(fmt::format("atlas cache file '{}' is truncated", file_.string()));
-    std::memcpy(dst, bytes_.data() + pos_, n);
+    if (dst != nullptr) std::memcpy(dst, bytes_.data() + pos_, n);
     pos_ += n;
   }
-  bool atEnd() const { return pos_ == bytes_.size(); }
+  bool atEnd() const { return pos_ == end_; }
 
  private:
   const std::string& bytes_;
   const fs::path& file_;
+  size_t end_;  // where the data ends (the content hash follows)
   size_t pos_ = 0;
 };
 
@@ -84,19 +87,34 @@ std::string serialize(const Atlas& atlas) {
     put(out, uv.y);
   }
   for (const uint32_t c : atlas.chart) put(out, c);
+  put(out, contentHash(out));
   return out;
 }
 
 // Reads an atlas for `mesh`; throws AtlasError naming the file when it is not one.
 Atlas deserialize(const std::string& bytes, const fs::path& file, const TriangleMesh& mesh) {
-  Reader r(bytes, file);
-  char magic[8];
-  r.read(magic, sizeof magic);
-  if (std::memcmp(magic, kMagic, sizeof kMagic) != 0)
+  constexpr size_t kHead = sizeof kMagic + sizeof(uint32_t);
+  if (bytes.size() < sizeof kMagic || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
     throw AtlasError(fmt::format("'{}' is not an atlas cache file", file.string()));
-  if (const auto v = r.get<uint32_t>(); v != kAtlasVersion)
+  if (bytes.size() < kHead + sizeof(uint64_t))
+    throw AtlasError(fmt::format("atlas cache file '{}' is truncated: {} bytes", file.string(),
+                                 bytes.size()));
+  uint32_t version = 0;
+  std::memcpy(&version, bytes.data() + sizeof kMagic, sizeof version);
+  if (version != kAtlasVersion)
     throw AtlasError(fmt::format("atlas cache file '{}' has version {}, expected {}",
-                                 file.string(), v, kAtlasVersion));
+                                 file.string(), version, kAtlasVersion));
+  // The content hash first: a truncated or edited file fails here with what was found, before
+  // any of its counts is believed.
+  const size_t end = bytes.size() - sizeof(uint64_t);
+  uint64_t stored = 0;
+  std::memcpy(&stored, bytes.data() + end, sizeof stored);
+  if (const uint64_t h = contentHash(std::string_view(bytes).substr(0, end)); h != stored)
+    throw AtlasError(fmt::format("atlas cache file '{}': content hash {:016x}: expected {:016x} "
+                                 "(stored at its end): the file was changed or truncated",
+                                 file.string(), h, stored));
+  Reader r(bytes, file, end);
+  r.read(nullptr, kHead);
   Atlas atlas;
   atlas.size = r.get<uint32_t>();
   const auto method = r.get<uint32_t>();
@@ -138,6 +156,21 @@ Atlas deserialize(const std::string& bytes, const fs::path& file, const Triangle
 
 }  // namespace
 
+Atlas readAtlasCache(const fs::path& file, const TriangleMesh& mesh) {
+  std::error_code ec;
+  // The size first: file_size's error value, (uintmax_t)-1, is no size to allocate.
+  const auto size = fs::is_regular_file(file, ec) ? fs::file_size(file, ec) : 0;
+  if (ec || !fs::is_regular_file(file, ec))
+    throw AtlasError(fmt::format("atlas cache file '{}' cannot be read: expected a regular file",
+                                 file.string()));
+  std::ifstream in(file, std::ios::binary);
+  std::string bytes(static_cast<size_t>(size), '\0');
+  in.read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  if (!in)
+    throw AtlasError(fmt::format("atlas cache file '{}' cannot be read", file.string()));
+  return deserialize(bytes, file, mesh);
+}
+
 std::string atlasCacheFileName(const TriangleMesh& mesh, const AtlasOptions& options) {
   std::string name = fmt::format("atlas-{:016x}", meshHash(mesh));
   if (options.useMeshUVs) name += fmt::format("-uv{:016x}", texcoordHash(mesh));
@@ -154,13 +187,7 @@ CachedAtlas loadOrBuildAtlas(const TriangleMesh& mesh, const AtlasOptions& optio
   std::error_code ec;
   if (fs::exists(result.file, ec)) {
     try {
-      std::ifstream in(result.file, std::ios::binary);
-      std::string bytes(static_cast<size_t>(fs::file_size(result.file, ec)), '\0');
-      in.read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-      if (ec || !in)
-        throw AtlasError(fmt::format("atlas cache file '{}' cannot be read",
-                                     result.file.string()));
-      result.atlas = deserialize(bytes, result.file, mesh);
+      result.atlas = readAtlasCache(result.file, mesh);
       if (result.atlas.size == options.size) {
         result.fromCache = true;
         return result;

@@ -4,6 +4,7 @@
 // (rename is atomic on POSIX file systems). The caches (point clouds, AO, atlases) use it.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <string_view>
@@ -13,5 +14,17 @@ namespace translucent::geometry {
 // Writes `bytes` to `path` atomically. Returns "" on success, else why it failed (the temporary
 // file is removed then): callers wrap the reason in their own error or note.
 std::string writeFileAtomically(const std::filesystem::path& path, std::string_view bytes);
+
+// A 64-bit content hash (FNV-1a) of `bytes`. The caches store it in the file and compare it on
+// reading, so that a tampered or truncated cache file is detected and regenerated instead of
+// used: a checksum against accidents and edits, not a defence against a forger.
+constexpr uint64_t contentHash(std::string_view bytes) {
+  uint64_t h = 0xcbf29ce484222325ULL;
+  for (const char c : bytes) {
+    h ^= static_cast<unsigned char>(c);
+    h *= 0x100000001b3ULL;
+  }
+  return h;
+}
 
 }  // namespace translucent::geometry

@@ -160,7 +160,7 @@ void Octree::refit(std::span<const glm::vec3> irradiance) {
     if (descriptor::isLeaf(d)) {
       for (uint32_t p = descriptor::index(d), e = p + descriptor::pointCount(d); p < e; ++p) {
         const glm::dvec3 pos(points_[p].positionArea);
-        const double a = points_[p].positionArea.w;
+        const double a = static_cast<double>(points_[p].positionArea.w);
         const glm::dvec3 power = glm::dvec3(irradiance_[p]) * a;
         const double w = (power.x + power.y + power.z) / 3.0;
         s.power += power;

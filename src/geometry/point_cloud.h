@@ -110,6 +110,10 @@ void writePointCloudPly(const PointCloud& cloud, const std::filesystem::path& pa
 // properties and elements are skipped. The result is validate()d. Throws PointCloudError naming
 // the file and what was expected.
 PointCloud readPointCloudPly(const std::filesystem::path& path);
+// The same for a cache file: the header must hold the content hash that writePointCloudPly
+// writes ("comment content_hash <hex>") and the data must match it; a tampered or truncated file
+// throws PointCloudError (readPointCloudPly checks the hash too, when there is one).
+PointCloud readPointCloudCache(const std::filesystem::path& path);
 
 // ---- On-disk cache -----------------------------------------------------------------------
 // The folder: $TRANSLUCENT_CACHE_DIR if set, else $XDG_CACHE_HOME/translucent, else

@@ -15,6 +15,7 @@
 #include <fstream>
 #include <functional>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <thread>
 
@@ -28,6 +29,11 @@ namespace {
 // Bumped whenever samplePointCloud's output for a given (mesh, options) changes, so stale cache
 // files are never returned.
 constexpr int kAlgorithmVersion = 1;
+
+// The header comment that holds the content hash of the binary data (writePointCloudPly).
+constexpr const char* kHashComment = "content_hash";
+
+PointCloud readPly(const fs::path& path, bool requireHash);
 
 // ---- PLY scalar types ------------------------------------------------------------------------
 enum class PlyType { Int8, Uint8, Int16, Uint16, Int32, Uint32, Float32, Float64 };
@@ -166,33 +172,46 @@ void writePointCloudPly(const PointCloud& cloud, const fs::path& path) {
   const size_t n = cloud.size();
   const bool faces = !cloud.faces.empty(), irradiance = cloud.hasIrradiance();
 
+  std::string body;
+  body.reserve(n * (28 + (faces ? 4 : 0) + (irradiance ? 12 : 0)));
+  for (size_t i = 0; i < n; ++i) {
+    for (int c = 0; c < 3; ++c) put(body, cloud.positions[i][c]);
+    for (int c = 0; c < 3; ++c) put(body, cloud.normals[i][c]);
+    put(body, cloud.areas[i]);
+    if (faces) put(body, cloud.faces[i]);
+    if (irradiance)
+      for (int c = 0; c < 3; ++c) put(body, cloud.irradiance[i][c]);
+  }
+  // The content hash covers the whole file with its own 16 digits read as zeros (so that an
+  // edited header is detected too); it is checked on reading (readPointCloudCache).
   std::string out = fmt::format(
       "ply\nformat binary_little_endian 1.0\n"
       "comment Translucent point cloud: area-uniform surface samples (area in scene units^2)\n"
+      "comment {} {:016x}\n"
       "element vertex {}\n"
       "property float x\nproperty float y\nproperty float z\n"
       "property float nx\nproperty float ny\nproperty float nz\n"
       "property float area\n",
-      n);
+      kHashComment, uint64_t{0}, n);
   if (faces) out += "property uint face\n";
   if (irradiance)
     out += "property float irradiance_r\nproperty float irradiance_g\nproperty float irradiance_b\n";
   out += "end_header\n";
-  out.reserve(out.size() + n * (28 + (faces ? 4 : 0) + (irradiance ? 12 : 0)));
-  for (size_t i = 0; i < n; ++i) {
-    for (int c = 0; c < 3; ++c) put(out, cloud.positions[i][c]);
-    for (int c = 0; c < 3; ++c) put(out, cloud.normals[i][c]);
-    put(out, cloud.areas[i]);
-    if (faces) put(out, cloud.faces[i]);
-    if (irradiance)
-      for (int c = 0; c < 3; ++c) put(out, cloud.irradiance[i][c]);
-  }
+  out += body;
+  const size_t digits = out.find(kHashComment) + std::strlen(kHashComment) + 1;
+  const std::string hash = fmt::format("{:016x}", contentHash(out));
+  out.replace(digits, hash.size(), hash);
   if (const std::string why = writeFileAtomically(path, out); !why.empty())
     throw PointCloudError(fmt::format("PLY file '{}' cannot be written: {}", path.string(), why));
 }
 
 // ---- Reading -------------------------------------------------------------------------------
-PointCloud readPointCloudPly(const fs::path& path) {
+PointCloud readPointCloudPly(const fs::path& path) { return readPly(path, false); }
+
+PointCloud readPointCloudCache(const fs::path& path) { return readPly(path, true); }
+
+namespace {
+PointCloud readPly(const fs::path& path, bool requireHash) {
   const std::string file = path.string();
   std::string data = readWholeFile(path);
 
@@ -208,12 +227,27 @@ PointCloud readPointCloudPly(const fs::path& path) {
   PlyFormat format = PlyFormat::Ascii;
   bool haveFormat = false;
   std::vector<PlyElement> elements;
+  std::optional<uint64_t> storedHash;
+  size_t hashAt = 0;  // where its 16 digits are in the file
   while (std::getline(header, line)) {
     if (!line.empty() && line.back() == '\r') line.pop_back();
     std::istringstream ls(line);
     std::string word;
     ls >> word;
-    if (word == "format") {
+    if (word == "comment") {
+      std::string tag, hex;
+      ls >> tag >> hex;
+      if (tag == kHashComment) {
+        uint64_t h = 0;
+        const auto [ptr, ec] = std::from_chars(hex.data(), hex.data() + hex.size(), h, 16);
+        if (ec != std::errc() || ptr != hex.data() + hex.size() || hex.size() != 16)
+          throw PointCloudError(fmt::format("PLY file '{}': header line '{}': expected '{} "
+                                            "<16 hex digits>'", file, line, kHashComment));
+        storedHash = h;
+        const std::string tagged = fmt::format("comment {} ", kHashComment);
+        hashAt = data.find(tagged) + tagged.size();
+      }
+    } else if (word == "format") {
       std::string f;
       ls >> f;
       if (f == "ascii") format = PlyFormat::Ascii;
@@ -259,6 +293,18 @@ PointCloud readPointCloudPly(const fs::path& path) {
   }
   if (!haveFormat)
     throw PointCloudError(fmt::format("PLY file '{}' has no 'format' line", file));
+  if (requireHash && !storedHash)
+    throw PointCloudError(fmt::format("PLY file '{}' has no '{}' header comment: expected a "
+                                      "cache file written by this version", file, kHashComment));
+  if (storedHash) {
+    std::string zeroed = data;
+    zeroed.replace(hashAt, 16, 16, '0');
+    const uint64_t h = contentHash(zeroed);
+    if (h != *storedHash)
+      throw PointCloudError(fmt::format("PLY file '{}': its content hash is {:016x}: expected "
+                                        "{:016x} (its header): the file was changed or truncated",
+                                        file, h, *storedHash));
+  }
 
   PlyBody body(file, std::move(data), bodyStart, format);
   PointCloud cloud;
@@ -356,6 +402,7 @@ PointCloud readPointCloudPly(const fs::path& path) {
   throw PointCloudError(fmt::format("PLY file '{}' has no 'vertex' element: expected the points "
                                     "as vertices", file));
 }
+}  // namespace
 
 // ---- Cache ---------------------------------------------------------------------------------
 fs::path defaultCacheDirectory() {
@@ -386,7 +433,7 @@ CachedPointCloud loadOrSamplePointCloud(const TriangleMesh& mesh, const Sampling
   std::error_code ec;
   if (fs::exists(result.file, ec)) {
     try {
-      PointCloud cloud = readPointCloudPly(result.file);
+      PointCloud cloud = readPointCloudCache(result.file);
       // The name says which sampling it is; check that the content agrees before trusting it.
       const double area = mesh.area();
       bool ok = cloud.size() == options.count && cloud.faces.size() == cloud.size() &&

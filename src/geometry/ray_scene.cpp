@@ -107,7 +107,7 @@ bool RayScene::intersect(const glm::dvec3& o, const glm::dvec3& d, double t_min,
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
   rtcIntersect1(embree_->scene, &c, &rh);
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
-  hit.t = rh.ray.tfar;
+  hit.t = static_cast<double>(rh.ray.tfar);
   hit.normal = glm::normalize(glm::dvec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z));
   hit.triangle = rh.hit.primID;
   return true;

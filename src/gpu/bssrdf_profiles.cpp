@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -101,6 +102,26 @@ BssrdfEnergy bssrdfRadiusForFraction(BssrdfEvaluator& evaluator, const Medium& m
   std::vector<double> nodes;
   for (size_t p = 0; p + 1 < edges.size(); ++p) appendNodes(nodes, edges[p], edges[p + 1]);
   const auto values = evaluate(evaluator, nodes);
+  // A shader that returns NaN or inf somewhere (often only off-axis or far out) is named as
+  // such, with where: the integral below would only say "not integrable ... needs absorption".
+  // Negative values are counted for that message too.
+  std::array<size_t, 3> negative{};
+  for (size_t c = 0; c < 3; ++c) {
+    size_t bad = 0, first = 0;
+    for (size_t i = 0; i < values.size(); ++i) {
+      if (!std::isfinite(values[i][c])) {
+        if (bad++ == 0) first = i;
+      } else if (values[i][c] < 0.0) {
+        ++negative[c];
+      }
+    }
+    if (bad > 0)
+      throw ParameterError(fmt::format(
+          "{}: Bssrdf() returned {} NaN or infinite values in the {} channel of {} profile samples "
+          "on [0, {:.3g}] (the first, {}, at r = {:.4g}): expected finite values",
+          evaluator.file().path, bad, kChannelNames[c], values.size(), hi, values[first][c],
+          nodes[first]));
+  }
 
   BssrdfEnergy out;
   for (size_t c = 0; c < 3; ++c) {
@@ -113,8 +134,10 @@ BssrdfEnergy bssrdfRadiusForFraction(BssrdfEvaluator& evaluator, const Medium& m
     if (!std::isfinite(total) || total <= 0.0 || lastPanel > 1e-9 * total)
       throw ParameterError(fmt::format(
           "{}: the {} channel's profile is not integrable on [0, {:.3g}] (Rd so far {:.6g}, {:.3g} "
-          "of it in the last panel): it needs absorption or a decaying profile",
-          evaluator.file().path, kChannelNames[c], hi, total, lastPanel / total));
+          "of it in the last panel{}): it needs absorption or a decaying, non-negative profile",
+          evaluator.file().path, kChannelNames[c], hi, total, lastPanel / total,
+          negative[c] > 0 ? fmt::format("; {} of {} samples negative", negative[c], values.size())
+                          : std::string()));
     out.rd[c] = total;
     const double target = fraction * total;
     const size_t k = static_cast<size_t>(std::lower_bound(cum.begin(), cum.end(), target) -

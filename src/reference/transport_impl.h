@@ -228,7 +228,7 @@ void tracePhoton(const BodyT& body, const BoundingSphere& bounds, std::span<cons
     // Absorption (line 15).
     if (uniform01(rng) < W.absorbProbability) break;
     // Scattering (line 16): Henyey-Greenstein cosine (phase.h), uniform azimuth.
-    const double mu = sampleHgCosine(W.g, rng.uniform());
+    const double mu = static_cast<double>(sampleHgCosine(W.g, rng.uniform()));
     const double phi = 2.0 * std::numbers::pi * uniform01(rng);
     const double sinT = std::sqrt(std::max(0.0, 1.0 - mu * mu));
     glm::dvec3 t1, t2;

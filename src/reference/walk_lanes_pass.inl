@@ -90,7 +90,7 @@ uint32_t pass(Lanes& L, const PassParams& P) {
                        (attention ? kAttention : 0u);
     if constexpr (kAbs == Absorption::Analog) {
       // Lanes that need the scalar pass: an event besides scattering, in an active lane.
-      const uint32_t flagged = ((f & ~kScattered) != 0) & (L.active[i] != 0) ? f : 0u;
+      const uint32_t flagged = (((f & ~kScattered) != 0) & (L.active[i] != 0)) ? f : 0u;
       L.flags[i] = flagged;
       any |= flagged;
     } else {
@@ -129,14 +129,14 @@ uint32_t pass(Lanes& L, const PassParams& P) {
       L.absorbed[i] += scatter ? loss : 0.0;
       const double wn = scatter ? wa : w;
       L.w[i] = wn;
-      L.flags[i] |= scatter & (wn < kWeightThreshold) ? kAttention : 0u;
+      L.flags[i] |= (scatter & (wn < kWeightThreshold)) ? kAttention : 0u;
     }
     // Lanes that need the scalar pass: an event besides scattering, in an active lane.
     any = 0;
 #pragma omp simd reduction(| : any)
     for (int i = 0; i < kLanes; ++i) {
       const uint32_t f = L.flags[i];
-      const uint32_t flagged = ((f & ~kScattered) != 0) & (L.active[i] != 0) ? f : 0u;
+      const uint32_t flagged = (((f & ~kScattered) != 0) & (L.active[i] != 0)) ? f : 0u;
       L.flags[i] = flagged;
       any |= flagged;
     }

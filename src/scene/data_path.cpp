@@ -52,6 +52,11 @@ ResolvedFile resolveSceneFile(const std::string& name, const fs::path& base_dir,
       tried.push_back(candidate);
     }
   }
+  // A folder of that name is not the file, and "not found" would send the user looking for it.
+  for (const fs::path& p : tried)
+    if (fs::is_directory(p, ec))
+      throw ParameterError(fmt::format("{}: {}: '{}' is a directory: expected a file", what, key,
+                                       p.string()));
   std::vector<std::string> places;
   for (const fs::path& p : tried) places.push_back(fmt::format("'{}'", p.string()));
   std::string message = fmt::format(

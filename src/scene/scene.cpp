@@ -3,7 +3,9 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <numbers>
@@ -33,35 +35,61 @@ struct Reader {
     throw ParameterError(fmt::format("{}: {}: {}", what, key, message));
   }
   void onlyKeys(const json& j, const std::string& key, std::initializer_list<const char*> valid) const {
-    if (!j.is_object()) fail(key, "expected an object");
+    if (!j.is_object())
+      fail(key.empty() ? "top level" : key, fmt::format("{}: expected an object", describe(j)));
     const std::set<std::string> ok(valid.begin(), valid.end());
     for (const auto& [k, v] : j.items())
       if (!ok.count(k))
         fail(key.empty() ? k : key + "." + k,
              fmt::format("unknown key; valid keys here are {}", fmt::join(valid, ", ")));
   }
+  // Every scene number is finite and of magnitude at most kMaxMagnitude: larger values are
+  // finite in double but overflow to inf in the float buffers and shaders they reach (an
+  // irradiance of 1e308 times a colour or a profile gives inf, then NaN pixels).
+  static constexpr double kMaxMagnitude = 1e15;
   double number(const json& j, const std::string& key) const {
-    if (!j.is_number()) fail(key, "expected a number");
+    if (!j.is_number()) fail(key, fmt::format("{}: expected a number", describe(j)));
     const double v = j.get<double>();
-    if (!std::isfinite(v)) fail(key, "expected a finite number");
+    if (!std::isfinite(v) || std::abs(v) > kMaxMagnitude)
+      fail(key, fmt::format("is {}: expected a finite number of magnitude at most {:g}", v,
+                            kMaxMagnitude));
     return v;
+  }
+  // A value as the message shows it: JSON text, cut short (a whole array would drown the message).
+  static std::string describe(const json& j) {
+    std::string text = j.dump();
+    if (text.size() > 40) text = text.substr(0, 37) + "...";
+    return fmt::format("{} {}", j.type_name(), text);
   }
   double number(const json& obj, const char* name, const std::string& key, double fallback) const {
     return obj.contains(name) ? number(obj.at(name), key + "." + name) : fallback;
   }
   bool boolean(const json& obj, const char* name, const std::string& key, bool fallback) const {
     if (!obj.contains(name)) return fallback;
-    if (!obj.at(name).is_boolean()) fail(key + "." + name, "expected true or false");
+    if (!obj.at(name).is_boolean())
+      fail(key + "." + name, fmt::format("{}: expected true or false", describe(obj.at(name))));
     return obj.at(name).get<bool>();
   }
-  int integer(const json& obj, const char* name, const std::string& key, int fallback) const {
+  // A whole number in [lo, hi]. The range is checked on the 64-bit value before narrowing:
+  // j.get<int>() would read 4294967360 as 64.
+  int integer(const json& obj, const char* name, const std::string& key, int fallback, int lo,
+              int hi) const {
     if (!obj.contains(name)) return fallback;
     const json& j = obj.at(name);
-    if (!j.is_number_integer()) fail(key + "." + name, "expected a whole number");
-    return j.get<int>();
+    const std::string k = key + "." + name;
+    if (!j.is_number_integer())
+      fail(k, fmt::format("{}: expected a whole number in [{}, {}]", describe(j), lo, hi));
+    // Non-negative integers are stored unsigned (and may exceed int64); compare in that type.
+    const bool fits = j.is_number_unsigned()
+                          ? j.get<uint64_t>() <= uint64_t(hi) &&
+                                (lo <= 0 || j.get<uint64_t>() >= uint64_t(lo))
+                          : j.get<int64_t>() >= lo && j.get<int64_t>() <= hi;
+    if (!fits) fail(k, fmt::format("is {}: expected a whole number in [{}, {}]", j.dump(), lo, hi));
+    return static_cast<int>(j.get<int64_t>());
   }
   glm::dvec3 vec3(const json& j, const std::string& key) const {
-    if (!j.is_array() || j.size() != 3) fail(key, "expected an array of three numbers [x, y, z]");
+    if (!j.is_array() || j.size() != 3)
+      fail(key, fmt::format("{}: expected an array of three numbers [x, y, z]", describe(j)));
     return {number(j[0], key + "[0]"), number(j[1], key + "[1]"), number(j[2], key + "[2]")};
   }
   glm::dvec3 vec3(const json& obj, const char* name, const std::string& key,
@@ -77,13 +105,14 @@ struct Reader {
       const double v = number(j, key);
       return {v, v, v};
     }
-    if (!j.is_array() || j.size() != 3) fail(key, "expected a number or an array [r, g, b]");
+    if (!j.is_array() || j.size() != 3)
+      fail(key, fmt::format("{}: expected a number or an array [r, g, b]", describe(j)));
     return {number(j[0], key + "[0]"), number(j[1], key + "[1]"), number(j[2], key + "[2]")};
   }
   std::string string(const json& obj, const char* name, const std::string& key) const {
     if (!obj.contains(name)) fail(key + "." + name, "required");
     const json& j = obj.at(name);
-    if (!j.is_string()) fail(key + "." + name, "expected a string");
+    if (!j.is_string()) fail(key + "." + name, fmt::format("{}: expected a string", describe(j)));
     return j.get<std::string>();
   }
 };
@@ -112,7 +141,8 @@ std::string writtenPath(const Scene& s, const std::filesystem::path& p) {
 
 void requireDirection(const Reader& r, glm::dvec3& d, const std::string& key) {
   const double n = glm::length(d);
-  if (!(n > 0.0) || !std::isfinite(n)) r.fail(key, "expected a non-zero finite direction");
+  if (!(n > 0.0) || !std::isfinite(n))
+    r.fail(key, fmt::format("is [{}, {}, {}]: expected a non-zero finite direction", d.x, d.y, d.z));
   // Unit vectors are kept bit for bit (normalising again could change the last bit, and a
   // written scene must read back to the same scene).
   if (std::abs(n - 1.0) > 1e-12) d /= n;
@@ -124,7 +154,7 @@ void requirePositive(const Reader& r, double v, const std::string& key) {
 
 Light parseLight(const Reader& r, Scene& s, const json& l, const std::string& key,
                  const std::filesystem::path& base_dir) {
-  if (!l.is_object()) r.fail(key, "expected an object");
+  if (!l.is_object()) r.fail(key, fmt::format("{}: expected an object", Reader::describe(l)));
   const std::string type = r.string(l, "type", key);
   Light light;
   if (type == "directional") {
@@ -287,7 +317,7 @@ Scene parseScene(const std::string& text, const std::filesystem::path& base_dir,
   // Lights.
   if (!doc.contains("lights")) r.fail("lights", "required (an array of lights)");
   const json& lights = doc["lights"];
-  if (!lights.is_array() || lights.empty()) r.fail("lights", "expected a non-empty array");
+  if (!lights.is_array() || lights.empty()) r.fail("lights", fmt::format("{}: expected a non-empty array", Reader::describe(lights)));
   for (size_t i = 0; i < lights.size(); ++i)
     s.lights.push_back(parseLight(r, s, lights[i], fmt::format("lights[{}]", i), base_dir));
 
@@ -308,8 +338,9 @@ Scene parseScene(const std::string& text, const std::filesystem::path& base_dir,
   s.camera.up = r.vec3(cam, "up", "camera", glm::dvec3(0.0, 1.0, 0.0));
   s.camera.fov = r.number(cam, "fov", "camera", s.camera.fov);
   s.camera.view_height = r.number(cam, "view_height", "camera", s.camera.view_height);
-  s.camera.width = r.integer(cam, "width", "camera", s.camera.width);
-  s.camera.height = r.integer(cam, "height", "camera", s.camera.height);
+  // The limits of Camera::validate, checked here so that the message names the key.
+  s.camera.width = r.integer(cam, "width", "camera", s.camera.width, 1, 16384);
+  s.camera.height = r.integer(cam, "height", "camera", s.camera.height, 1, 16384);
   s.clip_near = r.number(cam, "near", "camera", 0.0);
   s.clip_far = r.number(cam, "far", "camera", 0.0);
   if (s.clip_near < 0.0 || s.clip_far < 0.0 || (s.clip_far > 0.0 && s.clip_far <= s.clip_near))
@@ -356,11 +387,29 @@ Scene parseScene(const std::string& text, const std::filesystem::path& base_dir,
 }
 
 Scene loadScene(const std::filesystem::path& path) {
-  std::ifstream f(path);
-  if (!f) throw ParameterError(fmt::format("scene file '{}' cannot be opened", path.string()));
+  // A directory opens as a stream on Linux and reads as nothing, which JSON reports as a parse
+  // error at byte 1: say what is wrong instead.
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw ParameterError(fmt::format("scene file '{}' is a directory: expected a file",
+                                     path.string()));
+  std::ifstream f(path, std::ios::binary);
+  if (!f)
+    throw ParameterError(fmt::format("scene file '{}' cannot be opened: {}", path.string(),
+                                     std::strerror(errno)));
   std::stringstream text;
   text << f.rdbuf();
-  return parseScene(text.str(), path.parent_path(), fmt::format("scene file '{}'", path.string()));
+  if (f.bad())
+    throw ParameterError(fmt::format("scene file '{}' cannot be read", path.string()));
+  const std::string content = text.str();
+  if (content.find_first_not_of(" \t\r\n") == std::string::npos)
+    throw ParameterError(fmt::format("scene file '{}' is empty: expected a JSON object",
+                                     path.string()));
+  // NUL bytes: not a text file (a binary picked by mistake); the JSON error would print them.
+  if (const size_t nul = content.find('\0'); nul != std::string::npos)
+    throw ParameterError(fmt::format("scene file '{}': byte {} is NUL: expected a JSON text file",
+                                     path.string(), nul));
+  return parseScene(content, path.parent_path(), fmt::format("scene file '{}'", path.string()));
 }
 
 std::string toJson(const Scene& s) {

@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <sstream>
 
 #include "analysis/compare.h"
 #include "analysis/report.h"
@@ -294,10 +295,24 @@ TEST(CompareCache, PartialReferencesAreNotStoredAndCorruptEntriesMiss) {
   const ReferenceRequest req = physical(2000, 8);
   const Reference r = cachedReference(s, mesh, req, &cache);
   ASSERT_FALSE(r.cache_file.empty());
-  std::ofstream(r.cache_file, std::ios::trunc) << "not an EXR";
+  // A byte changed in place (same size): the content hash stored in the .json catches it.
+  std::string bytes;
+  {
+    std::ifstream in(r.cache_file, std::ios::binary);
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    bytes = ss.str();
+  }
+  ASSERT_GT(bytes.size(), 100u);
+  bytes[bytes.size() - 50] = static_cast<char>(bytes[bytes.size() - 50] ^ 0x01);
+  std::ofstream(r.cache_file, std::ios::binary | std::ios::trunc) << bytes;
   std::string note;
   EXPECT_FALSE(cache.load(ReferenceKind::Physical, r.key, 16, 12, &note));
-  EXPECT_NE(note.find("unreadable"), std::string::npos) << note;
+  EXPECT_NE(note.find("the file was changed; recomputed"), std::string::npos) << note;
+  // Truncated (another size): caught before the EXR is decoded.
+  std::ofstream(r.cache_file, std::ios::trunc) << "not an EXR";
+  EXPECT_FALSE(cache.load(ReferenceKind::Physical, r.key, 16, 12, &note));
+  EXPECT_NE(note.find("is 10 bytes: expected"), std::string::npos) << note;
   const Reference again = cachedReference(s, mesh, req, &cache);
   EXPECT_FALSE(again.from_cache);
   EXPECT_EQ(again.exitance.rgb, r.exitance.rgb);  // same seed, same image

@@ -1,7 +1,7 @@
 // Replays fuzzer inputs through the fuzz target's entry point without libFuzzer, so that the
 // committed corpus runs in every build (ctest label fuzz): each argument is a file, or a folder
-// whose files are all replayed. A crash or an exception other than MeshError fails the test the
-// way it would fail the fuzzer.
+// whose files are all replayed. A crash, an abort or an exception the target does not expect
+// fails the test the way it would fail the fuzzer.
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>

@@ -136,5 +136,28 @@ TEST_F(BssrdfProfiles, NoDiffuseReflectanceSectionIsAClearError) {
   EXPECT_NEAR(energy.radius[1], 1.6783469900166608, 1e-5);
 }
 
+// A shader that returns NaN only away from the origin (issue #15 §4): the error names the file
+// and says NaN, instead of "not integrable ... needs absorption".
+TEST_F(BssrdfProfiles, NanProfileIsNamed) {
+  testing::TempDir dir;
+  const auto path = dir.write("nan.bssrdf",
+                              "analytic radial no_wi no_wo\n"
+                              "::begin shader\n"
+                              "vec3 Bssrdf(vec3 Xi, vec3 Wi, vec3 Xo, vec3 Wo) {\n"
+                              "  float r = length(Xo - Xi);\n"
+                              "  return r > 1.0 ? vec3(uintBitsToFloat(0x7fc00000u)) : vec3(exp(-r));\n"
+                              "}\n"
+                              "::end shader\n");
+  BssrdfEvaluator e(path);
+  try {
+    bssrdfRadiusForFraction(e, preset("Marble").medium(), 0.5);
+    FAIL() << "expected ParameterError";
+  } catch (const ParameterError& err) {
+    const std::string what = err.what();
+    EXPECT_NE(what.find("nan.bssrdf: Bssrdf() returned "), std::string::npos) << what;
+    EXPECT_NE(what.find("NaN or infinite values in the red channel"), std::string::npos) << what;
+  }
+}
+
 }  // namespace
 }  // namespace translucent::gpu

@@ -165,7 +165,7 @@ TEST(Scene, RejectsBadInputNamingTheKey) {
   EXPECT_NE(parseError(scene(R"("mesh": {"file": "m.obj", "scale": -1})", mat, light, cam)).find("mesh.scale"),
             std::string::npos);
   EXPECT_NE(parseError(scene(R"("mesh": {"file": "m.obj", "fill_holes": 1})", mat, light, cam))
-                .find("mesh.fill_holes: expected true or false"),
+                .find("mesh.fill_holes: number 1: expected true or false"),
             std::string::npos);
   EXPECT_NE(parseError(scene(mesh, R"("material": {"preset": "Jelly"})", light, cam)).find("material.preset"),
             std::string::npos);
@@ -195,6 +195,17 @@ TEST(Scene, RejectsBadInputNamingTheKey) {
   EXPECT_NE(parseError("{ not json").find("not valid JSON"), std::string::npos);
   // Numbers too large for a double are rejected by the JSON reader.
   EXPECT_NE(parseError(scene(R"("mesh": {"file": "m.obj", "scale": 1e999})", mat, light, cam)).find("not valid JSON"),
+            std::string::npos);
+  // Integers are range-checked before narrowing (4294967360 used to read as 64), and finite
+  // numbers too large for the float pipeline are refused (1e308 irradiance gave inf pixels).
+  EXPECT_NE(parseError(scene(mesh, mat, light, R"("camera": {"position": [0, 0, 5], "width": 4294967360})"))
+                .find("camera.width: is 4294967360: expected a whole number in [1, 16384]"),
+            std::string::npos);
+  EXPECT_NE(parseError(scene(mesh, mat, light, R"("camera": {"position": [0, 0, 5], "height": -3})"))
+                .find("camera.height: is -3: expected a whole number in [1, 16384]"),
+            std::string::npos);
+  EXPECT_NE(parseError(scene(mesh, mat, R"("lights": [{"type": "directional", "direction": [0,0,1], "irradiance": 1e308}])", cam))
+                .find("lights[0].irradiance: is 1e+308: expected a finite number of magnitude at most 1e+15"),
             std::string::npos);
 }
 
