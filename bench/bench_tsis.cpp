@@ -76,11 +76,14 @@ void timeFrames(benchmark::State& state, techniques::Technique& t, int samples) 
 }
 
 techniques::Technique& prepared(const std::string& name, int mesh) {
+  // The context first: statics are destroyed in reverse order, and the techniques' GL objects
+  // must go while the context is alive.
+  gpu::Context& gl = context();
   auto& slot = cache()[name][kMeshes[mesh]];
   if (!slot) {
     slot = name == "tsis" ? tsis::makeTsisTechnique() : lss::makeLssTechnique();
     slot->setParameter("accumulate", false);
-    slot->prepare(benchScene(mesh), context());
+    slot->prepare(benchScene(mesh), gl);
     (void)slot->render({64, 64});  // first use of every program and buffer, off the clock
   }
   return *slot;
