@@ -4,11 +4,25 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
+#include "bssrdf/exit_radiance.h"
 #include "bssrdf/registry.h"
 #include "gpu/bssrdf_profiles.h"
 
 namespace translucent::techniques {
+
+ParameterInfo tableSizeParameter(std::string help) {
+  return ParameterInfo::integer("table_size", 4096, 64, 65536, std::move(help));
+}
+
+ParameterInfo radianceConventionParameter() {
+  return ParameterInfo::enumeration("radiance_convention", kDefaultRadianceConvention,
+                                    bssrdf::exitConventionNames(),
+                                    "radiance from the exitance B (seed Eq. 2.16): jensen Ft B/π, or "
+                                    "normalized Ft B/(π 4Cφ(1/η)), which carries out exactly B; see "
+                                    "docs/radiance-convention.md");
+}
 
 RgbProfileTable tabulateRgbProfile(const scene::Scene& s, size_t n, gpu::BssrdfEvaluator* evaluator) {
   RgbProfileTable out;

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <array>
+#include <string>
 #include <vector>
 
 #include <glm/vec4.hpp>
@@ -12,8 +13,19 @@
 #include "bssrdf/profile_table.h"
 #include "gpu/bssrdf_kernels.h"
 #include "scene/scene.h"
+#include "techniques/technique.h"
 
 namespace translucent::techniques {
+
+// The exit-radiance convention L(B) of every technique that turns B into radiance, by default
+// (seed Eq. 2.16; docs/radiance-convention.md).
+inline constexpr const char* kDefaultRadianceConvention = "normalized";
+
+// The descriptors of the techniques that tabulate the profile and turn B into L, with the same
+// names, defaults and ranges: table_size (4096, 64 … 65536) and radiance_convention.
+ParameterInfo tableSizeParameter(std::string help = "entries of the tabulated profile (uniform in r up "
+                                                    "to the radius holding 99.9% of Rd)");
+ParameterInfo radianceConventionParameter();
 
 // Fraction of Rd inside the tabulated radius (bssrdf::tabulate's default).
 inline constexpr double kProfileTableFraction = 0.999;

@@ -19,7 +19,6 @@
 #include "techniques/common/light_shadows.h"  // shadowLookup
 #include "techniques/common/profile_kernel.h"
 #include "techniques/common/surface_irradiance.h"
-#include "techniques/pointcloud/pointcloud_technique.h"  // kDefaultRadianceConvention
 
 namespace translucent::lss {
 namespace {
@@ -57,13 +56,9 @@ std::vector<ParameterInfo> parameterInfos() {
       ParameterInfo::integer("accumulate_samples", 4096, 4, 16777216,
                              "samples per pixel of a converged image: ⌈accumulate_samples / N⌉ "
                              "accumulated frames (a batch render renders them all at once)"),
-      ParameterInfo::integer("table_size", 4096, 64, 65536,
-                             "entries of the tabulated profile and of its radial CDFs (uniform in r "
-                             "up to the radius holding 99.9% of Rd)"),
-      ParameterInfo::enumeration("radiance_convention", pointcloud::kDefaultRadianceConvention,
-                                 bssrdf::exitConventionNames(),
-                                 "radiance from the exitance B (seed Eq. 2.16): jensen Ft B/π, or "
-                                 "normalized Ft B/(π 4Cφ(1/η)); as the point-cloud technique"),
+      techniques::tableSizeParameter("entries of the tabulated profile and of its radial CDFs "
+                                     "(uniform in r up to the radius holding 99.9% of Rd)"),
+      techniques::radianceConventionParameter(),
   };
   // The shared irradiance pass's shadow and environment settings (surface_irradiance.h).
   for (ParameterInfo& p : techniques::lightingParameters()) infos.push_back(std::move(p));

@@ -69,14 +69,8 @@ std::vector<ParameterInfo> parameterInfos() {
       ParameterInfo::enumeration("kernel", "table", {"table", "shader"},
                                  "BSSRDF evaluation: tabulated radial profile, or the model's "
                                  ".bssrdf shader code in the traversal"),
-      ParameterInfo::integer("table_size", 4096, 64, 65536,
-                             "entries of the tabulated profile (uniform in r up to the radius "
-                             "holding 99.9% of Rd)"),
-      ParameterInfo::enumeration("radiance_convention", kDefaultRadianceConvention,
-                                 bssrdf::exitConventionNames(),
-                                 "radiance from the exitance B (seed Eq. 2.16): jensen Ft B/π, or "
-                                 "normalized Ft B/(π 4Cφ(1/η)), which carries out exactly B; "
-                                 "see docs/radiance-convention.md"),
+      techniques::tableSizeParameter(),
+      techniques::radianceConventionParameter(),
       ParameterInfo::boolean("specular", false,
                              "add a GGX specular reflection of the directional lights (unshadowed)"),
       ParameterInfo::floating("roughness", 0.3, 0.01, 1.0, "GGX roughness α of the specular term"),

@@ -45,6 +45,7 @@
 #include "geometry/mesh.h"
 #include "geometry/octree.h"
 #include "geometry/point_cloud.h"
+#include "techniques/common/profile_kernel.h"
 #include "techniques/pointcloud/cpu_traversal.h"
 #include "techniques/technique.h"
 
@@ -57,8 +58,8 @@ namespace translucent::pointcloud {
 // from Jensen's by 3.7%, normalized being closer by more than 2σ in 7 channels and Jensen in 4;
 // for Marble (α' >= 0.997) truth / normalized is 0.976-1.000 and truth / Jensen 1.040-1.065.
 // Normalized is also the law that carries out exactly the exitance B. README, "Radiance
-// convention".
-inline constexpr const char* kDefaultRadianceConvention = "normalized";
+// convention". (The constant lives with the shared descriptor, techniques/common/profile_kernel.h.)
+inline constexpr const char* kDefaultRadianceConvention = techniques::kDefaultRadianceConvention;
 
 class PointCloudTechnique final : public techniques::Technique {
  public:

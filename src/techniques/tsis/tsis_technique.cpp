@@ -23,7 +23,6 @@
 #include "techniques/common/light_view_map.h"
 #include "techniques/common/profile_kernel.h"
 #include "techniques/common/surface_irradiance.h"
-#include "techniques/pointcloud/pointcloud_technique.h"  // kDefaultRadianceConvention
 #include "techniques/tsis/hybrid_split.h"
 
 namespace translucent::tsis {
@@ -97,13 +96,8 @@ std::vector<ParameterInfo> parameterInfos() {
       ParameterInfo::integer("accumulate_samples", 65536, 49, 16777216,
                              "samples per pixel of a converged image: ⌈accumulate_samples / N⌉ "
                              "accumulated frames (a batch render renders them all at once)"),
-      ParameterInfo::integer("table_size", 4096, 64, 65536,
-                             "entries of the tabulated profile (uniform in r up to the radius "
-                             "holding 99.9% of Rd)"),
-      ParameterInfo::enumeration("radiance_convention", pointcloud::kDefaultRadianceConvention,
-                                 bssrdf::exitConventionNames(),
-                                 "radiance from the exitance B (seed Eq. 2.16): jensen Ft B/π, or "
-                                 "normalized Ft B/(π 4Cφ(1/η)); as the point-cloud technique"),
+      techniques::tableSizeParameter(),
+      techniques::radianceConventionParameter(),
   };
   // The shared irradiance pass's shadow and environment settings (surface_irradiance.h).
   for (ParameterInfo& p : techniques::lightingParameters()) infos.push_back(std::move(p));

@@ -19,7 +19,6 @@
 #include "techniques/common/gl_resources.h"
 #include "techniques/common/light_view_map.h"
 #include "techniques/common/profile_kernel.h"
-#include "techniques/pointcloud/pointcloud_technique.h"  // kDefaultRadianceConvention
 
 namespace translucent::tsm {
 namespace {
@@ -54,10 +53,7 @@ std::vector<ParameterInfo> parameterInfos() {
                              "resolution of each light's irradiance map", "texels")
           // The map's texels are the surface samples the pattern reads.
           .withSweep({128, 256, 512, 1024, 2048}),
-      ParameterInfo::enumeration("radiance_convention", pointcloud::kDefaultRadianceConvention,
-                                 bssrdf::exitConventionNames(),
-                                 "radiance from the exitance B (seed Eq. 2.16): jensen Ft B/π, or "
-                                 "normalized Ft B/(π 4Cφ(1/η)); as the point-cloud technique"),
+      techniques::radianceConventionParameter(),
   };
 }
 
