@@ -20,6 +20,7 @@
 
 #include "analysis/image_io.h"
 #include "commands.h"
+#include "output_guard.h"
 #include "gpu/context.h"
 #include "scene/scene.h"
 #include "techniques/registry.h"
@@ -61,13 +62,6 @@ std::string describe(const techniques::ParameterInfo& p) {
 
 void runRender(const RenderArgs& a) {
   if (a.frames < 1) throw ParameterError(fmt::format("--frames {}: expected at least 1", a.frames));
-  for (const std::string& path : {a.out, a.exr}) {
-    if (path.empty()) continue;
-    const auto dir = std::filesystem::path(path).parent_path();
-    std::error_code ec;
-    if (!dir.empty() && !std::filesystem::is_directory(dir, ec))
-      throw ParameterError(fmt::format("cannot write '{}': folder '{}' does not exist", path, dir.string()));
-  }
   if (!a.out.empty()) {
     auto ext = std::filesystem::path(a.out).extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
@@ -86,6 +80,13 @@ void runRender(const RenderArgs& a) {
   if (!(s.gamma > 0.0) || !std::isfinite(s.gamma) || !std::isfinite(s.exposure))
     throw ParameterError(fmt::format("--gamma {} / --exposure {}: expected a finite gamma > 0 and a "
                                      "finite exposure", s.gamma, s.exposure));
+  // The outputs against each other and against every file the run reads, before the GPU work;
+  // nothing is created until a file is complete (written via a temporary file and renamed).
+  OutputSet outputs;
+  outputs.output("--exr", a.exr);
+  outputs.output("--out", a.out);
+  outputs.sceneInputs(a.scene, s);
+  outputs.check();
 
   // The context first: the technique's GL objects must be deleted while it is alive.
   gpu::Context gl;
@@ -193,8 +194,11 @@ void addRenderCommand(CLI::App& app) {
   cmd->add_option("--width", a->width, "Image width [pixels] (default: the scene camera's)");
   cmd->add_option("--height", a->height, "Image height [pixels] (default: the scene camera's)");
   cmd->add_option("--model", a->model, "BSSRDF model name or .bssrdf file (default: the scene's)");
-  cmd->add_option("--out", a->out, "PNG output (tone mapped with --exposure and --gamma)");
-  cmd->add_option("--exr", a->exr, "OpenEXR output (linear radiance; layer 'exitance': B)");
+  outputOption(cmd->add_option(
+      "--out", a->out,
+      "PNG output (tone mapped with --exposure and --gamma); without --out and --exr: "
+      "translucent.png, only where no such file exists"));
+  outputOption(cmd->add_option("--exr", a->exr, "OpenEXR output (linear radiance; layer 'exitance': B)"));
   cmd->add_option("--debug-dir", a->debug_dir,
                   "Folder for the technique's debug layers (empirical: front_depth, back_depth, "
                   "thickness, ao): <layer>.exr linear, <layer>.png scaled to the layer's maximum");
@@ -217,7 +221,16 @@ void addRenderCommand(CLI::App& app) {
   }
   cmd->callback([a] {
     RenderArgs args = *a;
-    if (args.out.empty() && args.exr.empty()) args.out = "translucent.png";
+    // The default output is a convenience for a first try, so it never replaces a file the user
+    // did not name: an existing translucent.png is replaced only by an explicit --out.
+    if (args.out.empty() && args.exr.empty()) {
+      std::error_code ec;
+      if (std::filesystem::exists("translucent.png", ec))
+        throw ParameterError(
+            "no --out or --exr given, and the default output translucent.png exists already: "
+            "give --out FILE.png (--out translucent.png replaces it) or --exr FILE.exr");
+      args.out = "translucent.png";
+    }
     runRender(args);
   });
 }
