@@ -108,4 +108,30 @@ void writeTextOutput(const std::string& option, const std::string& path, std::st
   if (!why.empty()) throw ParameterError(fmt::format("{} '{}': write failed: {}", option, path, why));
 }
 
+void writeOutput(const std::string& path, const std::function<void(const std::string&)>& write) {
+  std::error_code ec;
+  if (fs::exists(path, ec) && !fs::is_regular_file(path, ec) && !fs::is_directory(path, ec)) {
+    write(path);
+    return;
+  }
+  static int counter = 0;
+  const fs::path p(path);
+  const std::string tmp = (p.parent_path() / fmt::format(".{}.tmp-{}-{}{}", p.stem().string(),
+                                                          ::getpid(), counter++,
+                                                          p.extension().string()))
+                              .string();
+  try {
+    write(tmp);
+  } catch (...) {
+    fs::remove(tmp, ec);
+    throw;
+  }
+  fs::rename(tmp, path, ec);
+  if (ec) {
+    const std::string message = ec.message();
+    fs::remove(tmp, ec);
+    throw ParameterError(fmt::format("cannot write '{}': {}", path, message));
+  }
+}
+
 }  // namespace translucent::cli

@@ -12,6 +12,7 @@
 
 #include <CLI/CLI.hpp>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -50,5 +51,11 @@ class OutputSet {
 // Writes `text` to the output `path` of `option` through a temporary file (see above); throws
 // ParameterError naming the option and the path when a write, the close or the rename fails.
 void writeTextOutput(const std::string& option, const std::string& path, std::string_view text);
+
+// Runs a library writer that takes a path (`write(path)`: a plot, a CSV, a Markdown report; it
+// must throw when a write fails) on a temporary file beside `path` with the same extension (some
+// writers choose the format by it), and renames that over `path` when it returned. A writer that
+// throws leaves no temporary file and the target untouched. Devices are written in place.
+void writeOutput(const std::string& path, const std::function<void(const std::string&)>& write);
 
 }  // namespace translucent::cli
