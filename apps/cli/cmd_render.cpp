@@ -124,6 +124,25 @@ void runRender(const RenderArgs& a) {
     fmt::print("  {:<{}}{:<22} {:9.3f} ms\n", "", 2 * p.depth, p.name, p.ms);
   fmt::print("  {:<22} {:9.3f} ms\n", "total", frame.totalMs());
 
+  // The debug files are known only now: checked like the other outputs before any file is
+  // written (a scene file, its mesh or environment map in the debug folder must not be replaced
+  // by a layer of that name).
+  if (!a.debug_dir.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(a.debug_dir, ec);
+    if (ec)
+      throw ParameterError(fmt::format("--debug-dir '{}': cannot create the folder: {}",
+                                       a.debug_dir, ec.message()));
+    const std::filesystem::path dir(a.debug_dir);
+    for (const auto& [name, view] : frame.views)
+      for (const char* ext : {".exr", ".png"})
+        outputs.output("--debug-dir", (dir / ("view-" + name + ext)).string());
+    for (const auto& [name, data] : frame.layers)
+      for (const char* ext : {".exr", ".png"})
+        outputs.output("--debug-dir", (dir / (name + ext)).string());
+    outputs.check();
+  }
+
   const std::string what = fmt::format("translucent render{}", a.scene.empty() ? "" : " " + a.scene);
   if (!a.exr.empty()) {
     std::vector<analysis::ExrLayer> layers;
@@ -151,11 +170,6 @@ void runRender(const RenderArgs& a) {
     fmt::print("wrote {}\n", a.out);
   }
   if (!a.debug_dir.empty()) {
-    std::error_code ec;
-    std::filesystem::create_directories(a.debug_dir, ec);
-    if (ec)
-      throw ParameterError(fmt::format("--debug-dir '{}': cannot create the folder: {}",
-                                       a.debug_dir, ec.message()));
     if (frame.layers.empty() && frame.views.empty())
       fmt::print("--debug-dir: technique {} has no debug layers\n", s.technique);
     // The technique's inspection views: display-ready [0, 1], written as they are.

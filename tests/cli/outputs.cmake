@@ -135,6 +135,18 @@ elseif(CASE STREQUAL "failing_run")
   expect_hash(keep.exr ${keep_hash})
   expect_absent(new.png new.json new.exr out.exr)
   expect_no_temporaries()
+elseif(CASE STREQUAL "debug_dir_input")
+  # render --debug-dir writes <layer>.exr/.png, names known only after the frame: a scene file
+  # that has such a name in that folder is refused before any output is written.
+  file(MAKE_DIRECTORY ${WORK}/dbg)
+  string(REPLACE "\"cube.obj\"" "\"../cube.obj\"" dbg "${scene}")
+  string(REGEX REPLACE "\"width\": [0-9]+, \"height\": [0-9]+" "\"width\": 16, \"height\": 12" dbg "${dbg}")
+  file(WRITE ${WORK}/dbg/ao.exr "${dbg}")
+  hash(dbg_hash dbg/ao.exr)
+  run(FAIL "--debug-dir 'dbg/ao.exr': is the scene of this run"
+      render dbg/ao.exr --technique empirical --exr e.exr --debug-dir dbg)
+  expect_hash(dbg/ao.exr ${dbg_hash})
+  expect_absent(e.exr dbg/ao.png dbg/thickness.exr)
 elseif(CASE STREQUAL "success")
   # The outputs appear complete, under their names, with no temporary file left; an explicitly
   # named existing output is replaced.
