@@ -16,6 +16,7 @@
 #include "analysis/colormap.h"
 #include "analysis/image_io.h"
 #include "commands.h"
+#include "output_guard.h"
 #include "geometry/atlas.h"
 #include "geometry/mesh.h"
 #include "optics/medium.h"  // ParameterError
@@ -87,6 +88,12 @@ void run(const AtlasArgs& a) {
     throw ParameterError(fmt::format("--range {}: expected a positive ln ratio", a.range));
   if (!a.out.empty() && std::filesystem::path(a.out).extension() != ".png")
     throw ParameterError(fmt::format("--out {}: expected a .png file", a.out));
+  {
+    OutputSet outputs;
+    outputs.output("--out", a.out);
+    outputs.input("the mesh", a.mesh);
+    outputs.check();
+  }
   options.size = a.size;
   options.gutter = a.gutter;
   options.useMeshUVs = a.meshUVs;
@@ -193,7 +200,7 @@ void addAtlasCommand(CLI::App& app) {
   cmd->add_option("--gutter", args->gutter,
                   "Texels between charts (0: 2 for charts, 1 for triangles)")
       ->capture_default_str();
-  cmd->add_option("--out", args->out, "PNG of the texels coloured by area distortion");
+  outputOption(cmd->add_option("--out", args->out, "PNG of the texels coloured by area distortion"));
   cmd->add_option("--range", args->range,
                   "Colour range of the distortion picture: ±RANGE in ln(A_T/A_S)")
       ->capture_default_str();

@@ -24,6 +24,7 @@
 #include "analysis/leaderboard.h"
 #include "analysis/report.h"
 #include "commands.h"
+#include "output_guard.h"
 #include "gpu/context.h"
 #include "options.h"
 #include "plot/profile_plot.h"
@@ -631,7 +632,9 @@ void addCompareCommand(CLI::App& app) {
                 fmt::format("Also render each technique's quality parameter over its sweep values "
                             "and plot error against GPU time ({}; real-time frames: accumulation "
                             "off)", fmt::join(swept, "; ")));
-  cmd->add_option("--out", a->out, "Report folder (created; a previous report there is replaced)")
+  // An empty --out would be the current folder (fs::absolute("")): refused like every output.
+  outputOption(cmd->add_option("--out", a->out,
+                               "Report folder (created; a previous report there is replaced)"))
       ->capture_default_str();
   cmd->add_flag("--force", a->force,
                 "Write into --out even when it holds files that are not a previous report");

@@ -23,6 +23,7 @@
 #include "analysis/exit_convention_study.h"
 #include "bssrdf/exit_radiance.h"
 #include "commands.h"
+#include "output_guard.h"
 #include "optics/presets.h"
 #include "options.h"
 #include "reference/mesh_tracer.h"
@@ -340,9 +341,13 @@ void runStudy(const StudyArgs& a) {
   const auto materials = splitList(a.materials);
   if (materials.empty()) throw ParameterError("--materials: expected at least one preset name");
   for (const auto& m : materials) (void)preset(m);  // ParameterError listing the valid names
+  // The report must be writable and must not be the bunny scene or one of its files; checked
+  // before the minutes of tracing, without creating anything (written via temporary + rename).
   {
-    std::ofstream probe(a.out, std::ios::app);
-    if (!probe) throw ParameterError(fmt::format("--out '{}': cannot open for writing", a.out));
+    OutputSet outputs;
+    outputs.output("--out", a.out);
+    outputs.sceneInputs(a.bunny, scene::loadScene(a.bunny));
+    outputs.check();
   }
   std::vector<Run> runs;
   for (const auto& m : materials) {
@@ -368,9 +373,7 @@ void runStudy(const StudyArgs& a) {
     command += fmt::format(" --bunny-width {} --bunny-height {}", a.bunny_width, a.bunny_height);
   command += " --out " + a.out;
   const std::string text = markdown(a, runs, command);
-  std::ofstream f(a.out);
-  f << text;
-  if (!f) throw ParameterError(fmt::format("--out '{}': write failed", a.out));
+  writeTextOutput("--out", a.out, text);
   fmt::print("wrote {}\n", a.out);
 }
 
@@ -382,7 +385,7 @@ void addConventionStudyCommand(CLI::App& app) {
       "convention-study",
       "Measure the exit-radiance conventions (jensen, normalized; seed Eq. 2.16) against the path "
       "tracer's true radiance on the lit sphere and the bunny; writes a Markdown report");
-  cmd->add_option("--out", a->out, "Markdown output")->capture_default_str();
+  outputOption(cmd->add_option("--out", a->out, "Markdown output"))->capture_default_str();
   cmd->add_option("--bunny", a->bunny, "Bunny scene file (JSON)")->capture_default_str();
   cmd->add_option("--materials", a->materials, "Presets, comma-separated")->capture_default_str();
   cmd->add_option("--photon-scale", a->photon_scale,

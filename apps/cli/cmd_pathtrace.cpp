@@ -19,6 +19,7 @@
 #include <optional>
 
 #include "commands.h"
+#include "output_guard.h"
 #include "progress.h"
 #include "optics/presets.h"
 #include "reference/slab.h"
@@ -187,19 +188,14 @@ void writeJson(const std::string& path, const SlabSetup& s, const TraceOptions& 
   j["threads"] = r.threads;
   j["seed"] = r.seed;
   j["partial"] = r.partial;
-  std::ofstream f(path);
-  if (!f) throw ParameterError(fmt::format("--json '{}': cannot open for writing", path));
-  f << j.dump(2) << "\n";
-  if (!f) throw ParameterError(fmt::format("--json '{}': write failed", path));
+  writeTextOutput("--json", path, j.dump(2) + "\n");
 }
 
 void writeCsv(const std::string& path, const SlabResult& r) {
-  std::ofstream f(path);
-  if (!f) throw ParameterError(fmt::format("--csv '{}': cannot open for writing", path));
-  f << "r,rd,rd_stderr\n";
+  std::string text = "r,rd,rd_stderr\n";
   for (size_t i = 0; i < r.radial.r.size(); ++i)
-    f << fmt::format("{},{},{}\n", r.radial.r[i], r.radial.rd[i], r.radial.rd_stderr[i]);
-  if (!f) throw ParameterError(fmt::format("--csv '{}': write failed", path));
+    text += fmt::format("{},{},{}\n", r.radial.r[i], r.radial.rd[i], r.radial.rd_stderr[i]);
+  writeTextOutput("--csv", path, text);
 }
 
 void runSlab(const PathtraceArgs& a) {
@@ -208,12 +204,12 @@ void runSlab(const PathtraceArgs& a) {
   const TraceOptions options = buildOptions(a);
   if (a.time_limit && !(*a.time_limit > 0.0))
     throw ParameterError(fmt::format("--time-limit is {}: expected seconds > 0", *a.time_limit));
-  // Make sure the outputs can be written before spending the time.
-  for (const auto& [opt, path] : {std::pair{"--json", a.json}, std::pair{"--csv", a.csv}}) {
-    if (path.empty()) continue;
-    std::ofstream probe(path, std::ios::app);
-    if (!probe) throw ParameterError(fmt::format("{} '{}': cannot open for writing", opt, path));
-  }
+  // Make sure the outputs can be written, and are two different files, before spending the time;
+  // nothing is created until a file is complete (temporary file + rename).
+  OutputSet outputs;
+  outputs.output("--json", a.json);
+  outputs.output("--csv", a.csv);
+  outputs.check();
   if (options.long_path_roulette > 0)
     fmt::print(stderr,
                "pathtrace: note: long-path roulette keeps estimates unbiased, but each roulette "
@@ -294,8 +290,8 @@ void addPathtraceCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--time-limit", args->time_limit,
                   "Stop after this many seconds and write the partial result");
-  cmd->add_option("--json", args->json, "Output JSON file")->required();
-  cmd->add_option("--csv", args->csv, "Radial profile as CSV: r,rd,rd_stderr");
+  outputOption(cmd->add_option("--json", args->json, "Output JSON file"))->required();
+  outputOption(cmd->add_option("--csv", args->csv, "Radial profile as CSV: r,rd,rd_stderr"));
   cmd->callback([args] { runSlab(*args); });
 }
 

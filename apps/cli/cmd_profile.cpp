@@ -15,6 +15,7 @@
 #include "bssrdf_models.h"
 #include "bssrdf/registry.h"
 #include "commands.h"
+#include "output_guard.h"
 #include "gpu/bssrdf_profiles.h"
 #include "options.h"
 #include "plot/profile_plot.h"
@@ -119,6 +120,13 @@ void runStudy(const ProfileArgs& a, const std::string& command) {
   if (!(a.photons >= 1000.0 && a.photons <= 1e12))
     throw ParameterError(
         fmt::format("--photons is {}: expected between 1e3 and 1e12 per channel", a.photons));
+  OutputSet outputs;
+  outputs.output("--out", a.out);
+  outputs.output("--csv", a.csv);
+  outputs.output("--json", a.json);
+  if (a.models != "all")
+    for (const auto& m : splitList(a.models)) outputs.input("a BSSRDF model file (--model)", m);
+  outputs.check();
   analysis::ModelStudyOptions o;
   if (a.models != "all") o.models = splitList(a.models);
   o.presets = a.study_presets;
@@ -141,9 +149,10 @@ void runStudy(const ProfileArgs& a, const std::string& command) {
   });
   if (bar) bar->end();
   if (study.partial) fmt::print(stderr, "profile --study: stopped early, the outputs are partial\n");
-  if (!a.out.empty()) analysis::writeModelStudyMarkdown(a.out, study, command);
-  if (!a.csv.empty()) analysis::writeModelStudyCsv(a.csv, study);
-  if (!a.json.empty()) analysis::writeModelStudyJson(a.json, study);
+  if (!a.out.empty())
+    writeOutput(a.out, [&](const std::string& p) { analysis::writeModelStudyMarkdown(p, study, command); });
+  if (!a.csv.empty()) writeOutput(a.csv, [&](const std::string& p) { analysis::writeModelStudyCsv(p, study); });
+  if (!a.json.empty()) writeOutput(a.json, [&](const std::string& p) { analysis::writeModelStudyJson(p, study); });
   fmt::print(stderr, "profile --study: {} models x {} channels in {:.0f} s\n", study.models.size(),
              study.references.size(), study.seconds);
   fmt::print("{}", analysis::modelStudySummaryMarkdown(study));
@@ -159,6 +168,10 @@ void runProfile(const ProfileArgs& a) {
       a.models == "all" ? bssrdf::modelNames() : splitList(a.models);
   std::vector<std::string> models, files;  // registered models, .bssrdf files
   for (const auto& m : entries) (isBssrdfFile(m) ? files : models).push_back(m);
+  OutputSet outputs;
+  outputs.output("--out", a.out);
+  for (const auto& f : files) outputs.input("a BSSRDF model file (--model)", f);
+  outputs.check();
   for (const auto& m : models) (void)bssrdf::model(m);  // unknown names fail before any work
   // .bssrdf files: evaluated on the GPU; the context exists only when one is requested.
   std::unique_ptr<gpu::Context> gl;
@@ -222,7 +235,7 @@ void runProfile(const ProfileArgs& a) {
     for (analysis::Channel ch : channels)
       curves.push_back(referenceCurve(medium, ch, rMax, a));
   if (ext == ".csv") {
-    analysis::writeCurvesCsv(a.out, curves);
+    writeOutput(a.out, [&](const std::string& p) { analysis::writeCurvesCsv(p, curves); });
   } else {
     plot::PlotOptions po;
     po.title = a.title.empty() ? defaultTitle(a) : a.title;
@@ -231,7 +244,7 @@ void runProfile(const ProfileArgs& a) {
     po.length_unit = lengthUnit(medium.scale);
     po.width = a.width;
     po.height = a.height;
-    plot::writeProfilePlot(a.out, curves, po);
+    writeOutput(a.out, [&](const std::string& p) { plot::writeProfilePlot(p, curves, po); });
   }
   fmt::print(stderr, "wrote {} ({} curves x {} points)\n", a.out, curves.size(), a.points);
 }
@@ -260,9 +273,9 @@ void addProfileCommand(CLI::App& app) {
       ->check(CLI::IsMember({"lin", "log", "sqrt"}))
       ->capture_default_str();
   cmd->add_flag("--times-r", args->times_r, "Plot r·R(r) instead of R(r)");
-  cmd->add_option("--out", args->out,
+  outputOption(cmd->add_option("--out", args->out,
                   "Output file: .csv (model,channel,r,value), .png or .svg; with --study a .md "
-                  "report");
+                  "report"));
   cmd->add_option("--width", args->width, "Plot width [pixels] (.png/.svg)")->capture_default_str();
   cmd->add_option("--height", args->height, "Plot height [pixels] (.png/.svg)")
       ->capture_default_str();
@@ -276,8 +289,8 @@ void addProfileCommand(CLI::App& app) {
                 "Error study: every model (or --model list) against the path-traced reference for "
                 "every traceable preset and RGB channel: L1 of 2πrR(r), Rd error, R95 ratio "
                 "(Markdown --out, --csv, --json)");
-  cmd->add_option("--csv", args->csv, "With --study: per model and channel results as CSV");
-  cmd->add_option("--json", args->json, "With --study: the full study as JSON");
+  outputOption(cmd->add_option("--csv", args->csv, "With --study: per model and channel results as CSV"));
+  outputOption(cmd->add_option("--json", args->json, "With --study: the full study as JSON"));
   cmd->add_option("--study-presets", args->study_presets,
                   "With --study: comma-separated presets (default: every traceable one)")
       ->delimiter(',');

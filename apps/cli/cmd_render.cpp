@@ -20,6 +20,7 @@
 
 #include "analysis/image_io.h"
 #include "commands.h"
+#include "output_guard.h"
 #include "gpu/context.h"
 #include "scene/scene.h"
 #include "techniques/registry.h"
@@ -61,13 +62,6 @@ std::string describe(const techniques::ParameterInfo& p) {
 
 void runRender(const RenderArgs& a) {
   if (a.frames < 1) throw ParameterError(fmt::format("--frames {}: expected at least 1", a.frames));
-  for (const std::string& path : {a.out, a.exr}) {
-    if (path.empty()) continue;
-    const auto dir = std::filesystem::path(path).parent_path();
-    std::error_code ec;
-    if (!dir.empty() && !std::filesystem::is_directory(dir, ec))
-      throw ParameterError(fmt::format("cannot write '{}': folder '{}' does not exist", path, dir.string()));
-  }
   if (!a.out.empty()) {
     auto ext = std::filesystem::path(a.out).extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
@@ -86,6 +80,13 @@ void runRender(const RenderArgs& a) {
   if (!(s.gamma > 0.0) || !std::isfinite(s.gamma) || !std::isfinite(s.exposure))
     throw ParameterError(fmt::format("--gamma {} / --exposure {}: expected a finite gamma > 0 and a "
                                      "finite exposure", s.gamma, s.exposure));
+  // The outputs against each other and against every file the run reads, before the GPU work;
+  // nothing is created until a file is complete (written via a temporary file and renamed).
+  OutputSet outputs;
+  outputs.output("--exr", a.exr);
+  outputs.output("--out", a.out);
+  outputs.sceneInputs(a.scene, s);
+  outputs.check();
 
   // The context first: the technique's GL objects must be deleted while it is alive.
   gpu::Context gl;
@@ -123,6 +124,25 @@ void runRender(const RenderArgs& a) {
     fmt::print("  {:<{}}{:<22} {:9.3f} ms\n", "", 2 * p.depth, p.name, p.ms);
   fmt::print("  {:<22} {:9.3f} ms\n", "total", frame.totalMs());
 
+  // The debug files are known only now: checked like the other outputs before any file is
+  // written (a scene file, its mesh or environment map in the debug folder must not be replaced
+  // by a layer of that name).
+  if (!a.debug_dir.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(a.debug_dir, ec);
+    if (ec)
+      throw ParameterError(fmt::format("--debug-dir '{}': cannot create the folder: {}",
+                                       a.debug_dir, ec.message()));
+    const std::filesystem::path dir(a.debug_dir);
+    for (const auto& [name, view] : frame.views)
+      for (const char* ext : {".exr", ".png"})
+        outputs.output("--debug-dir", (dir / ("view-" + name + ext)).string());
+    for (const auto& [name, data] : frame.layers)
+      for (const char* ext : {".exr", ".png"})
+        outputs.output("--debug-dir", (dir / (name + ext)).string());
+    outputs.check();
+  }
+
   const std::string what = fmt::format("translucent render{}", a.scene.empty() ? "" : " " + a.scene);
   if (!a.exr.empty()) {
     std::vector<analysis::ExrLayer> layers;
@@ -150,11 +170,6 @@ void runRender(const RenderArgs& a) {
     fmt::print("wrote {}\n", a.out);
   }
   if (!a.debug_dir.empty()) {
-    std::error_code ec;
-    std::filesystem::create_directories(a.debug_dir, ec);
-    if (ec)
-      throw ParameterError(fmt::format("--debug-dir '{}': cannot create the folder: {}",
-                                       a.debug_dir, ec.message()));
     if (frame.layers.empty() && frame.views.empty())
       fmt::print("--debug-dir: technique {} has no debug layers\n", s.technique);
     // The technique's inspection views: display-ready [0, 1], written as they are.
@@ -193,8 +208,11 @@ void addRenderCommand(CLI::App& app) {
   cmd->add_option("--width", a->width, "Image width [pixels] (default: the scene camera's)");
   cmd->add_option("--height", a->height, "Image height [pixels] (default: the scene camera's)");
   cmd->add_option("--model", a->model, "BSSRDF model name or .bssrdf file (default: the scene's)");
-  cmd->add_option("--out", a->out, "PNG output (tone mapped with --exposure and --gamma)");
-  cmd->add_option("--exr", a->exr, "OpenEXR output (linear radiance; layer 'exitance': B)");
+  outputOption(cmd->add_option(
+      "--out", a->out,
+      "PNG output (tone mapped with --exposure and --gamma); without --out and --exr: "
+      "translucent.png, only where no such file exists"));
+  outputOption(cmd->add_option("--exr", a->exr, "OpenEXR output (linear radiance; layer 'exitance': B)"));
   cmd->add_option("--debug-dir", a->debug_dir,
                   "Folder for the technique's debug layers (empirical: front_depth, back_depth, "
                   "thickness, ao): <layer>.exr linear, <layer>.png scaled to the layer's maximum");
@@ -217,7 +235,16 @@ void addRenderCommand(CLI::App& app) {
   }
   cmd->callback([a] {
     RenderArgs args = *a;
-    if (args.out.empty() && args.exr.empty()) args.out = "translucent.png";
+    // The default output is a convenience for a first try, so it never replaces a file the user
+    // did not name: an existing translucent.png is replaced only by an explicit --out.
+    if (args.out.empty() && args.exr.empty()) {
+      std::error_code ec;
+      if (std::filesystem::exists("translucent.png", ec))
+        throw ParameterError(
+            "no --out or --exr given, and the default output translucent.png exists already: "
+            "give --out FILE.png (--out translucent.png replaces it) or --exr FILE.exr");
+      args.out = "translucent.png";
+    }
     runRender(args);
   });
 }

@@ -30,6 +30,7 @@
 #include "analysis/image_io.h"
 #include "bssrdf/registry.h"
 #include "commands.h"
+#include "output_guard.h"
 #include "geometry/mesh.h"
 #include "options.h"
 #include "progress.h"
@@ -92,16 +93,16 @@ struct RunArgs {
                                        : ""))
         ->check(CLI::IsMember(quantities))
         ->capture_default_str();
-    cmd.add_option("--exr", exr, "Output OpenEXR file (linear; layer 'stderr': standard error)")
+    outputOption(cmd.add_option("--exr", exr, "Output OpenEXR file (linear; layer 'stderr': standard error)"))
         ->required();
-    cmd.add_option("--png", png, "Also write a tone-mapped PNG");
+    outputOption(cmd.add_option("--png", png, "Also write a tone-mapped PNG"));
     cmd.add_option("--exposure", exposure, "PNG exposure [stops]: values x 2^exposure")
         ->capture_default_str();
     cmd.add_option("--gamma", gamma, "PNG display gamma")->capture_default_str();
-    cmd.add_option("--json", json, "Also write a JSON summary (settings, timing, energy)");
+    outputOption(cmd.add_option("--json", json, "Also write a JSON summary (settings, timing, energy)"));
   }
 
-  void validate() const {
+  void validate(const OutputSet& inputs = {}) const {
     if (passes < 1) throw ParameterError(fmt::format("--passes is {}: expected >= 1", passes));
     if (threads < 0) throw ParameterError(fmt::format("--threads is {}: expected >= 0", threads));
     if (time_limit && !(*time_limit > 0.0))
@@ -109,13 +110,14 @@ struct RunArgs {
     if (!std::isfinite(exposure)) throw ParameterError("--exposure: expected a finite number");
     if (!(std::isfinite(gamma) && gamma > 0.0))
       throw ParameterError(fmt::format("--gamma is {}: expected a value > 0", gamma));
-    // Fail before spending the time if an output cannot be written.
-    for (const auto& [opt, path] :
-         {std::pair{"--exr", exr}, std::pair{"--png", png}, std::pair{"--json", json}}) {
-      if (path.empty()) continue;
-      std::ofstream probe(path, std::ios::app);
-      if (!probe) throw ParameterError(fmt::format("{} '{}': cannot open for writing", opt, path));
-    }
+    // Fail before spending the time if an output cannot be written or would replace an input
+    // (`inputs`: the scene and its files, a .bssrdf model) or another output. Nothing is created
+    // here: the files appear, complete, when they are written (temporary file + rename).
+    OutputSet outputs = inputs;
+    outputs.output("--exr", exr);
+    outputs.output("--png", png);
+    outputs.output("--json", json);
+    outputs.check();
   }
 };
 
@@ -179,9 +181,7 @@ void writeJson(const RunArgs& a, nlohmann::json j) {
   j["exr"] = a.exr;
   if (!a.png.empty()) j["png"] = a.png;
   j["seed"] = a.seed;
-  std::ofstream f(a.json);
-  f << j.dump(2) << "\n";
-  if (!f) throw ParameterError(fmt::format("--json '{}': write failed", a.json));
+  writeTextOutput("--json", a.json, j.dump(2) + "\n");
 }
 
 nlohmann::json fluxJson(const reference::TransportStats& s) {
@@ -307,7 +307,9 @@ void runPathtraceSphere(const SphereArgs& s, const RunArgs& a) {
 
 void runIntegrateSphere(const SphereArgs& s, const RunArgs& a, const std::string& model,
                         const std::string& sampling, double defensive) {
-  a.validate();
+  OutputSet inputs;
+  inputs.input("the BSSRDF model (--model)", model);  // skipped unless a file
+  a.validate(inputs);
   const Medium medium = s.medium.medium();
   const reference::SphereScene scene = s.scene();
   const uint64_t samples = parseCount(a.count, "--samples");
@@ -347,8 +349,10 @@ void runIntegrateSphere(const SphereArgs& s, const RunArgs& a, const std::string
 // ---------------------------------------------------------------------------------------------
 
 void runPathtraceMesh(const std::string& sceneFile, const RunArgs& a) {
-  a.validate();
   const reference::MeshScene scene = reference::loadMeshScene(sceneFile);
+  OutputSet inputs;
+  inputs.sceneInputs(sceneFile, scene);
+  a.validate(inputs);
   const geometry::TriangleMesh mesh = scene::loadSceneMesh(scene);  // normalised and placed
   const uint64_t photons = parseCount(a.count, "--photons");
   reference::MeshPathTracer tracer(mesh, scene.medium, scene::referenceLights(scene), scene.camera,
@@ -406,11 +410,13 @@ std::vector<double> medianRelativeError(const reference::ModelReferenceImages& i
 }
 
 void runIntegrateMesh(const ModelReferenceArgs& m, const RunArgs& a) {
-  a.validate();
   if (a.passes != 1)
     throw ParameterError(fmt::format("--passes is {}: `integrate mesh` renders in one pass (more "
                                      "--samples give less noise)", a.passes));
   const reference::MeshScene scene = reference::loadMeshScene(m.scene);
+  OutputSet inputs;
+  inputs.sceneInputs(m.scene, scene);
+  a.validate(inputs);
   const geometry::TriangleMesh mesh = scene::loadSceneMesh(scene);  // normalised and placed
   const std::vector<reference::Light> lights = scene::referenceLights(scene);
   reference::ModelReferenceOptions o = m.options;

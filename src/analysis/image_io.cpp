@@ -2,9 +2,15 @@
 
 #include <fmt/format.h>
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
 #include <filesystem>
 
 namespace translucent::analysis {
@@ -20,20 +26,71 @@ void checkSize(const std::string& path, int width, int height, size_t values) {
                                  path, values, width, height, expected));
 }
 
+// A temporary name beside `path`, unique per process and call; hidden, so that a listing of the
+// folder during the write does not show a half-written image.
+std::string temporaryName(const std::string& path) {
+  static std::atomic<uint64_t> counter{0};
+  const std::filesystem::path p(path);
+  return (p.parent_path() / fmt::format(".{}.tmp-{}-{}", p.filename().string(), ::getpid(),
+                                        counter.fetch_add(1)))
+      .string();
+}
+
+// Writes `bytes` to `file` and closes it; false when any write, the flush or the close failed.
+bool writeBytes(const std::string& file, const std::vector<unsigned char>& bytes) {
+  std::FILE* f = std::fopen(file.c_str(), "wb");
+  if (!f) return false;
+  const bool wrote = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
+  const bool flushed = std::fflush(f) == 0;
+  const bool closed = std::fclose(f) == 0;
+  return wrote && flushed && closed;
+}
+
+// The image is encoded in memory (OpenImageIO's PNG writer does not report failed writes, e.g.
+// on a full disk) and the bytes are written with every call checked, to a temporary file that
+// is renamed over `path` only when all of them succeeded: a failed or interrupted write leaves
+// nothing behind and never truncates an existing image. A target that exists and is not a
+// regular file (/dev/stdout, a FIFO, /dev/full) is written in place, since renaming would
+// replace the device node; its errors are reported too.
 void write(const std::string& path, const OIIO::ImageSpec& spec, OIIO::TypeDesc type,
            const void* data) {
-  auto out = OIIO::ImageOutput::create(path);
-  if (!out)
-    throw ImageError(fmt::format("cannot write '{}': {}", path, OIIO::geterror()));
-  if (!out->open(path, spec))
-    throw ImageError(fmt::format("cannot write '{}': {}", path, out->geterror()));
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::is_directory(path, ec))
+    throw ImageError(fmt::format("cannot write '{}': it is a folder: expected a file name", path));
+  auto out = OIIO::ImageOutput::create(path);  // the format from the target's extension
+  if (!out) throw ImageError(fmt::format("cannot write '{}': {}", path, OIIO::geterror()));
+  std::vector<unsigned char> bytes;
+  OIIO::Filesystem::IOVecOutput memory(bytes);
+  if (!out->supports("ioproxy") || !out->set_ioproxy(&memory))
+    throw ImageError(fmt::format("cannot write '{}': the {} writer cannot write to memory",
+                                 path, out->format_name()));
+  if (!out->open(path, spec)) throw ImageError(fmt::format("cannot write '{}': {}", path, out->geterror()));
   if (!out->write_image(type, data)) {
     const std::string message = out->geterror();
     out->close();
     throw ImageError(fmt::format("cannot write '{}': {}", path, message));
   }
-  if (!out->close())
-    throw ImageError(fmt::format("cannot write '{}': {}", path, out->geterror()));
+  if (!out->close()) throw ImageError(fmt::format("cannot write '{}': {}", path, out->geterror()));
+  if (bytes.empty()) throw ImageError(fmt::format("cannot write '{}': the encoder produced nothing", path));
+
+  if (fs::exists(path, ec) && !fs::is_regular_file(path, ec)) {
+    if (!writeBytes(path, bytes))
+      throw ImageError(fmt::format("cannot write '{}': write failed (device full?)", path));
+    return;
+  }
+  const std::string tmp = temporaryName(path);
+  if (!writeBytes(tmp, bytes)) {
+    fs::remove(tmp, ec);
+    throw ImageError(fmt::format("cannot write '{}': write failed (disk full, or the folder is "
+                                 "missing or not writable)", path));
+  }
+  fs::rename(tmp, path, ec);
+  if (ec) {
+    const std::string message = ec.message();
+    fs::remove(tmp, ec);
+    throw ImageError(fmt::format("cannot write '{}': {}", path, message));
+  }
 }
 
 }  // namespace

@@ -2,6 +2,11 @@
 // with an exposure in stops and a display gamma, as the seed's lit sphere widgets do, 3.6.2).
 //
 // Pixel data are interleaved RGB floats, row by row from the top.
+//
+// Every writer encodes the image in memory and writes it, with every write and the close checked,
+// to a temporary file beside the target that is renamed over it only then: a failed write
+// (ImageError naming the file) leaves no file and never truncates an existing one. A target that
+// exists and is not a regular file (a device, a FIFO) is written in place.
 #pragma once
 
 #include <cstdint>
