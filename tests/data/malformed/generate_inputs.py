@@ -251,6 +251,11 @@ im("png_gray.png", png(4, 2, b"\x00" + b"\x80" * 4 + b"\x00" + b"\x80" * 4, colo
 im("png_zero_size.png", png(0, 0, b""), "PNG read error: Invalid IHDR data")
 im("png_short_idat.png", png(4, 2, b"\x00\x80\x80"), "PNG read error: Not enough image data")
 im("garbage.png", bytes(range(256)) * 4, "Not a PNG file")
+# An attribute whose declared size runs past the end of the file (fuzz_image found that OpenEXR
+# allocates the declared size first: 1.9 GB for a 402-byte file); refused before OpenEXR reads it.
+im("exr_attribute_past_eof.exr",
+   b"\x76\x2f\x31\x01\x02\x00\x00\x00" + b"capDate\x00string\x00" + struct.pack("<i", 0x74000000) + b"x" * 16,
+   "OpenEXR header attribute 'capDate' (string) declares 1946157056 bytes, more than the 16 left in the file")
 os.makedirs(os.path.join(HERE, "images", "directory.exr"), exist_ok=True)
 write(os.path.join(HERE, "images", "directory.exr", "README"), "A folder named like an image (the corpus entry is the folder).\n")
 images.append(("directory.exr", "it is a directory: expected an image file"))
