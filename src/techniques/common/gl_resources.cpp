@@ -318,6 +318,19 @@ bool ClosedMeshState::loadClosedMesh(const scene::Scene& s) {
   return true;
 }
 
+FrameSize frameSize(const FrameRequest& request, const reference::Camera& camera) {
+  const FrameSize f{request.width > 0 ? request.width : camera.width,
+                    request.height > 0 ? request.height : camera.height};
+  if (f.width < 1 || f.height < 1 || f.width > 16384 || f.height > 16384)
+    throw ParameterError(fmt::format("image size {}x{}: expected width and height in [1, 16384]",
+                                     f.width, f.height));
+  return f;
+}
+
+void addPasses(Frame& frame, gpu::PassTimer& timer) {
+  for (const auto& pass : timer.collect()) frame.passes.push_back({pass.name, pass.ms, pass.depth});
+}
+
 void readRadianceAndExitance(Frame& frame, const gpu::Buffer& radiance, const gpu::Buffer& exitance,
                              size_t pixels) {
   const auto rad = gpu::download<glm::vec4>(radiance, pixels);

@@ -12,6 +12,7 @@
 
 #include "geometry/mesh.h"
 #include "gpu/objects.h"
+#include "gpu/pass_timer.h"
 #include "gpu/program.h"
 #include "reference/camera.h"
 #include "scene/scene.h"
@@ -176,6 +177,16 @@ struct ClosedMeshState {
   // Throws geometry::MeshError naming the file for an open mesh.
   bool loadClosedMesh(const scene::Scene& s);
 };
+
+// The image size a request asks for (the scene camera's where the request says 0); ParameterError
+// outside [1, 16384] in either direction.
+struct FrameSize {
+  int width = 0, height = 0;
+};
+FrameSize frameSize(const FrameRequest& request, const reference::Camera& camera);
+
+// Every pass the timer ended since its last collect() into frame.passes (waits for the GPU).
+void addPasses(Frame& frame, gpu::PassTimer& timer);
 
 // The radiance and exitance outputs of a technique's last pass (one vec4 per pixel, rows from
 // the top) into frame.rgb and frame.layers["exitance"].

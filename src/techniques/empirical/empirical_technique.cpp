@@ -222,10 +222,7 @@ struct EmpiricalTechnique::Impl {
   techniques::Frame render(const techniques::FrameRequest& request) {
     if (!scene) throw ParameterError("empirical: render() before prepare(): expected a scene");
     const scene::Scene& s = *scene;
-    const int w = request.width > 0 ? request.width : s.camera.width;
-    const int h = request.height > 0 ? request.height : s.camera.height;
-    if (w < 1 || h < 1 || w > 16384 || h > 16384)
-      throw ParameterError(fmt::format("image size {}x{}: expected width and height in [1, 16384]", w, h));
+    const auto [w, h] = techniques::frameSize(request, s.camera);
     const int kernel = params.getInt("kernel_size");
     if (kernel % 2 == 0)
       throw ParameterError(fmt::format("kernel_size {}: expected an odd number", kernel));
@@ -320,7 +317,7 @@ struct EmpiricalTechnique::Impl {
     frame.width = w;
     frame.height = h;
     if (!request.readback) {
-      for (const auto& pass : timer->collect()) frame.passes.push_back({pass.name, pass.ms, pass.depth});
+      techniques::addPasses(frame, *timer);
       return frame;
     }
     const std::vector<float> rgba = readRows(color, w, h);
@@ -339,7 +336,7 @@ struct EmpiricalTechnique::Impl {
       for (int k = 0; k < 4; ++k)
         for (int c = 0; c < 3; ++c) layer[k][i * 3 + size_t(c)] = dbg[i * 4 + size_t(k)];
     }
-    for (const auto& pass : timer->collect()) frame.passes.push_back({pass.name, pass.ms, pass.depth});
+    techniques::addPasses(frame, *timer);
     return frame;
   }
 };

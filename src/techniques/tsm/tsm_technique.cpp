@@ -226,11 +226,7 @@ struct TsmTechnique::Impl : techniques::ClosedMeshState {
   techniques::Frame render(const techniques::FrameRequest& request) {
     if (!scene) throw ParameterError("tsm: render() before prepare(): expected a scene");
     const scene::Scene& s = *scene;
-    const int width = request.width > 0 ? request.width : s.camera.width;
-    const int height = request.height > 0 ? request.height : s.camera.height;
-    if (width < 1 || height < 1 || width > 16384 || height > 16384)
-      throw ParameterError(fmt::format("image size {}x{}: expected width and height in [1, 16384]",
-                                       width, height));
+    const auto [width, height] = techniques::frameSize(request, s.camera);
     buildPrograms();
     buildKernel();
     if (!timer) timer.emplace();
@@ -300,7 +296,7 @@ struct TsmTechnique::Impl : techniques::ClosedMeshState {
     frame.width = width;
     frame.height = height;
     if (request.readback) techniques::readRadianceAndExitance(frame, radianceOut, exitanceOut, pixels);
-    for (const auto& pass : timer->collect()) frame.passes.push_back({pass.name, pass.ms, pass.depth});
+    techniques::addPasses(frame, *timer);
     return frame;
   }
 };
