@@ -559,6 +559,17 @@ Scene defaultScene() {
   return s;
 }
 
+material::Material sceneMaterial(const Scene& scene, const geometry::TriangleMesh& placed_mesh) {
+  (void)placed_mesh;  // homogeneous: the mesh is not needed
+  material::Material m;
+  m.medium = scene.medium;
+  m.model = scene.model;
+  m.frame.rotation = rotation(scene.mesh_rotate);
+  m.frame.translate = scene.mesh_translate;
+  m.frame.scale = scene.medium.scale;
+  return m;
+}
+
 std::string meshKey(const Scene& s) {
   return fmt::format("{}|fill{}|{}|{},{},{}|{}|{},{},{}", s.mesh_file.string(), s.mesh_fill_holes,
                      s.mesh_normalize,

@@ -68,6 +68,7 @@
 
 #include "geometry/hole_filling.h"
 #include "geometry/mesh.h"
+#include "material/material.h"
 #include "optics/medium.h"
 #include "reference/camera.h"
 #include "reference/transport.h"
@@ -161,6 +162,12 @@ void placeMesh(const Scene& scene, geometry::TriangleMesh& mesh);
 // A text that changes exactly when loadSceneMesh's result would (file and placement): techniques
 // keep their meshes, point clouds and AO while it stays the same.
 std::string meshKey(const Scene& scene);
+
+// The scene's material as renderers and tracers read it (material/material.h): its medium, model,
+// the scene → material-space frame of the placement, and (for a heterogeneous material) its field
+// or surface map, built against `placed_mesh` (loadSceneMesh's result: layers by depth below the
+// surface need it). Throws ParameterError naming the file or key that cannot be used.
+material::Material sceneMaterial(const Scene& scene, const geometry::TriangleMesh& placed_mesh);
 
 // The lights the references handle (directional, point, beam, environment: its map loaded);
 // throws ParameterError naming the first light of another type or an unreadable map.
