@@ -13,6 +13,7 @@
 #include <memory>
 #include <optional>
 
+#include "safe_print.h"
 #include "analysis/colormap.h"
 #include "analysis/image_io.h"
 #include "commands.h"
@@ -133,7 +134,7 @@ void run(const AtlasArgs& a) {
   const geometry::Atlas& atlas = cached.atlas;
   const geometry::AtlasCoverage cov = geometry::rasterizeCoverage(atlas);
   const geometry::AtlasStatistics st = geometry::atlasStatistics(atlas, cov);
-  if (!cached.note.empty()) fmt::print(stderr, "atlas: {}\n", cached.note);
+  if (!cached.note.empty()) printStderr("atlas: {}\n", cached.note);
   if (!a.out.empty()) drawAtlas(a.out, atlas, cov, a.range);
 
   if (a.json) {

@@ -21,6 +21,7 @@
 #include <optional>
 #include <set>
 
+#include "safe_print.h"
 #include "analysis/leaderboard.h"
 #include "analysis/report.h"
 #include "commands.h"
@@ -274,7 +275,7 @@ SceneOutcome compareScene(const CompareArgs& a, const Parsed& parsed, const std:
   report.command = cmd;
   if (s.mesh_fill_holes) {
     const std::string what = "mesh.fill_holes: " + scene::describeHoleFill(fill);
-    fmt::print(stderr, "{}\n", what);
+    printStderr("{}\n", what);
     report.notes.push_back(what);
   }
   report.settings = {{"techniques", fmt::format("{}", fmt::join(names, ","))},
@@ -310,7 +311,7 @@ SceneOutcome compareScene(const CompareArgs& a, const Parsed& parsed, const std:
     const bool physical = kind == analysis::ReferenceKind::Physical;
     ProgressBar bar(fmt::format("compare: {} reference", toString(kind)),
                     physical ? "photons" : "pixels");
-    fmt::print(stderr, "{} reference ({} {}):\n", toString(kind), req.count,
+    printStderr("{} reference ({} {}):\n", toString(kind), req.count,
                physical ? "photons per channel" : "surface samples");
     analysis::Reference ref;
     try {
@@ -333,7 +334,7 @@ SceneOutcome compareScene(const CompareArgs& a, const Parsed& parsed, const std:
                                                                    ? std::string("not cached")
                                                                    : ref.cache_note)
                                                             : "cached as " + ref.cache_file.string());
-    fmt::print(stderr, "{} reference: {}\n", toString(kind), what);
+    printStderr("{} reference: {}\n", toString(kind), what);
     report.notes.push_back(fmt::format("{} reference: {}", toString(kind), what));
     report.partial = report.partial || ref.partial;
     report.references.push_back(std::move(ref));
@@ -363,10 +364,10 @@ SceneOutcome compareScene(const CompareArgs& a, const Parsed& parsed, const std:
       // The scene's settings belong to the scene's technique; the others run at their defaults;
       // then a variant's own settings.
       t = makeSpec(name, &s);
-      fmt::print(stderr, "{}: preparing on {}\n", name, report.gpu);
+      printStderr("{}: preparing on {}\n", name, report.gpu);
       t->prepare(s, gl);
       Rendered r = renderTimed(*t, name, s, a.warmup, a.frames);
-      fmt::print(stderr, "  frame {:.3f} ms (median of {}), L by the {} convention{}\n", r.frame_ms,
+      printStderr("  frame {:.3f} ms (median of {}), L by the {} convention{}\n", r.frame_ms,
                  a.frames, toString(r.images.convention),
                  r.images.exitance.empty() ? ", no exitance" : "");
       rows = analysis::techniqueMetrics(r.images, report.references, eta, report.masks, display);
@@ -381,7 +382,7 @@ SceneOutcome compareScene(const CompareArgs& a, const Parsed& parsed, const std:
       // inside the bounding sphere): the other techniques and the references still say
       // something, so the report keeps them and lists this one with its reason.
       run.error = e.what();
-      fmt::print(stderr, "{}: failed: {}\n", name, run.error);
+      printStderr("{}: failed: {}\n", name, run.error);
     }
     if (t)
       for (const auto& p : t->parameters())
@@ -417,7 +418,7 @@ SceneOutcome compareScene(const CompareArgs& a, const Parsed& parsed, const std:
             analysis::SweepPoint point{name, p.name, v, sr.frame_ms,
                                        analysis::techniqueMetrics(sr.images, report.references,
                                                                   eta, report.masks, display)};
-            fmt::print(stderr, "  sweep {} = {:g}: {:.3f} ms\n", p.name, v, sr.frame_ms);
+            printStderr("  sweep {} = {:g}: {:.3f} ms\n", p.name, v, sr.frame_ms);
             for (const PairMetrics& m : point.metrics) {
               if (m.quantity != "radiance") continue;
               auto& xy = series[m.reference];
@@ -430,7 +431,7 @@ SceneOutcome compareScene(const CompareArgs& a, const Parsed& parsed, const std:
             const std::string note =
                 fmt::format("sweep {} = {:g} failed, sweep of {} stopped: {}", p.name, v, p.name,
                             e.what());
-            fmt::print(stderr, "  {}\n", note);
+            printStderr("  {}\n", note);
             run.notes.push_back(note);
             break;
           }
@@ -531,7 +532,7 @@ void runSuite(const CompareArgs& a, const Parsed& o) {
       scenes.push_back(sc);
       continue;
     }
-    fmt::print(stderr, "==== suite {}/{}: {}\n", i + 1, files.size(), files[i].string());
+    printStderr("==== suite {}/{}: {}\n", i + 1, files.size(), files[i].string());
     const auto t0 = std::chrono::steady_clock::now();
     try {
       const SceneOutcome r = compareScene(a, o, files[i].string(), out / sc.name);
@@ -546,7 +547,7 @@ void runSuite(const CompareArgs& a, const Parsed& o) {
       sc.error = what.find(files[i].string()) == std::string::npos
                      ? fmt::format("{}: {}", files[i].string(), what)
                      : what;
-      fmt::print(stderr, "{}: failed: {}\n", files[i].string(), e.what());
+      printStderr("{}: failed: {}\n", files[i].string(), e.what());
     }
     sc.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (InterruptGuard::interrupted()) info.partial = true;

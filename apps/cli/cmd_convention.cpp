@@ -20,6 +20,7 @@
 #include <map>
 #include <sstream>
 
+#include "safe_print.h"
 #include "analysis/exit_convention_study.h"
 #include "bssrdf/exit_radiance.h"
 #include "commands.h"
@@ -352,13 +353,13 @@ void runStudy(const StudyArgs& a) {
   std::vector<Run> runs;
   for (const auto& m : materials) {
     runs.push_back(runSphere(a, m));
-    fmt::print(stderr, "convention-study: sphere {}: {} photons per channel, {:.1f} s\n", m,
+    printStderr("convention-study: sphere {}: {} photons per channel, {:.1f} s\n", m,
                runs.back().photons, runs.back().seconds);
   }
   for (bool front : {false, true})
     for (const auto& m : materials) {
       runs.push_back(runBunny(a, m, front));
-      fmt::print(stderr, "convention-study: {} {}: {} photons per channel, {:.1f} s\n",
+      printStderr("convention-study: {} {}: {} photons per channel, {:.1f} s\n",
                  runs.back().scene, m, runs.back().photons, runs.back().seconds);
     }
   std::string command = "translucent convention-study";

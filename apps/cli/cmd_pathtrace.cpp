@@ -8,6 +8,7 @@
 // is written with "partial": true.
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -18,6 +19,7 @@
 #include <numbers>
 #include <optional>
 
+#include "safe_print.h"
 #include "commands.h"
 #include "output_guard.h"
 #include "progress.h"
@@ -198,10 +200,37 @@ void writeCsv(const std::string& path, const SlabResult& r) {
   writeTextOutput("--csv", path, text);
 }
 
+// Legal numbers that lead nowhere (issue 15): with almost no absorption a walk in a thick slab
+// goes on for ~1/(1 − α') scattering events before it is absorbed, and in a half-space the walk
+// lengths are heavy-tailed (the depth is a 1D random walk: P(N > k) ~ k^{-1/2}), so the longest
+// of n photons is ~n² events. A photon is never interrupted mid-walk, so Ctrl-C and --time-limit
+// cannot stop such a run either. Without long-path roulette (which ends every walk) a longest walk
+// over kMaxWalkEvents is refused with the estimate.
+constexpr double kMaxWalkEvents = 1e10;  // ~minutes for one photon at ~1e8 events/s
+
+void checkWalkLength(const SlabSetup& s, const TraceOptions& o) {
+  if (o.long_path_roulette != 0) return;
+  const double sigmaTPrime = s.sigma_a + (1.0 - s.g) * s.sigma_s;
+  const double absorbed = s.sigma_a / sigmaTPrime;  // 1 − α': absorption chance per step
+  const double n = static_cast<double>(o.photons);
+  double longest = std::min(absorbed > 0.0 ? 1.0 / absorbed : HUGE_VAL, n * n);
+  // A finite slab: a diffusing walk crosses it after ~(σt' L)² steps and leaves.
+  if (s.finite()) longest = std::min(longest, 10.0 * std::pow(sigmaTPrime * s.thickness, 2) + 10.0);
+  if (longest > kMaxWalkEvents)
+    throw ParameterError(fmt::format(
+        "--sigma-a is {} with σs' = {}: absorption ends a walk only after ~1/(1 − α') = {:.3g} "
+        "scattering events, and the longest of {} walks would take ~{:.3g} events (hours to years, "
+        "and no photon is interrupted mid-walk); give --long-path-roulette N (e.g. 1e6) to end "
+        "long walks without bias, a larger --sigma-a, or a --thickness",
+        s.sigma_a, (1.0 - s.g) * s.sigma_s, absorbed > 0.0 ? 1.0 / absorbed : HUGE_VAL,
+        o.photons, longest));
+}
+
 void runSlab(const PathtraceArgs& a) {
   std::string unit;
   const SlabSetup setup = buildSetup(a, unit);
   const TraceOptions options = buildOptions(a);
+  checkWalkLength(setup, options);
   if (a.time_limit && !(*a.time_limit > 0.0))
     throw ParameterError(fmt::format("--time-limit is {}: expected seconds > 0", *a.time_limit));
   // Make sure the outputs can be written, and are two different files, before spending the time;
@@ -211,7 +240,7 @@ void runSlab(const PathtraceArgs& a) {
   outputs.output("--csv", a.csv);
   outputs.check();
   if (options.long_path_roulette > 0)
-    fmt::print(stderr,
+    printStderr(
                "pathtrace: note: long-path roulette keeps estimates unbiased, but each roulette "
                "multiplies the second moment by 10 x (chance to continue); where that exceeds "
                "1 the variance is infinite and the standard errors are not reliable\n");
@@ -227,7 +256,7 @@ void runSlab(const PathtraceArgs& a) {
 
   writeJson(a.json, setup, options, r, unit);
   if (!a.csv.empty()) writeCsv(a.csv, r);
-  fmt::print(stderr,
+  printStderr(
              "pathtrace: {}{} photons in {:.2f} s ({:.3g} photons/s, {} threads): Rsp {:.5f}, "
              "Rd {:.5f} ± {:.5f}, T {:.5f} ± {:.5f}, A {:.5f} ± {:.5f}; wrote {}{}\n",
              r.partial ? "stopped early, partial result: " : "", r.photons, r.seconds,

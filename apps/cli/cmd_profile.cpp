@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <memory>
 
+#include "safe_print.h"
 #include "analysis/model_study.h"
 #include "analysis/pencil_reference.h"
 #include "analysis/profile_curves.h"
@@ -102,7 +103,7 @@ analysis::Curve referenceCurve(const Medium& medium, analysis::Channel ch, doubl
     results[c] = reference::traceSlab(reference::SlabSetup::semiInfinite(m), o,
                                       [&](const reference::TraceProgress& p) { return bar(p); });
     bar.end();
-    if (results[c].partial) fmt::print(stderr, "profile: reference stopped early, partial\n");
+    if (results[c].partial) printStderr("profile: reference stopped early, partial\n");
   }
   return analysis::pencilReferenceCurve({needed[0] ? &results[0] : nullptr,
                                         needed[1] ? &results[1] : nullptr,
@@ -148,12 +149,12 @@ void runStudy(const ProfileArgs& a, const std::string& command) {
     return (*bar)(p.trace);
   });
   if (bar) bar->end();
-  if (study.partial) fmt::print(stderr, "profile --study: stopped early, the outputs are partial\n");
+  if (study.partial) printStderr("profile --study: stopped early, the outputs are partial\n");
   if (!a.out.empty())
     writeOutput(a.out, [&](const std::string& p) { analysis::writeModelStudyMarkdown(p, study, command); });
   if (!a.csv.empty()) writeOutput(a.csv, [&](const std::string& p) { analysis::writeModelStudyCsv(p, study); });
   if (!a.json.empty()) writeOutput(a.json, [&](const std::string& p) { analysis::writeModelStudyJson(p, study); });
-  fmt::print(stderr, "profile --study: {} models x {} channels in {:.0f} s\n", study.models.size(),
+  printStderr("profile --study: {} models x {} channels in {:.0f} s\n", study.models.size(),
              study.references.size(), study.seconds);
   fmt::print("{}", analysis::modelStudySummaryMarkdown(study));
 }
@@ -246,7 +247,7 @@ void runProfile(const ProfileArgs& a) {
     po.height = a.height;
     writeOutput(a.out, [&](const std::string& p) { plot::writeProfilePlot(p, curves, po); });
   }
-  fmt::print(stderr, "wrote {} ({} curves x {} points)\n", a.out, curves.size(), a.points);
+  printStderr("wrote {} ({} curves x {} points)\n", a.out, curves.size(), a.points);
 }
 
 }  // namespace

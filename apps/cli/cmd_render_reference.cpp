@@ -27,6 +27,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 
+#include "safe_print.h"
 #include "analysis/image_io.h"
 #include "bssrdf/registry.h"
 #include "commands.h"
@@ -298,7 +299,7 @@ void runPathtraceSphere(const SphereArgs& s, const RunArgs& a) {
   };
   runPasses(a, "pathtrace sphere", "photons", pass, write);
   const auto& st = tracer.stats();
-  fmt::print(stderr, "pathtrace sphere: {}{} photons per channel in {:.2f} s ({:.3g} photons/s, "
+  printStderr("pathtrace sphere: {}{} photons per channel in {:.2f} s ({:.3g} photons/s, "
                      "{} threads); wrote {}{}\n",
              st.partial ? "stopped early, partial result: " : "",
              st.photons.empty() ? 0 : st.photons[0], st.seconds, st.photonsPerSecond(),
@@ -340,7 +341,7 @@ void runIntegrateSphere(const SphereArgs& s, const RunArgs& a, const std::string
   };
   runPasses(a, "integrate sphere", "samples", pass, write);
   const auto& st = integrator.stats();
-  fmt::print(stderr, "integrate sphere: {}{} ({} sampling), {} samples per pixel in {:.2f} s "
+  printStderr("integrate sphere: {}{} ({} sampling), {} samples per pixel in {:.2f} s "
                      "({} threads); wrote {}{}\n",
              st.partial ? "stopped early, partial result: " : "", model, sampling, st.samples,
              st.seconds, st.threads, a.exr, a.png.empty() ? "" : " and " + a.png);
@@ -376,7 +377,7 @@ void runPathtraceMesh(const std::string& sceneFile, const RunArgs& a) {
   };
   runPasses(a, "pathtrace mesh", "photons", pass, write);
   const auto& st = tracer.stats();
-  fmt::print(stderr, "pathtrace mesh: {}{} photons per channel in {:.2f} s ({:.3g} photons/s, "
+  printStderr("pathtrace mesh: {}{} photons per channel in {:.2f} s ({:.3g} photons/s, "
                      "{} threads, {} triangles); wrote {}{}\n",
              st.partial ? "stopped early, partial result: " : "",
              st.photons.empty() ? 0 : st.photons[0], st.seconds, st.photonsPerSecond(),
@@ -457,7 +458,7 @@ void runIntegrateMesh(const ModelReferenceArgs& m, const RunArgs& a) {
     writeJson(a, j);
   };
   runPasses(a, "integrate mesh", "pixels", pass, write);
-  fmt::print(stderr, "integrate mesh: {}{} ({}), {} surface samples ({} lit), {}x{} pixels, {} "
+  printStderr("integrate mesh: {}{} ({}), {} surface samples ({} lit), {}x{} pixels, {} "
                      "rays per pixel, in {:.2f} s ({} threads); wrote {}{}\n",
              img.partial ? "stopped early, partial result: " : "", scene.model, m.convention,
              img.samples, img.lit_samples, img.width, img.height, o.subpixels * o.subpixels,

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <exception>
 
+#include "safe_print.h"
 #include "commands.h"
 
 int main(int argc, char** argv) {
@@ -29,7 +30,7 @@ int main(int argc, char** argv) {
     // What the command printed first: the error is the last line even when stdout (buffered) and
     // stderr go to one file, as a report's summary followed by what failed in it.
     std::fflush(stdout);
-    fmt::print(stderr, "translucent: error: {}\n", e.what());
+    translucent::cli::printStderr("translucent: error: {}\n", e.what());
     return 1;
   }
   return 0;

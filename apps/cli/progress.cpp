@@ -7,6 +7,8 @@
 #include <cmath>
 #include <csignal>
 
+#include "safe_print.h"
+
 namespace translucent::cli {
 namespace {
 volatile std::sig_atomic_t gInterrupted = 0;
@@ -44,20 +46,32 @@ bool ProgressBar::update(uint64_t done, uint64_t total, double seconds) {
                                        rate, unit_, clockText(seconds), clockText(eta));
   if (tty_) {
     const int width = 30, filled = static_cast<int>(std::clamp(frac, 0.0, 1.0) * width);
-    fmt::print(stderr, "\r[{}{}] {}   ", std::string(static_cast<size_t>(filled), '#'),
+    printStderr("\r[{}{}] {}   ", std::string(static_cast<size_t>(filled), '#'),
                std::string(static_cast<size_t>(width - filled), '.'), text);
     drawn_ = true;
   } else if (seconds >= nextLine_) {
-    fmt::print(stderr, "{}: {}\n", label_, text);
+    printStderr("{}: {}\n", label_, text);
     nextLine_ = seconds + 10.0;
   }
   if (limit_ && seconds >= *limit_) return false;
+  if (!limit_ && seconds >= kCostCheckSeconds && done > 0 && done < total) {
+    const double projected = seconds * static_cast<double>(total) / static_cast<double>(done);
+    if (projected > kMaxProjectedSeconds) {
+      refused_ = fmt::format(
+          "{}: refused: {} {} at the measured {:.3g} {}/s would take about {:.1f} days (more than "
+          "{:.0f} hours); lower the count, or give --time-limit (where the command has it) to stop "
+          "early with partial results", label_, total, unit_, rate, unit_, projected / 86400.0,
+          kMaxProjectedSeconds / 3600.0);
+      return false;
+    }
+  }
   return !InterruptGuard::interrupted();
 }
 
 void ProgressBar::end() {
-  if (drawn_) fmt::print(stderr, "\n");
+  if (drawn_) printStderr("\n");
   drawn_ = false;
+  if (!refused_.empty()) throw ParameterError(refused_);
 }
 
 }  // namespace translucent::cli

@@ -25,6 +25,14 @@ class InterruptGuard {
   void (*previous_)(int);
 };
 
+// Runs that would take days are refused rather than left to run (issue 15, "legal numbers that
+// lead nowhere"): once a run without a time limit has gone kCostCheckSeconds, a projected total
+// over kMaxProjectedSeconds stops it, and end() throws ParameterError with the measured rate and
+// the projection (the command then writes nothing). A run with --time-limit is the user's
+// explicit choice and is never refused.
+inline constexpr double kCostCheckSeconds = 5.0;
+inline constexpr double kMaxProjectedSeconds = 24.0 * 3600.0;
+
 class ProgressBar {
  public:
   // `label` starts plain lines ("pathtrace: ..."), `unit` names what is counted ("photons").
@@ -34,7 +42,8 @@ class ProgressBar {
   bool operator()(const reference::TraceProgress& p) {
     return update(p.photons_done, p.photons_total, p.seconds);
   }
-  // Ends the bar's line (call once when done).
+  // Ends the bar's line (call once when done); throws ParameterError when the run was refused
+  // for its projected cost.
   void end();
 
  private:
@@ -42,6 +51,7 @@ class ProgressBar {
   bool tty_, drawn_ = false;
   double nextLine_ = 10.0;
   std::optional<double> limit_;
+  std::string refused_;  // why the run was stopped for its cost ("" if it was not)
 };
 
 // "mm:ss" or "h:mm:ss"; "--:--" for unknown.

@@ -13,6 +13,7 @@
 
 #include "analysis/report.h"
 #include "analysis/report_text.h"
+#include "geometry/atomic_file.h"
 #include "optics/medium.h"  // ParameterError
 
 namespace translucent::analysis {
@@ -173,10 +174,11 @@ std::vector<Summary> summarize(const std::vector<Row>& rows) {
   return out;
 }
 
+// Temporary file and rename (geometry/atomic_file.h): a failing write never truncates a page.
 void writeText(const fs::path& path, const std::string& text) {
-  std::ofstream f(path);
-  f << text;
-  if (!f) throw ParameterError(fmt::format("--out: cannot write '{}'", path.string()));
+  const std::string why = geometry::writeFileAtomically(path, text);
+  if (!why.empty())
+    throw ParameterError(fmt::format("--out: cannot write '{}': {}", path.string(), why));
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 #include "analysis/colormap.h"
 #include "analysis/image_io.h"
 #include "analysis/report_text.h"
+#include "geometry/atomic_file.h"
 
 namespace translucent::analysis {
 namespace fs = std::filesystem;
@@ -132,9 +133,10 @@ class Writer {
     return name;
   }
   std::string text(const std::string& name, const std::string& content) {
-    std::ofstream f(file(name));
-    f << content;
-    if (!f) throw ImageError(fmt::format("cannot write '{}'", (dir_ / name).string()));
+    // Temporary file and rename: an interrupted or failing write never leaves half a page.
+    const std::string why = geometry::writeFileAtomically(file(name), content);
+    if (!why.empty())
+      throw ImageError(fmt::format("cannot write '{}': {}", (dir_ / name).string(), why));
     return name;
   }
   const std::vector<std::string>& files() const { return files_; }
@@ -527,11 +529,9 @@ std::vector<std::string> writeReport(const fs::path& dir, const CompareReport& r
   std::vector<std::string> files = w.files();
   files.push_back("report.json");
   j["files"] = files;
-  {
-    std::ofstream f(dir / "report.json");
-    f << j.dump(2) << "\n";
-    if (!f) throw ImageError(fmt::format("cannot write '{}'", (dir / "report.json").string()));
-  }
+  if (const std::string why = geometry::writeFileAtomically(dir / "report.json", j.dump(2) + "\n");
+      !why.empty())
+    throw ImageError(fmt::format("cannot write '{}': {}", (dir / "report.json").string(), why));
   return files;
 }
 

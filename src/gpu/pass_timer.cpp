@@ -30,12 +30,36 @@ void PassTimer::end() {
   open_.pop_back();
 }
 
+void PassTimer::endNoThrow() noexcept {
+  if (open_.empty()) return;  // nothing open (ended explicitly): nothing to end
+  glQueryCounter(pending_[open_.back()].stop.id(), GL_TIMESTAMP);
+  const GLenum error = glGetError();
+  if (error != GL_NO_ERROR && deferred_error_.empty()) {
+    try {
+      deferred_error_ = fmt::format("PassTimer: glQueryCounter failed ending pass '{}' (GL error "
+                                    "0x{:04x})", pending_[open_.back()].name, error);
+    } catch (...) {
+      deferred_error_ = "PassTimer: glQueryCounter failed ending a pass";
+    }
+  }
+  while (glGetError() != GL_NO_ERROR) {
+  }
+  open_.pop_back();
+}
+
 PassTimer::Scope PassTimer::scope(std::string name) {
   begin(std::move(name));
   return Scope(*this);
 }
 
 std::vector<PassTimer::Pass> PassTimer::collect() {
+  if (!deferred_error_.empty()) {
+    const std::string message = std::move(deferred_error_);
+    deferred_error_.clear();
+    pending_.clear();
+    open_.clear();
+    throw GlError(message);
+  }
   if (!open_.empty())
     throw GlError(fmt::format("PassTimer::collect() while pass '{}' is still open",
                               pending_[open_.back()].name));

@@ -37,8 +37,10 @@ class PassTimer {
   class Scope {
    public:
     explicit Scope(PassTimer& timer) : timer_(&timer) {}
+    // Never throws (a destructor that throws while an exception unwinds the stack terminates
+    // the program): a GL error here is kept and thrown by the next collect().
     ~Scope() {
-      if (timer_ != nullptr) timer_->end();
+      if (timer_ != nullptr) timer_->endNoThrow();
     }
     Scope(Scope&& o) noexcept : timer_(o.timer_) { o.timer_ = nullptr; }
     Scope(const Scope&) = delete;
@@ -52,7 +54,7 @@ class PassTimer {
   [[nodiscard]] Scope scope(std::string name);
 
   // Waits for the GPU and returns every ended pass since the last collect(), in begin order.
-  // Throws GlError if a pass is still open.
+  // Throws GlError if a pass is still open, or for a GL error a Scope's destructor kept.
   std::vector<Pass> collect();
   // Time of the most recent collected pass with this name, or a negative number if none.
   double lastMs(std::string_view name) const;
@@ -66,6 +68,9 @@ class PassTimer {
   std::vector<Pending> pending_;
   std::vector<size_t> open_;  // indices into pending_
   std::vector<Pass> last_;
+  std::string deferred_error_;  // from endNoThrow, thrown by collect()
+
+  void endNoThrow() noexcept;
 };
 
 }  // namespace translucent::gpu

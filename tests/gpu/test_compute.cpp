@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <numeric>
+#include <stdexcept>
 
 #include "gpu/compute.h"
 #include "gpu/pass_timer.h"
@@ -134,6 +135,19 @@ TEST_F(GpuTest, PassTimerReportsNestedPassesInMilliseconds) {
   EXPECT_THROW(timer.collect(), GlError);
   timer.end();
   EXPECT_THROW(timer.end(), GlError);
+
+  // A scope left by an exception ends its pass without throwing from its destructor, and the
+  // pass is reported like any other.
+  EXPECT_THROW(
+      {
+        auto unwound = timer.scope("unwound");
+        throw std::runtime_error("thrown inside a timed pass");
+      },
+      std::runtime_error);
+  const auto after = timer.collect();
+  ASSERT_EQ(after.size(), 2u);  // "open" (ended explicitly above) and "unwound"
+  EXPECT_EQ(after[1].name, "unwound");
+  EXPECT_GE(after[1].ms, 0.0);
 }
 
 }  // namespace
