@@ -209,7 +209,7 @@ void writeCsv(const std::string& path, const SlabResult& r) {
 constexpr double kMaxWalkEvents = 1e10;  // ~minutes for one photon at ~1e8 events/s
 
 void checkWalkLength(const SlabSetup& s, const TraceOptions& o) {
-  if (o.long_path_roulette != 0) return;
+  if (o.long_path_roulette != 0 || !(s.sigma_a > 0.0)) return;  // σa = 0: traceSlab says why
   const double sigmaTPrime = s.sigma_a + (1.0 - s.g) * s.sigma_s;
   const double absorbed = s.sigma_a / sigmaTPrime;  // 1 − α': absorption chance per step
   const double n = static_cast<double>(o.photons);
