@@ -3,6 +3,7 @@
 #include <QtCore/QDateTime>
 #include <QtCore/QPointer>
 #include <QtGui/QFontDatabase>
+#include <QtGui/QTextCursor>
 #include <QtWidgets/QPlainTextEdit>
 
 namespace translucent::explorer {
@@ -52,11 +53,23 @@ void ConsoleDock::append(MessageLevel level, const QString& text) {
                                                         : "#404040";
   const char* tag = level == MessageLevel::Error ? "error" : level == MessageLevel::Warning ? "warning" : "info";
   if (level == MessageLevel::Error) ++errors_;
+  const int seen = repeats_.see(level, text);
   const QString time = QDateTime::currentDateTime().toString(QStringLiteral("HH:mm:ss"));
   QString html = text.toHtmlEscaped();
+  if (seen > 1) html += QStringLiteral(" (repeated %1 times)").arg(seen);
   html.replace(QLatin1Char('\n'), QStringLiteral("<br>&nbsp;&nbsp;"));
-  log_->appendHtml(QStringLiteral("<span style=\"color:%1\">%2 %3: %4</span>")
-                       .arg(QLatin1String(colour), time, QLatin1String(tag), html));
+  const QString line = QStringLiteral("<span style=\"color:%1\">%2 %3: %4</span>")
+                           .arg(QLatin1String(colour), time, QLatin1String(tag), html);
+  if (seen == 1) {
+    log_->appendHtml(line);
+    return;
+  }
+  // The same message again: its line (the last one) is rewritten in place with the count.
+  QTextCursor cursor(log_->document());
+  cursor.movePosition(QTextCursor::End);
+  cursor.movePosition(QTextCursor::StartOfBlock, QTextCursor::KeepAnchor);
+  cursor.removeSelectedText();
+  cursor.insertHtml(line);
 }
 
 QString ConsoleDock::text() const { return log_->toPlainText(); }

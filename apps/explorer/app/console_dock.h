@@ -5,6 +5,7 @@
 #include <QtWidgets/QDockWidget>
 
 #include "core/explorer_state.h"
+#include "core/message_repeats.h"
 
 class QPlainTextEdit;
 
@@ -18,13 +19,14 @@ class ConsoleDock : public QDockWidget {
   ~ConsoleDock() override;
 
   QString text() const;  // plain text of the log, one message a line
-  int errorCount() const { return errors_; }
+  int errorCount() const { return errors_; }  // errors received (repeats included)
 
   void append(MessageLevel level, const QString& text);
 
  private:
   QPlainTextEdit* log_ = nullptr;
   int errors_ = 0;
+  MessageRepeats repeats_;  // a repeat of the last message rewrites its line with a count
 };
 
 }  // namespace translucent::explorer

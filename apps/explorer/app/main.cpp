@@ -23,6 +23,7 @@
 #include "app/main_window.h"
 #include "app/viewport_dock.h"
 #include "core/explorer_state.h"
+#include "core/message_repeats.h"
 
 using namespace translucent;
 using namespace translucent::explorer;
@@ -123,6 +124,18 @@ int main(int argc, char** argv) {
   options.restore_layout = !parser.isSet(reset) && !scripted;
   options.save_layout = !scripted;
   MainWindow window(state, options);
+  if (scripted) {
+    // No one watches the console of a scripted run: its warnings and errors go to stderr too,
+    // a repeat of the previous message once (core/message_repeats.h).
+    auto repeats = std::make_shared<MessageRepeats>();
+    QObject::connect(&state, &ExplorerState::message, &state,
+                     [repeats](MessageLevel level, const QString& text) {
+                       if (level == MessageLevel::Info || repeats->see(level, text) > 1) return;
+                       std::fprintf(stderr, "translucent-explorer: %s: %s\n",
+                                    level == MessageLevel::Error ? "error" : "warning",
+                                    qPrintable(text));
+                     });
+  }
   if (parser.isSet(size)) {
     const QStringList wh = parser.value(size).split(QLatin1Char('x'));
     if (wh.size() != 2 || wh[0].toInt() <= 0 || wh[1].toInt() <= 0) {
@@ -145,7 +158,7 @@ int main(int argc, char** argv) {
   if (!parser.positionalArguments().isEmpty()) {
     const QString file = parser.positionalArguments().first();
     if (!window.openScene(file) && scripted) {
-      std::fprintf(stderr, "cannot open the scene '%s' (see the console)\n", qPrintable(file));
+      std::fprintf(stderr, "cannot open the scene '%s' (the reason is above)\n", qPrintable(file));
       return 1;
     }
   }

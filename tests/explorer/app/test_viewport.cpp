@@ -194,6 +194,25 @@ class Viewport : public QObject {
     QVERIFY(sum > 0.0);
   }
 
+  // A message repeated back to back is shown once, its line rewritten with the count (a renderer
+  // failing on every frame must not flood the console); a different message in between starts
+  // a new line; every error still counts.
+  void repeatedMessagesAreShownOnceWithACount() {
+    const int errors = console_->errorCount();
+    const QString text = QStringLiteral("shader 'x.glsl' line 3: a test error");
+    for (int i = 0; i < 3; ++i) console_->append(MessageLevel::Error, text);
+    console_->append(MessageLevel::Info, QStringLiteral("something else"));
+    console_->append(MessageLevel::Error, text);
+    QCOMPARE(console_->errorCount(), errors + 4);
+    const QStringList lines = console_->text().split(QLatin1Char('\n'));
+    QVERIFY(lines.size() >= 3);
+    const QStringList last = lines.mid(lines.size() - 3);
+    QVERIFY2(last[0].endsWith(text + QStringLiteral(" (repeated 3 times)")), qPrintable(last[0]));
+    QVERIFY2(last[1].endsWith(QStringLiteral("info: something else")), qPrintable(last[1]));
+    QVERIFY2(last[2].endsWith(QStringLiteral("error: ") + text), qPrintable(last[2]));
+    QCOMPARE(console_->text().count(text), 2);
+  }
+
   // The technique views dock (seed Fig. 3.1 for tsis): visible, it asks the viewport for the
   // views; it then shows tsis's atlas, in which the frame's samples are drawn in red over the
   // grey irradiance.
