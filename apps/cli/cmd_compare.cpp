@@ -256,6 +256,7 @@ SceneOutcome compareScene(const CompareArgs& a, const Parsed& parsed, const std:
   analysis::prepareReportDirectory(out, a.force, cacheDir, "--out");
   geometry::HoleFillStats fill;
   const geometry::TriangleMesh mesh = scene::loadSceneMesh(s, &fill);
+  scene::requireOutsideMesh(s, mesh);
 
   analysis::CompareReport report;
   report.scene_file = sceneFile;

@@ -87,6 +87,9 @@ void runRender(const RenderArgs& a) {
   outputs.output("--out", a.out);
   outputs.sceneInputs(a.scene, s);
   outputs.check();
+  // A camera or light inside the object renders nothing meaningful: refuse it (the mesh is
+  // loaded once more for this, about 0.1 s for the bunny).
+  scene::requireOutsideMesh(s, scene::loadSceneMesh(s));
 
   // The context first: the technique's GL objects must be deleted while it is alive.
   gpu::Context gl;

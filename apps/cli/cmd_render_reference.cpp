@@ -355,6 +355,7 @@ void runPathtraceMesh(const std::string& sceneFile, const RunArgs& a) {
   inputs.sceneInputs(sceneFile, scene);
   a.validate(inputs);
   const geometry::TriangleMesh mesh = scene::loadSceneMesh(scene);  // normalised and placed
+  scene::requireOutsideMesh(scene, mesh);
   const uint64_t photons = parseCount(a.count, "--photons");
   reference::MeshPathTracer tracer(mesh, scene.medium, scene::referenceLights(scene), scene.camera,
                                    scene.cone_angle, {a.seed, a.threads});
@@ -419,6 +420,7 @@ void runIntegrateMesh(const ModelReferenceArgs& m, const RunArgs& a) {
   inputs.sceneInputs(m.scene, scene);
   a.validate(inputs);
   const geometry::TriangleMesh mesh = scene::loadSceneMesh(scene);  // normalised and placed
+  scene::requireOutsideMesh(scene, mesh);
   const std::vector<reference::Light> lights = scene::referenceLights(scene);
   reference::ModelReferenceOptions o = m.options;
   o.samples = parseCount(a.count, "--samples");

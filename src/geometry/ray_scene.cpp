@@ -122,4 +122,26 @@ bool RayScene::occluded(const glm::dvec3& o, const glm::dvec3& d, double t_min, 
   return ray.tfar == -std::numeric_limits<float>::infinity();
 }
 
+bool insideClosedMesh(const RayScene& rays, const glm::dvec3& p) {
+  // Directions with no simple relation to the axes, so that axis-aligned meshes (cubes) do not
+  // make every ray run along a face.
+  static const glm::dvec3 kDirections[3] = {glm::normalize(glm::dvec3(0.5377, 0.8121, 0.2268)),
+                                            glm::normalize(glm::dvec3(-0.6983, 0.1254, 0.7047)),
+                                            glm::normalize(glm::dvec3(0.2311, -0.9032, -0.3618))};
+  int insideVotes = 0;
+  for (const glm::dvec3& d : kDirections) {
+    int crossings = 0;
+    double t = 0.0;
+    RayHit hit;
+    // Each hit moves the start a little past it (relative to the distance travelled, as Embree
+    // intersects in single precision); 10^5 crossings bounds a pathological mesh.
+    while (crossings < 100000 && rays.intersect(p, d, t, std::numeric_limits<double>::infinity(), hit)) {
+      ++crossings;
+      t = hit.t + 1e-6 * (1.0 + hit.t + glm::length(p));
+    }
+    if (crossings % 2 == 1) ++insideVotes;
+  }
+  return insideVotes >= 2;
+}
+
 }  // namespace translucent::geometry

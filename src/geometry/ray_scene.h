@@ -53,4 +53,10 @@ class RayScene {
   double device_seconds_ = 0.0, build_seconds_ = 0.0;
 };
 
+// Whether p lies inside the closed mesh of `rays`: the parity of the surface crossings along
+// three fixed, mutually skew directions, by majority (a ray that grazes an edge or a vertex can
+// count one crossing too many or too few; three independent rays rarely all do). Only meaningful
+// for a closed (watertight) mesh.
+bool insideClosedMesh(const RayScene& rays, const glm::dvec3& p);
+
 }  // namespace translucent::geometry

@@ -7,14 +7,17 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <numbers>
 #include <set>
 #include <sstream>
 
 #include <glm/geometric.hpp>
+#include <glm/vector_relational.hpp>
 #include <glm/mat3x3.hpp>
 
+#include "geometry/ray_scene.h"
 #include "optics/presets.h"
 #include "scene/data_path.h"
 
@@ -557,6 +560,41 @@ Scene defaultScene() {
   s.camera.height = 480;
   s.technique = "pointcloud";
   return s;
+}
+
+void requireOutsideMesh(const Scene& scene, const geometry::TriangleMesh& placed_mesh) {
+  struct Point {
+    std::string key;
+    glm::dvec3 p;
+  };
+  std::vector<Point> points{{"camera.position", scene.camera.position}};
+  for (size_t i = 0; i < scene.lights.size(); ++i) {
+    const auto& e = scene.lights[i].emitter;
+    if (const auto* pl = std::get_if<reference::PointLight>(&e))
+      points.push_back({fmt::format("lights[{}].position", i), pl->position});
+    else if (const auto* bl = std::get_if<reference::BeamLight>(&e))
+      points.push_back({fmt::format("lights[{}].origin", i), bl->origin});
+  }
+  const geometry::Bounds b = placed_mesh.bounds();
+  auto inBox = [&](const glm::dvec3& p) {
+    return glm::all(glm::greaterThanEqual(p, b.lower)) && glm::all(glm::lessThanEqual(p, b.upper));
+  };
+  std::unique_ptr<geometry::RayScene> rays;
+  bool checkedClosed = false;
+  for (const Point& pt : points) {
+    if (!inBox(pt.p)) continue;
+    if (!checkedClosed) {
+      // An open mesh has no inside (the parity says nothing): the references refuse it anyway.
+      if (placed_mesh.openEdgeCount() != 0) return;
+      checkedClosed = true;
+    }
+    if (!rays) rays = std::make_unique<geometry::RayScene>(placed_mesh, scene.mesh_file.string());
+    if (geometry::insideClosedMesh(*rays, pt.p))
+      throw ParameterError(fmt::format(
+          "{} [{}, {}, {}] is inside the mesh '{}' (placed, its bounds [{}, {}, {}] .. [{}, {}, {}]): "
+          "expected a point outside the object", pt.key, pt.p.x, pt.p.y, pt.p.z,
+          scene.mesh_file.string(), b.lower.x, b.lower.y, b.lower.z, b.upper.x, b.upper.y, b.upper.z));
+  }
 }
 
 material::Material sceneMaterial(const Scene& scene, const geometry::TriangleMesh& placed_mesh) {

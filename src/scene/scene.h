@@ -169,6 +169,14 @@ std::string meshKey(const Scene& scene);
 // surface need it). Throws ParameterError naming the file or key that cannot be used.
 material::Material sceneMaterial(const Scene& scene, const geometry::TriangleMesh& placed_mesh);
 
+// The camera and every point light and beam origin must lie outside the object (issue 15: inside
+// it, a reference renders a black image and a technique a meaningless one). Throws
+// ParameterError naming the key, the position and the mesh ("camera.position [0, 0, 0.1] is
+// inside the mesh 'bunny.obj' ..."). Points outside the mesh's bounding box cost nothing; for
+// the others a ray-parity test (geometry::insideClosedMesh) builds a BVH once. An open mesh has
+// no inside: nothing is checked.
+void requireOutsideMesh(const Scene& scene, const geometry::TriangleMesh& placed_mesh);
+
 // The lights the references handle (directional, point, beam, environment: its map loaded);
 // throws ParameterError naming the first light of another type or an unreadable map.
 std::vector<reference::Light> referenceLights(const Scene& scene);

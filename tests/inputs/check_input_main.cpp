@@ -1,7 +1,8 @@
 // Loads one user input the way the renderers do, for the malformed-input corpus
 // (tests/data/malformed/<family>/manifest.txt, issue #15):
 //
-//   translucent_check_input scene FILE           loadScene, then its mesh, .bssrdf model and
+//   translucent_check_input scene FILE           loadScene, then its mesh (camera and lights
+//                                                outside it), .bssrdf model and
 //                                                environment maps
 //   translucent_check_input bssrdf FILE          loadBssrdf (parse only, no GL)
 //   translucent_check_input image FILE           EnvironmentMap::load
@@ -81,7 +82,7 @@ int check(const std::string& family, const fs::path& file) {
     // The files the scene names fail with their own names; the scene's is added, as a renderer
     // says which scene it was loading.
     try {
-      (void)scene::loadSceneMesh(s);
+      scene::requireOutsideMesh(s, scene::loadSceneMesh(s));
       if (bssrdf::hasBssrdfExtension(s.model)) (void)bssrdf::loadBssrdf(s.model);
       for (const auto& l : s.lights)
         if (const auto* e = std::get_if<scene::EnvironmentLight>(&l.emitter)) {

@@ -14,6 +14,8 @@
 
 #include "analysis/image_io.h"
 #include "scene/data_path.h"
+#include "geometry/icosphere.h"
+#include "geometry/ray_scene.h"
 #include "scene/scene.h"
 
 namespace translucent::scene {
@@ -505,6 +507,74 @@ TEST(StandingSuite, EverySceneParsesAndItsMeshIsClosed) {
   }
   EXPECT_EQ(scenes, 10);
   EXPECT_EQ(heads, 6);  // 10 and 40 mm x skim milk, marble, skin
+}
+
+}  // namespace
+}  // namespace translucent::scene
+
+namespace translucent::scene {
+namespace {
+
+// requireOutsideMesh (issue 15): a camera, point light or beam origin inside the closed mesh is
+// an error naming the key; outside (also inside the bounding box, between the box's corner and
+// the sphere) it is not; an open mesh has no inside and is not checked.
+TEST(Scene, CameraAndLightsInsideTheMeshAreRefused) {
+  const geometry::TriangleMesh sphere = geometry::makeIcosphere(3, 1.0);
+  Scene s;
+  s.mesh_file = "sphere.obj";
+  s.camera.position = {0.0, 0.0, 5.0};
+  s.lights = {Light{reference::PointLight{{0.0, 3.0, 0.0}, 1.0}, {1.0, 1.0, 1.0}},
+              Light{reference::BeamLight{{0.0, 0.0, 4.0}, {0.0, 0.0, -1.0}, 0.0, 1.0}, {1.0, 1.0, 1.0}}};
+  EXPECT_NO_THROW(requireOutsideMesh(s, sphere));
+  s.camera.position = {0.9, 0.9, 0.9};  // in the bounding box, outside the sphere
+  EXPECT_NO_THROW(requireOutsideMesh(s, sphere));
+
+  auto message = [&](const Scene& scene) {
+    try {
+      requireOutsideMesh(scene, sphere);
+    } catch (const ParameterError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  Scene inside = s;
+  inside.camera.position = {0.1, -0.2, 0.3};
+  EXPECT_NE(message(inside).find("camera.position [0.1, -0.2, 0.3] is inside the mesh 'sphere.obj'"),
+            std::string::npos) << message(inside);
+  inside = s;
+  std::get<reference::PointLight>(inside.lights[0].emitter).position = {0.0, 0.5, 0.0};
+  EXPECT_NE(message(inside).find("lights[0].position"), std::string::npos) << message(inside);
+  inside = s;
+  std::get<reference::BeamLight>(inside.lights[1].emitter).origin = {0.0, 0.0, 0.0};
+  EXPECT_NE(message(inside).find("lights[1].origin"), std::string::npos) << message(inside);
+
+  // Open: one triangle fewer; the same camera position is not judged.
+  geometry::TriangleMesh open = sphere;
+  open.triangles.pop_back();
+  inside = s;
+  inside.camera.position = {0.1, -0.2, 0.3};
+  EXPECT_NO_THROW(requireOutsideMesh(inside, open));
+}
+
+// The parity test agrees with the analytic inside of a sphere at random points away from its
+// surface (a polyhedron within 1% of the radius: points within 2% are skipped).
+TEST(Scene, InsideClosedMeshMatchesTheSphere) {
+  const geometry::TriangleMesh sphere = geometry::makeIcosphere(3, 1.0);
+  const geometry::RayScene rays(sphere, "sphere");
+  uint64_t state = 12345;
+  auto next = [&] {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    return static_cast<double>(state >> 11) * 0x1.0p-53 * 3.0 - 1.5;
+  };
+  int checked = 0;
+  for (int i = 0; i < 2000; ++i) {
+    const glm::dvec3 p{next(), next(), next()};
+    const double r = glm::length(p);
+    if (std::abs(r - 1.0) < 0.02) continue;
+    EXPECT_EQ(geometry::insideClosedMesh(rays, p), r < 1.0) << p.x << " " << p.y << " " << p.z;
+    ++checked;
+  }
+  EXPECT_GT(checked, 1800);
 }
 
 }  // namespace

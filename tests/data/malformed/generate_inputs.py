@@ -103,6 +103,16 @@ sc("cone_angle_180.json", scene(cone_angle=180), "cone_angle: is 180: expected d
 sc("fov_180.json", scene(camera__fov=180), "camera: fov is 180: expected degrees in (0, 180)")
 sc("near_after_far.json", scene(camera__near=5, camera__far=1), "camera: near 5 and far 1: expected 0 (automatic) or 0 < near < far")
 sc("camera_at_look_at.json", scene(camera__position=[0, 0, 0]), "camera: look_at equals position")
+# Inside the object (the tetrahedron, normalised: its centroid is at [-0.25, -0.25, -0.25]): a
+# camera or a light there renders black (issue 15 §1), refused by scene::requireOutsideMesh.
+sc("camera_inside_mesh.json", scene(camera__position=[-0.25, -0.25, -0.25]),
+   "camera.position [-0.25, -0.25, -0.25] is inside the mesh")
+sc("point_light_inside_mesh.json",
+   scene(lights=[{"type": "point", "position": [-0.3, -0.2, -0.25], "intensity": 1}]),
+   "lights[0].position [-0.3, -0.2, -0.25] is inside the mesh")
+sc("beam_origin_inside_mesh.json",
+   scene(lights=[{"type": "beam", "origin": [-0.25, -0.25, -0.2], "direction": [0, 0, 1]}]),
+   "lights[0].origin [-0.25, -0.25, -0.2] is inside the mesh")
 sc("up_parallel.json", scene(camera__up=[0, 0, 1]), "camera: up is zero or parallel to the viewing direction")
 sc("environment_intensity_negative.json",
    scene(lights=[{"type": "environment", "file": "assets/sky.exr", "intensity": -1}]),
