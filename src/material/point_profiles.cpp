@@ -71,10 +71,13 @@ double lnProfileAt(const double* nodes, size_t stride, int segments, double radi
     const double w = t - k;
     return (1.0 - w) * nodes[size_t(k) * stride] + w * nodes[size_t(k + 1) * stride];
   }
-  const double slope = vn - nodes[size_t(segments - 1) * stride];
+  // The tail: the last segment of ln(r² P) extended (see the header).
+  const double c = segments > 1 ? 2.0 * std::log(double(segments) / double(segments - 1)) : 0.0;
+  const double l = segments > 1 ? 2.0 * std::log(t / double(segments)) : 0.0;
+  const double slope = vn - nodes[size_t(segments - 1) * stride] + c;
   if (!(slope < 0.0) || t > kExtrapolationFactor * segments)
     return -std::numeric_limits<double>::infinity();
-  return vn + (t - segments) * slope;
+  return vn + (t - segments) * slope - l;
 }
 
 PointProfiles PointProfiles::build(const Material& material, std::span<const LocalMedium> media,
