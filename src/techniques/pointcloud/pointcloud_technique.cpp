@@ -15,6 +15,7 @@
 #include "bssrdf/bssrdf_file.h"
 #include "bssrdf/exit_radiance.h"
 #include "bssrdf/registry.h"
+#include "geometry/atlas.h"
 #include "gpu/bssrdf_kernels.h"
 #include "gpu/bssrdf_profiles.h"
 #include "gpu/compute.h"
@@ -165,28 +166,64 @@ struct PointCloudTechnique::Impl : techniques::ClosedMeshState {
   void prepareMaterial(const scene::Scene& s) {
     mat = materialOverride ? *materialOverride : scene::sceneMaterial(s, mesh);
     hetero = mat.heterogeneous();
-    if (hetero && mat.kind == material::Material::Kind::Surface) {
-      notes.push_back("pointcloud: surface-map material rendered with its representative medium "
-                      "(per-point atlas UVs are not implemented)");
-      hetero = false;
-    }
     heteroDirty = true;
+  }
+
+  // Kind::Surface: the atlas UV of every cloud point (its triangle's corner UVs at the point's
+  // barycentrics) and of every vertex (from the first triangle that uses it: a vertex on a chart
+  // seam has one UV per chart, and the map is read at one of them). The atlas is the default one
+  // (geometry::AtlasOptions{}, cached like tsis's): the surface map must be defined over it.
+  void surfaceUvs(std::vector<glm::vec2>& cloudUvs, std::vector<glm::vec2>& vertexUvs) {
+    if (cloud.faces.size() != cloud.size())
+      throw ParameterError("pointcloud: a surface-map material needs the triangle of every point: "
+                           "the point cloud has none");
+    const geometry::CachedAtlas cached = geometry::loadOrBuildAtlas(mesh, geometry::AtlasOptions{});
+    const geometry::Atlas& atlas = cached.atlas;
+    notes.push_back(fmt::format("pointcloud: surface-map material over the {}² {} atlas ({} {})",
+                                atlas.size, geometry::toString(atlas.method),
+                                cached.fromCache ? "read from" : "cached in", cached.file.string()));
+    cloudUvs.resize(cloud.size());
+    for (size_t i = 0; i < cloud.size(); ++i) {
+      const uint32_t f = cloud.faces[i];
+      const glm::uvec3 t = mesh.triangles[f];
+      const glm::dvec3 a = mesh.positions[t[0]], e0 = mesh.positions[t[1]] - a,
+                       e1 = mesh.positions[t[2]] - a, e2 = glm::dvec3(cloud.positions[i]) - a;
+      const double d00 = glm::dot(e0, e0), d01 = glm::dot(e0, e1), d11 = glm::dot(e1, e1);
+      const double d20 = glm::dot(e2, e0), d21 = glm::dot(e2, e1), den = d00 * d11 - d01 * d01;
+      const double v = den > 0.0 ? std::clamp((d11 * d20 - d01 * d21) / den, 0.0, 1.0) : 1.0 / 3.0;
+      const double w = den > 0.0 ? std::clamp((d00 * d21 - d01 * d20) / den, 0.0, 1.0 - v) : 1.0 / 3.0;
+      const double u = 1.0 - v - w;
+      cloudUvs[i] = glm::vec2(u * glm::dvec2(atlas.uv(f, 0)) + v * glm::dvec2(atlas.uv(f, 1)) +
+                              w * glm::dvec2(atlas.uv(f, 2)));
+    }
+    vertexUvs.assign(mesh.vertexCount(), glm::vec2(0.0f));
+    std::vector<bool> seen(mesh.vertexCount(), false);
+    for (size_t f = 0; f < mesh.triangleCount(); ++f)
+      for (int c = 0; c < 3; ++c) {
+        const uint32_t v = mesh.triangles[f][c];
+        if (seen[v]) continue;
+        seen[v] = true;
+        vertexUvs[v] = atlas.uv(f, c);
+      }
   }
 
   // The profiles of the cloud's points, of the mesh's vertices (the shading points' profiles are
   // interpolated from them) and room for the nodes' representatives (refit per frame).
   void buildHetero() {
     if (!hetero || !heteroDirty) return;
-    cloudProfiles = material::PointProfiles::build(
-        mat, material::PointProfiles::surfaceMedia(mat, cloud.positions, cloud.normals), profileOptions);
     const std::vector<glm::dvec3> normals = vertexNormals(mesh);
     std::vector<glm::vec3> vp(mesh.vertexCount()), vn(mesh.vertexCount());
     for (size_t i = 0; i < vp.size(); ++i) {
       vp[i] = glm::vec3(mesh.positions[i]);
       vn[i] = glm::vec3(normals[i]);
     }
+    std::vector<glm::vec2> cloudUvs, vertexUvs;
+    if (mat.kind == material::Material::Kind::Surface) surfaceUvs(cloudUvs, vertexUvs);
+    cloudProfiles = material::PointProfiles::build(
+        mat, material::PointProfiles::surfaceMedia(mat, cloud.positions, cloud.normals, cloudUvs),
+        profileOptions);
     vertexProfiles = material::PointProfiles::build(
-        mat, material::PointProfiles::surfaceMedia(mat, vp, vn),
+        mat, material::PointProfiles::surfaceMedia(mat, vp, vn, vertexUvs),
         {cloudProfiles.segments(), cloudProfiles.radius()});
     const HeteroProfiles slots = heteroProfiles(octree, cloudProfiles);
     pointProfiles = gpu::makeStorageBuffer(std::span<const glm::vec4>(slots.points));

@@ -39,9 +39,9 @@
 // the radiance pass evaluates Eq. 8, sqrt(P_c(r) P_o(r)), with P_o the shading point's profile
 // (interpolated from per-vertex profiles on the triangle the G-buffer names) and, for a cluster,
 // the power-weighted mean of sqrt P of its points (refit every frame with the power;
-// cpu_traversal.h says why). Kind::Surface materials are rendered with their representative
-// medium (`medium`) and a note: the points would need atlas UVs (geometry/atlas.h), not done
-// yet. The `shader` kernel is not available for heterogeneous materials (ParameterError).
+// cpu_traversal.h says why). Kind::Volume and Kind::Surface both: a surface map is read at the
+// atlas UV of each point (from its triangle, PointCloud::faces, and the default atlas,
+// geometry::AtlasOptions{}, built or read from the cache) and of each vertex. The `shader` kernel is not available for heterogeneous materials (ParameterError).
 // A homogeneous material takes exactly the path it took before (same programs, same buffers).
 //
 // Units: scene units for lengths; light fluxes as in the scene (scene/scene.h); the image is
