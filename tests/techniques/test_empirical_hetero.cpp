@@ -95,5 +95,49 @@ TEST_F(EmpiricalHeteroGpu, TwoMediaGiveTwoColours) {
   EXPECT_EQ(t->render({}).rgb, homogeneous);
 }
 
+// A surface map (Marble where the atlas's u < 0.5, Ketchup elsewhere) read at the vertices' atlas
+// UVs: both colours appear, each on a good share of the sphere.
+class HalfAtlas final : public material::SurfaceMap {
+ public:
+  LocalMedium at(const glm::dvec2& uv) const override {
+    return LocalMedium::of(preset(uv.x < 0.5 ? "marble" : "ketchup").medium());
+  }
+};
+
+TEST_F(EmpiricalHeteroGpu, SurfaceMapGivesTwoColours) {
+  TempDir dir;
+  const auto obj = writeObj(geometry::makeIcosphere(3, 1.0), dir.path() / "sphere.obj");
+  const int n = 32;
+  const scene::Scene s = testScene(obj, n);
+  useTestCache();
+  auto t = std::make_unique<EmpiricalTechnique>();
+  t->setParameter("ao", false);
+  t->prepare(s, gpu::testing::context());
+  const auto homogeneous = t->render({}).rgb;
+  material::Material m;
+  m.kind = material::Material::Kind::Surface;
+  m.medium = s.medium;
+  m.frame.scale = s.medium.scale;
+  m.surface = std::make_shared<HalfAtlas>();
+  t->setMaterial(m);
+  t->prepare(s, gpu::testing::context());
+  ASSERT_TRUE(t->heterogeneous());
+  const techniques::Frame f = t->render({});
+  const auto& depth = f.layers.at("front_depth");
+  int same = 0, redder = 0, covered = 0;
+  for (size_t i = 0; i < size_t(n) * size_t(n); ++i) {
+    if (depth[i * 3] == 0.0f) continue;
+    ++covered;
+    const double gr = double(f.rgb[i * 3 + 1]) / std::max(double(f.rgb[i * 3]), 1e-9);
+    const double grHomogeneous = double(homogeneous[i * 3 + 1]) / double(homogeneous[i * 3]);
+    if (f.rgb[i * 3 + 1] == homogeneous[i * 3 + 1]) ++same;
+    if (gr < 0.5 * grHomogeneous) ++redder;
+  }
+  std::printf("empirical, surface map: %d covered pixels, %d as Marble, %d much redder\n",
+              covered, same, redder);
+  EXPECT_GT(same, covered / 10);
+  EXPECT_GT(redder, covered / 10);
+}
+
 }  // namespace
 }  // namespace translucent::empirical

@@ -15,6 +15,7 @@
 #include "bssrdf/bssrdf_file.h"
 #include "bssrdf/registry.h"
 #include "geometry/ambient_occlusion.h"
+#include "geometry/atlas.h"
 #include "gpu/compute.h"
 #include "gpu/objects.h"
 #include "gpu/pass_timer.h"
@@ -141,12 +142,22 @@ struct EmpiricalTechnique::Impl {
   void prepareMaterial(const scene::Scene& s) {
     mat = materialOverride ? *materialOverride : scene::sceneMaterial(s, mesh);
     hetero = mat.heterogeneous();
-    if (hetero && mat.kind == material::Material::Kind::Surface) {
-      notes.push_back("empirical: surface-map material rendered with its representative medium "
-                      "(per-vertex atlas UVs are not implemented)");
-      hetero = false;
-    }
     if (!hetero) return;
+    // Kind::Surface: the map at each vertex's atlas UV, from the first triangle that uses it (a
+    // vertex on a chart seam has one UV per chart), in the default atlas (geometry::AtlasOptions{},
+    // cached), over which the map must be defined.
+    std::vector<glm::dvec2> uvs(mesh.vertexCount(), glm::dvec2(0.0));
+    if (mat.kind == material::Material::Kind::Surface) {
+      const geometry::CachedAtlas cached = geometry::loadOrBuildAtlas(mesh, geometry::AtlasOptions{});
+      std::vector<bool> seen(mesh.vertexCount(), false);
+      for (size_t f = 0; f < mesh.triangleCount(); ++f)
+        for (int c = 0; c < 3; ++c) {
+          const uint32_t v = mesh.triangles[f][c];
+          if (seen[v]) continue;
+          seen[v] = true;
+          uvs[v] = glm::dvec2(cached.atlas.uv(f, c));
+        }
+    }
     const bool file = bssrdf::hasBssrdfExtension(mat.model);
     if (file) notes.push_back("empirical: per-vertex colours from the dipole's Rd (the material's model is a .bssrdf file)");
     const bssrdf::Model& model = bssrdf::model(file ? std::string("dipole") : mat.model);
@@ -161,7 +172,7 @@ struct EmpiricalTechnique::Impl {
     const glm::dvec3 reference = rd(material::LocalMedium::of(mat.medium));
     std::vector<glm::vec4> factor(mesh.vertexCount());
     for (size_t v = 0; v < factor.size(); ++v) {
-      const glm::dvec3 local = rd(mat.surfaceMedium(mesh.positions[v], normals[v], glm::dvec2(0.0)));
+      const glm::dvec3 local = rd(mat.surfaceMedium(mesh.positions[v], normals[v], uvs[v]));
       for (int c = 0; c < 3; ++c)
         factor[v][c] = reference[c] > 0.0 ? static_cast<float>(local[c] / reference[c]) : 1.0f;
       factor[v].w = 1.0f;

@@ -35,9 +35,8 @@
 // (Model::totalReflectance; the dipole for a .bssrdf model) and the local medium
 // Material::surfaceMedium at the vertex. Where the material is the representative medium the
 // image is the homogeneous one; elsewhere the colour follows how much more or less light that
-// medium reflects per channel. Thickness and backlight do not change with the medium. Kind::Surface
-// materials are rendered with their representative medium (per-vertex atlas UVs: not done yet),
-// with a note. A homogeneous material takes the programs and buffers it took before.
+// medium reflects per channel. Thickness and backlight do not change with the medium. A Kind::Surface
+// map is read at each vertex's UV in the default atlas (geometry::AtlasOptions{}). A homogeneous material takes the programs and buffers it took before.
 //
 // Parameters: see parameters() (every term of Eq. 3.6, the smoothing kernel, the AO rays, and
 // `preset`, which sets thickness_exponent, backlight and diffuse_weight from Table 4.3).
