@@ -15,6 +15,9 @@
 namespace translucent::material {
 namespace {
 
+// Up to this many distinct media, r_s is computed exactly from each medium's profiles.
+constexpr size_t kExactRadiusMedia = 256;
+
 using Key = std::array<double, 7>;
 Key keyOf(const LocalMedium& m) {
   return {m.sigma_a[0], m.sigma_a[1], m.sigma_a[2], m.sigma_s[0], m.sigma_s[1], m.sigma_s[2], m.g};
@@ -110,11 +113,36 @@ PointProfiles PointProfiles::build(const Material& material, std::span<const Loc
   out.segments_ = options.segments;
   out.radius_ = options.radius;
   if (out.radius_ == 0.0) {
-    for (const LocalMedium& m : unique) {
-      const Medium med = m.medium(eta, scale);
-      med.validate();
-      const bssrdf::RgbProfiles prof = bssrdf::profiles(model, med);
-      for (const auto& p : prof) out.radius_ = std::max(out.radius_, p->radiusForFraction(kProfileRadiusFraction));
+    if (unique.size() <= kExactRadiusMedia) {
+      for (const LocalMedium& m : unique) {
+        const Medium med = m.medium(eta, scale);
+        med.validate();
+        const bssrdf::RgbProfiles prof = bssrdf::profiles(model, med);
+        for (const auto& p : prof) out.radius_ = std::max(out.radius_, p->radiusForFraction(kProfileRadiusFraction));
+      }
+    } else {
+      // Many media (a continuous field): the models are scale invariant and depend on α' and η
+      // alone (bssrdf::Model::totalReflectance), so the 95% radius is ρ(α') / σt' with ρ that of
+      // the medium σt' = 1, g = 0 of the same α'. ρ is evaluated once per bin of 1 − α' (bins of
+      // 0.1% in ln(1 − α')): r_s is then the largest radius within ~0.1%, at a cost that no
+      // longer grows with the number of media (a radius costs ~0.1 ms: 100k media took 40 s).
+      std::map<long long, double> rho;
+      for (const LocalMedium& m : unique) {
+        const Medium med = m.medium(eta, scale);
+        med.validate();
+        for (int c = 0; c < 3; ++c) {
+          const ScalarMedium sm = med.channel(c);
+          const double ap = sm.reducedAlbedo();
+          const auto bin = static_cast<long long>(std::llround(std::log(std::max(1.0 - ap, 1e-300)) * 1000.0));
+          auto it = rho.find(bin);
+          if (it == rho.end()) {
+            const double binAlpha = 1.0 - std::exp(double(bin) / 1000.0);
+            const ScalarMedium unit{1.0 - binAlpha, binAlpha, 0.0, eta};
+            it = rho.emplace(bin, model.profile(unit)->radiusForFraction(kProfileRadiusFraction)).first;
+          }
+          out.radius_ = std::max(out.radius_, it->second / sm.sigmaTPrime());
+        }
+      }
     }
     if (unique.empty()) out.radius_ = 1.0;
     if (!(out.radius_ > 0.0) || !std::isfinite(out.radius_))

@@ -111,7 +111,8 @@ glm::dvec3 radiantExitanceBruteForce(const geometry::PointCloud& cloud, const gl
 // ln P per channel on [0, r_s]) and the shading point x_o its own P_o, and a term of B is Eq. 8:
 //     R(x_o, x_c) = sqrt(P_c(r) P_o(r)) = exp((ln P_c(r) + ln P_o(r)) / 2),  r = |x_o − x_c|.
 // Both profiles share the grid, so one (k, w) per term serves both (lnAt below; the GPU's
-// pcHeteroKernel, shaders/pointcloud/hetero.glsl, is the same arithmetic in float).
+// pcHeteroPoint and pcHeteroNode, shaders/pointcloud/hetero.glsl, are the same arithmetic in
+// float).
 //
 // A cluster (octree node) v needs a representative P_v. We use the *power-weighted mean of
 // sqrt P* of its points, per channel and node k:
