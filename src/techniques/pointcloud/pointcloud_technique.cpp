@@ -124,7 +124,7 @@ struct PointCloudTechnique::Impl : techniques::ClosedMeshState {
   // Programs.
   std::optional<gpu::ShaderProgram> gbufferProgram, refitProgram;
 
-  // Material (prepare(): scene::sceneMaterial or setMaterial's). Heterogeneous (Kind::Volume):
+  // Material (prepare(): scene::sceneMaterial or setMaterial's). Heterogeneous (Volume, Surface):
   // per-point, per-vertex and per-node profiles, and the PC_HETERO variants of the g-buffer,
   // refit and radiance programs (built only then).
   std::optional<material::Material> materialOverride;

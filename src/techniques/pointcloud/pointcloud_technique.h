@@ -98,7 +98,7 @@ class PointCloudTechnique final : public techniques::Technique {
                    const material::ProfileOptions& options = {});
 
   // ---- Inspection (tests and benchmarks; valid after a render) --------------------------------
-  // True when the last prepare() found a heterogeneous material it renders as such (Kind::Volume).
+  // True when the last prepare() found a heterogeneous material (Kind::Volume or Kind::Surface).
   bool heterogeneous() const;
   // Heterogeneous: the per-point profiles (indexed like pointCloud()) and the per-vertex ones
   // (indexed like mesh().positions) the GPU uses; empty otherwise.
