@@ -7,7 +7,16 @@ uniform mat4 ViewProjection;            // world -> camera clip space
 out vec3 vPosition;
 out vec3 vNormal;
 out float vAo;
+#ifdef EMP_VERTEX_COLOUR
+// Heterogeneous material: the per-vertex colour factor (empirical_technique.h), indexed by the
+// vertex index of the indexed draw.
+layout(std430, binding = 0) readonly buffer EmpVertexColour { vec4 empVertexColour[]; };
+out vec3 vColour;
+#endif
 void main() {
+#ifdef EMP_VERTEX_COLOUR
+  vColour = empVertexColour[gl_VertexID].rgb;
+#endif
   vPosition = Position;
   vNormal = Normal;
   vAo = Ao;

@@ -9,6 +9,11 @@ layout(binding = 0) uniform sampler2D FrontDepth;     // window depth (1: backgr
 layout(binding = 1) uniform sampler2D BackDepth;      // window depth of the peeled layer
 layout(binding = 2) uniform sampler2D FrontNormalAo;  // unit world normal, AO
 layout(binding = 3) uniform sampler2D FrontPosition;  // world position
+#ifdef EMP_VERTEX_COLOUR
+// Heterogeneous material: K_d is scaled per pixel by the interpolated per-vertex factor
+// Rd(local medium) / Rd(representative medium) (empirical_technique.h).
+layout(binding = 4) uniform sampler2D FrontColour;
+#endif
 layout(rgba32f, binding = 0) writeonly uniform image2D OutColor;
 // x: front distance, y: back distance (unsmoothed) [scene units], z: normalised thickness t
 // (smoothed, unclamped), w: AO; all 0 on the background.
@@ -76,7 +81,12 @@ void main() {
   const vec3 position = texelFetch(FrontPosition, p, 0).xyz;
   const vec3 V = Orthographic ? -CameraForward : normalize(CameraPosition - position);
 
-  vec3 color = ao * Ka * Kd * Ia;  // Eq. 3.7
+#ifdef EMP_VERTEX_COLOUR
+  const vec3 kd = Kd * texelFetch(FrontColour, p, 0).rgb;
+#else
+  const vec3 kd = Kd;
+#endif
+  vec3 color = ao * Ka * kd * Ia;  // Eq. 3.7
   for (int i = 0; i < LightCount; ++i) {
     vec3 L = LightDirection[i];
     vec3 I = LightValue[i];
@@ -87,12 +97,12 @@ void main() {
     }
     const float NdotL = max(dot(N, L), 0.0);
     if (NdotL > 0.0) {  // as computeLight (C.2.3)
-      color += Wd * Kd * I * NdotL;  // Eq. 3.8
+      color += Wd * kd * I * NdotL;  // Eq. 3.8
       const float NdotH = max(dot(N, normalize(L + V)), 0.0);
       color += Ws * Ks * I * pow(NdotH, Shininess);  // Eq. 3.9
     }
   }
-  color += Wb * pow(1.0 - clamp(t, 0.0, 1.0), R) * (Kd + vec3(Kb));  // Eq. 3.10
+  color += Wb * pow(1.0 - clamp(t, 0.0, 1.0), R) * (kd + vec3(Kb));  // Eq. 3.10
   imageStore(OutColor, p, vec4(color, 1.0));
   imageStore(OutDebug, p, vec4(front, rawBack, t, ao));
 }

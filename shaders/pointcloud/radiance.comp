@@ -43,6 +43,10 @@ layout(std430, binding = 7) writeonly buffer PcRadiance { vec4 pcRadiance[]; }; 
 layout(std430, binding = 8) writeonly buffer PcExitance { vec4 pcExitance[]; };
 
 #include "pointcloud:kernel"
+#ifdef PC_HETERO
+// Heterogeneous material: Eq. 8 with per-point, per-node and shading-point profiles.
+#include "pointcloud/hetero.glsl"
+#endif
 
 layout(binding = 0) uniform sampler2D GPosition;  // xyz: world position; w: 1 where covered
 layout(binding = 1) uniform sampler2D GNormal;    // xyz: unit shading normal
@@ -87,11 +91,19 @@ vec3 contribute(uint node, vec3 x, vec3 n) {
     vec3 sum = vec3(0.0);
     for (uint p = pcIndex(d), e = p + pcPointCount(d); p < e; ++p) {
       PcPoint q = pcPoint[p];
+#ifdef PC_HETERO
+      sum += pcHeteroPoint(distance(x, q.positionArea.xyz), p) * (pcIrradiance[p].rgb * q.positionArea.w);
+#else
       sum += pcKernel(x, n, q.positionArea.xyz, q.normal.xyz) * (pcIrradiance[p].rgb * q.positionArea.w);
+#endif
     }
     return sum;
   }
+#ifdef PC_HETERO
+  return pcHeteroNode(distance(x, pcNode[node].average.xyz), node) * pa.xyz;
+#else
   return pcKernel(x, n, pcNode[node].average.xyz, n) * pa.xyz;
+#endif
 }
 
 // True when any invocation of the subgroup passes true (itself at least).
@@ -181,6 +193,9 @@ void main() {
   vec3 x = g.xyz;
   vec3 n = normalize(texelFetch(GNormal, ivec2(px), 0).xyz);
   pcKernelInit();
+#ifdef PC_HETERO
+  pcHeteroShadingInit(x, uint(g.w + 0.5) - 1u);  // w = 1 + the triangle index
+#endif
   vec3 b = radiantExitance(x, n);
   vec3 v = Orthographic ? -CameraForward : normalize(CameraPosition - x);
   vec3 l = ExitScale * (pcFresnelTransmittance(dot(n, v), Eta) * b / PC_PI);

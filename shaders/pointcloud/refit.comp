@@ -16,6 +16,14 @@ layout(std430, binding = 2) readonly buffer PcPoints { PcPoint pcPoint[]; };
 layout(std430, binding = 3) readonly buffer PcIrradiance { vec4 pcIrradiance[]; };
 layout(std430, binding = 6) readonly buffer PcLevels { uint pcLevelNode[]; };  // deepest first
 
+#ifdef PC_HETERO
+// Heterogeneous material (cpu_traversal.h refitNodeProfiles): the node's representative profile,
+// sqrt(P_v^k) = Σ Φ sqrt(P^k) / Σ Φ per channel over its points or children (area weights where
+// Σ Φ = 0), stored as ln P clamped at -80 (material::kLnFloor). PC_PROFILE_NODES = n + 1.
+layout(std430, binding = 9) readonly buffer PcPointProfiles { vec4 pcPointProfile[]; };
+layout(std430, binding = 10) buffer PcNodeProfiles { vec4 pcNodeProfile[]; };
+#endif
+
 uniform uint LevelOffset;  // first entry of this level in pcLevelNode
 uniform uint LevelCount;   // nodes on this level
 
@@ -52,4 +60,30 @@ void main() {
   }
   pcNode[v].powerArea = vec4(power, area);
   pcNode[v].average = vec4(weight > 0.0 ? weighted / weight : areaPos / area, 0.0);
+#ifdef PC_HETERO
+  const uint m = uint(PC_PROFILE_NODES);
+  for (uint k = 0u; k < m; ++k) {
+    vec3 s = vec3(0.0), sa = vec3(0.0);
+    if (pcChildCount(d) == 0u) {
+      for (uint p = pcIndex(d), e = p + pcPointCount(d); p < e; ++p) {
+        float a = pcPoint[p].positionArea.w;
+        vec3 root = exp(0.5 * pcPointProfile[p * m + k].xyz);
+        s += pcIrradiance[p].rgb * a * root;
+        sa += a * root;
+      }
+    } else {
+      for (uint c = pcIndex(d), e = c + pcChildCount(d); c < e; ++c) {
+        vec3 root = exp(0.5 * pcNodeProfile[c * m + k].xyz);
+        s += pcNode[c].powerArea.xyz * root;
+        sa += pcNode[c].powerArea.w * root;
+      }
+    }
+    vec3 mean;
+    for (int ch = 0; ch < 3; ++ch) mean[ch] = power[ch] > 0.0 ? s[ch] / power[ch] : sa[ch] / area;
+    vec3 ln = vec3(-80.0);
+    for (int ch = 0; ch < 3; ++ch)
+      if (mean[ch] > 0.0) ln[ch] = max(2.0 * log(mean[ch]), -80.0);
+    pcNodeProfile[v * m + k] = vec4(ln, 0.0);
+  }
+#endif
 }

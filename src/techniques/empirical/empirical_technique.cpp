@@ -7,15 +7,21 @@
 #include <cmath>
 #include <numbers>
 #include <optional>
+#include <span>
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "bssrdf/bssrdf_file.h"
+#include "bssrdf/registry.h"
 #include "geometry/ambient_occlusion.h"
+#include "geometry/atlas.h"
+#include "gpu/compute.h"
 #include "gpu/objects.h"
 #include "gpu/pass_timer.h"
 #include "gpu/program.h"
 #include "techniques/common/gl_resources.h"
+#include "scene/scene.h"
 #include "techniques/empirical/shading.h"
 
 namespace translucent::empirical {
@@ -122,6 +128,66 @@ struct EmpiricalTechnique::Impl {
   std::vector<std::string> notes;
   long long randomFrame = 0;  // frames rendered with random lighting on
 
+  // Heterogeneous material: the per-vertex factor of K_d (empirical_technique.h), the
+  // EMP_VERTEX_COLOUR variants of the front and shade programs and a front framebuffer with a
+  // third attachment for the interpolated factor (built only then).
+  std::optional<material::Material> materialOverride;
+  material::Material mat;
+  bool hetero = false;
+  gpu::Buffer vertexColour;
+  std::optional<gpu::ShaderProgram> frontHetero, shadeHetero;
+  gpu::Texture frontColour;
+  gpu::Framebuffer frontFboHetero;
+
+  void prepareMaterial(const scene::Scene& s) {
+    mat = materialOverride ? *materialOverride : scene::sceneMaterial(s, mesh);
+    hetero = mat.heterogeneous();
+    if (!hetero) return;
+    // Kind::Surface: the map at each vertex's atlas UV, from the first triangle that uses it (a
+    // vertex on a chart seam has one UV per chart), in the default atlas (geometry::AtlasOptions{},
+    // cached), over which the map must be defined.
+    std::vector<glm::dvec2> uvs(mesh.vertexCount(), glm::dvec2(0.0));
+    if (mat.kind == material::Material::Kind::Surface) {
+      const geometry::CachedAtlas cached = geometry::loadOrBuildAtlas(mesh, geometry::AtlasOptions{});
+      std::vector<bool> seen(mesh.vertexCount(), false);
+      for (size_t f = 0; f < mesh.triangleCount(); ++f)
+        for (int c = 0; c < 3; ++c) {
+          const uint32_t v = mesh.triangles[f][c];
+          if (seen[v]) continue;
+          seen[v] = true;
+          uvs[v] = glm::dvec2(cached.atlas.uv(f, c));
+        }
+    }
+    const bool file = bssrdf::hasBssrdfExtension(mat.model);
+    if (file) notes.push_back("empirical: per-vertex colours from the dipole's Rd (the material's model is a .bssrdf file)");
+    const bssrdf::Model& model = bssrdf::model(file ? std::string("dipole") : mat.model);
+    const double eta = mat.medium.eta, scale = mat.medium.scale;
+    const auto rd = [&](const material::LocalMedium& m) {
+      const Medium med = m.medium(eta, scale);
+      med.validate();
+      glm::dvec3 out;
+      for (int c = 0; c < 3; ++c) out[c] = model.totalReflectance(med.channel(c).reducedAlbedo(), eta);
+      return out;
+    };
+    const glm::dvec3 reference = rd(material::LocalMedium::of(mat.medium));
+    std::vector<glm::vec4> factor(mesh.vertexCount());
+    for (size_t v = 0; v < factor.size(); ++v) {
+      const glm::dvec3 local = rd(mat.surfaceMedium(mesh.positions[v], normals[v], uvs[v]));
+      for (int c = 0; c < 3; ++c)
+        factor[v][c] = reference[c] > 0.0 ? static_cast<float>(local[c] / reference[c]) : 1.0f;
+      factor[v].w = 1.0f;
+    }
+    vertexColour = gpu::makeStorageBuffer(std::span<const glm::vec4>(factor));
+    if (!frontHetero) {
+      const gpu::Defines d{{"EMP_VERTEX_COLOUR", "1"}};
+      frontHetero.emplace(gpu::ShaderProgram::graphics("empirical/layers.vert", "empirical/front.frag", d));
+      shadeHetero.emplace(gpu::ShaderProgram::compute("empirical/shade.comp", d));
+    }
+    width = height = 0;  // the front framebuffer gets its third attachment
+    notes.push_back("empirical: heterogeneous material, K_d scaled per vertex by Rd(local) / "
+                    "Rd(representative) (an approximation)");
+  }
+
   void buildPrograms() {
     if (frontProgram) return;
     frontProgram.emplace(gpu::ShaderProgram::graphics("empirical/layers.vert", "empirical/front.frag"));
@@ -175,7 +241,7 @@ struct EmpiricalTechnique::Impl {
   }
 
   void resize(int w, int h) {
-    if (w == width && h == height && frontFbo) return;
+    if (w == width && h == height && frontFbo && (!hetero || frontFboHetero)) return;
     width = w;
     height = h;
     frontDepth = target(GL_DEPTH_COMPONENT32F, w, h);
@@ -193,6 +259,18 @@ struct EmpiricalTechnique::Impl {
     backFbo = gpu::Framebuffer::create();
     glNamedFramebufferTexture(backFbo.id(), GL_DEPTH_ATTACHMENT, backDepth.id(), 0);
     glNamedFramebufferDrawBuffer(backFbo.id(), GL_NONE);
+    if (hetero) {
+      frontColour = target(GL_RGBA32F, w, h);
+      frontFboHetero = gpu::Framebuffer::create();
+      glNamedFramebufferTexture(frontFboHetero.id(), GL_COLOR_ATTACHMENT0, frontNormal.id(), 0);
+      glNamedFramebufferTexture(frontFboHetero.id(), GL_COLOR_ATTACHMENT1, frontPosition.id(), 0);
+      glNamedFramebufferTexture(frontFboHetero.id(), GL_COLOR_ATTACHMENT2, frontColour.id(), 0);
+      glNamedFramebufferTexture(frontFboHetero.id(), GL_DEPTH_ATTACHMENT, frontDepth.id(), 0);
+      const GLenum three[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
+      glNamedFramebufferDrawBuffers(frontFboHetero.id(), 3, three);
+      if (glCheckNamedFramebufferStatus(frontFboHetero.id(), GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+        throw gpu::GlError(fmt::format("empirical: {}x{} colour layer: the framebuffer is incomplete", w, h));
+    }
     for (GLuint fbo : {frontFbo.id(), backFbo.id()})
       if (glCheckNamedFramebufferStatus(fbo, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
         throw gpu::GlError(fmt::format("empirical: {}x{} depth layers: the framebuffer is incomplete", w, h));
@@ -204,10 +282,12 @@ struct EmpiricalTechnique::Impl {
     glViewport(0, 0, width, height);
     const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
     const float one = 1.0f;
-    if (fbo == frontFbo.id()) {
+    const bool heteroFront = hetero && fbo == frontFboHetero.id();
+    if (fbo == frontFbo.id() || heteroFront) {
       glClearNamedFramebufferfv(fbo, GL_COLOR, 0, zero);
       glClearNamedFramebufferfv(fbo, GL_COLOR, 1, zero);
     }
+    if (heteroFront) glClearNamedFramebufferfv(fbo, GL_COLOR, 2, zero);
     glClearNamedFramebufferfv(fbo, GL_DEPTH, 0, &one);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
@@ -242,7 +322,12 @@ struct EmpiricalTechnique::Impl {
     const float diameter = static_cast<float>(2.0 * radius);
     {
       auto t = timer->scope("front");
-      drawLayer(frontFbo.id(), *frontProgram, viewProj);
+      if (hetero) {
+        gpu::bindStorage(0, vertexColour);
+        drawLayer(frontFboHetero.id(), *frontHetero, viewProj);
+      } else {
+        drawLayer(frontFbo.id(), *frontProgram, viewProj);
+      }
     }
     {
       auto t = timer->scope("back");
@@ -254,9 +339,10 @@ struct EmpiricalTechnique::Impl {
     }
     {
       auto t = timer->scope("shade");
-      const gpu::ShaderProgram& p = *shadeProgram;
+      const gpu::ShaderProgram& p = hetero ? *shadeHetero : *shadeProgram;
       glBindTextureUnit(0, frontDepth.id());
       glBindTextureUnit(1, backDepth.id());
+      if (hetero) glBindTextureUnit(4, frontColour.id());
       glBindTextureUnit(2, frontNormal.id());
       glBindTextureUnit(3, frontPosition.id());
       glBindImageTexture(0, color.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
@@ -385,9 +471,16 @@ void EmpiricalTechnique::prepare(const scene::Scene& scene, gpu::Context& gl) {
   impl_->buildPrograms();
   impl_->loadMesh(scene);
   impl_->scene = scene;
+  impl_->prepareMaterial(scene);
   impl_->computeAo();
   impl_->upload();
 }
+
+void EmpiricalTechnique::setMaterial(std::optional<material::Material> material) {
+  impl_->materialOverride = std::move(material);
+}
+
+bool EmpiricalTechnique::heterogeneous() const { return impl_->hetero; }
 
 techniques::Frame EmpiricalTechnique::render(const techniques::FrameRequest& request) {
   return impl_->render(request);

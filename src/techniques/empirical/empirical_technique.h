@@ -28,12 +28,24 @@
 // technique's `radiance_convention`, bssrdf/exit_radiance.h) do not apply and there is no such
 // parameter here.
 //
+// Heterogeneous materials (material/material.h; prepare() calls scene::sceneMaterial(scene, mesh),
+// or takes the Material given to setMaterial()). An approximation, as the whole shader is: K_d is
+// scaled per vertex (interpolated over the triangles) by Rd(local medium) / Rd(representative
+// medium), per channel, with Rd the total diffuse reflectance of the material's model
+// (Model::totalReflectance; the dipole for a .bssrdf model) and the local medium
+// Material::surfaceMedium at the vertex. Where the material is the representative medium the
+// image is the homogeneous one; elsewhere the colour follows how much more or less light that
+// medium reflects per channel. Thickness and backlight do not change with the medium. A Kind::Surface
+// map is read at each vertex's UV in the default atlas (geometry::AtlasOptions{}). A homogeneous material takes the programs and buffers it took before.
+//
 // Parameters: see parameters() (every term of Eq. 3.6, the smoothing kernel, the AO rays, and
 // `preset`, which sets thickness_exponent, backlight and diffuse_weight from Table 4.3).
 #pragma once
 
 #include <memory>
+#include <optional>
 
+#include "material/material.h"
 #include "techniques/technique.h"
 
 namespace translucent::empirical {
@@ -52,6 +64,13 @@ class EmpiricalTechnique final : public techniques::Technique {
   techniques::ParameterValue parameter(std::string_view name) const override;
   void prepare(const scene::Scene& scene, gpu::Context& gl) override;
   techniques::Frame render(const techniques::FrameRequest& request) override;
+
+  // The material to render from the next prepare() on instead of scene::sceneMaterial(scene,
+  // mesh) (a hand-built Material: tests, callers with their own fields); std::nullopt goes back
+  // to the scene's.
+  void setMaterial(std::optional<material::Material> material);
+  // True when the last prepare() found a heterogeneous material it renders as such.
+  bool heterogeneous() const;
 
   // Diameter D of the placed mesh's bounding sphere (valid after prepare()).
   double sceneDiameter() const;

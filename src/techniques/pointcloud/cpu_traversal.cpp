@@ -4,8 +4,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
+#include <glm/exponential.hpp>
 #include <glm/geometric.hpp>
 
 namespace translucent::pointcloud {
@@ -57,9 +59,14 @@ bool dark(const geometry::OctreeNode& n) {
 
 }  // namespace
 
-glm::dvec3 radiantExitance(const geometry::Octree& octree, const glm::dvec3& x,
-                           const RgbKernel& kernel, const TraversalOptions& options,
-                           TraversalStats* stats) {
+namespace {
+
+// Algorithm 2 with the terms of a point (pointTerm(slot, r) · E_i A_i) and of a cluster
+// (nodeTerm(node, r) · Φ_v).
+template <class PointTerm, class NodeTerm>
+glm::dvec3 traverse(const geometry::Octree& octree, const glm::dvec3& x, const PointTerm& pointTerm,
+                    const NodeTerm& nodeTerm, const TraversalOptions& options,
+                    TraversalStats* stats) {
   if (!(options.epsilon > 0.0) || !std::isfinite(options.epsilon))
     throw std::invalid_argument(fmt::format("epsilon is {}: expected a positive finite solid "
                                             "angle", options.epsilon));
@@ -94,12 +101,12 @@ glm::dvec3 radiantExitance(const geometry::Octree& octree, const glm::dvec3& x,
       for (uint32_t p = desc::index(d), e = p + desc::pointCount(d); p < e; ++p) {
         const glm::dvec3 pos(points[p].positionArea);
         const double r = glm::length(x - pos);
-        radiance += kernel(r) * glm::dvec3(irradiance[p]) * double(points[p].positionArea.w);
+        radiance += pointTerm(p, r) * glm::dvec3(irradiance[p]) * double(points[p].positionArea.w);
         ++local.pointEvaluations;
       }
     } else {
       const double r = glm::length(x - glm::dvec3(n.centroid));
-      radiance += kernel(r) * glm::dvec3(n.powerArea);
+      radiance += nodeTerm(node, r) * glm::dvec3(n.powerArea);
       ++local.clusterEvaluations;
     }
   };
@@ -140,6 +147,15 @@ glm::dvec3 radiantExitance(const geometry::Octree& octree, const glm::dvec3& x,
   }
 }
 
+}  // namespace
+
+glm::dvec3 radiantExitance(const geometry::Octree& octree, const glm::dvec3& x,
+                           const RgbKernel& kernel, const TraversalOptions& options,
+                           TraversalStats* stats) {
+  const auto term = [&kernel](uint32_t, double r) { return kernel(r); };
+  return traverse(octree, x, term, term, options, stats);
+}
+
 glm::dvec3 radiantExitanceBruteForce(const geometry::PointCloud& cloud, const glm::dvec3& x,
                                      const RgbKernel& kernel) {
   if (!cloud.hasIrradiance() || cloud.irradiance.size() != cloud.size())
@@ -149,6 +165,211 @@ glm::dvec3 radiantExitanceBruteForce(const geometry::PointCloud& cloud, const gl
   for (size_t i = 0; i < cloud.size(); ++i) {
     const double r = glm::length(x - glm::dvec3(cloud.positions[i]));
     sum += kernel(r) * glm::dvec3(cloud.irradiance[i]) * double(cloud.areas[i]);
+  }
+  return sum;
+}
+
+// ---- heterogeneous -------------------------------------------------------------------------
+
+namespace {
+
+// (k, w) of Eq. 9 at r and, in the extrapolated tail (t = n r / r_s > n), what the tail needs:
+// ln P = v_n + (t − n) (v_n − v_{n−1} + c) − l, c = 2 ln(n / (n − 1)), l = 2 ln(t / n) (the last
+// segment of ln(r² P) extended; material/point_profiles.h). Beyond the cut: P = 0.
+struct Segment {
+  int k = 0;
+  double w = 0.0;
+  bool tail = false, cut = false;
+  double c = 0.0, l = 0.0;
+};
+Segment segmentAt(int n, double radius, double r) {
+  const double t = r / radius * n;
+  Segment s;
+  s.k = std::min(static_cast<int>(t), n - 1);
+  s.w = t - s.k;
+  s.tail = t > double(n);
+  s.cut = t > material::kExtrapolationFactor * n;
+  if (s.tail && n > 1) {
+    s.c = 2.0 * std::log(double(n) / double(n - 1));
+    s.l = 2.0 * std::log(t / double(n));
+  }
+  return s;
+}
+
+// ln P of one channel on a segment: the linear interpolation, or the tail (−∞ where its slope is
+// >= 0 or beyond the cut).
+double lnOnSegment(double a, double b, const Segment& s) {
+  if (!s.tail) return a + s.w * (b - a);
+  const double slope = b - a + s.c;
+  if (s.cut || !(slope < 0.0)) return -std::numeric_limits<double>::infinity();
+  return b + (s.w - 1.0) * slope - s.l;
+}
+
+glm::dvec3 lnOnSegment(const glm::vec4* nodes, const Segment& s) {
+  const glm::vec4 a = nodes[s.k], b = nodes[s.k + 1];
+  return {lnOnSegment(a.x, b.x, s), lnOnSegment(a.y, b.y, s), lnOnSegment(a.z, b.z, s)};
+}
+
+void checkProfiles(const HeteroProfiles& p, const geometry::Octree& octree, bool needNodes) {
+  if (p.segments < 1 || !(p.radius > 0.0))
+    throw std::invalid_argument(fmt::format("heterogeneous profiles: {} segments, r_s {}: expected "
+                                            ">= 1 and > 0", p.segments, p.radius));
+  if (p.points.size() != p.stride() * octree.pointCount())
+    throw std::invalid_argument(fmt::format("heterogeneous profiles: {} point nodes: expected {} "
+                                            "((n + 1) per point)", p.points.size(),
+                                            p.stride() * octree.pointCount()));
+  if (needNodes && p.nodes.size() != p.stride() * octree.nodeCount())
+    throw std::invalid_argument(fmt::format("heterogeneous profiles: {} node entries: expected {} "
+                                            "(refitNodeProfiles)", p.nodes.size(),
+                                            p.stride() * octree.nodeCount()));
+}
+
+}  // namespace
+
+glm::dvec3 lnProfileAt(const glm::vec4* nodes, int segments, double radius, double r) {
+  return lnOnSegment(nodes, segmentAt(segments, radius, r));
+}
+
+std::vector<glm::vec4> profileNodes(const material::PointProfiles& profiles, size_t p) {
+  std::vector<glm::vec4> out(size_t(profiles.segments()) + 1);
+  for (int k = 0; k <= profiles.segments(); ++k)
+    for (int c = 0; c < 3; ++c) out[size_t(k)][c] = static_cast<float>(profiles.node(p, c, k));
+  return out;
+}
+
+HeteroProfiles heteroProfiles(const geometry::Octree& octree, const material::PointProfiles& cloud) {
+  const auto& order = octree.pointOrder();
+  if (cloud.size() != order.size())
+    throw std::invalid_argument(fmt::format("heterogeneous profiles: {} profiles for {} points: "
+                                            "expected one per point", cloud.size(), order.size()));
+  HeteroProfiles out;
+  out.segments = cloud.segments();
+  out.radius = cloud.radius();
+  out.points.resize(out.stride() * order.size());
+  for (size_t slot = 0; slot < order.size(); ++slot)
+    for (int k = 0; k <= out.segments; ++k)
+      for (int c = 0; c < 3; ++c)
+        out.points[slot * out.stride() + size_t(k)][c] =
+            static_cast<float>(cloud.node(order[slot], c, k));
+  return out;
+}
+
+void refitNodeProfiles(const geometry::Octree& octree, HeteroProfiles& profiles) {
+  checkProfiles(profiles, octree, false);
+  const auto& descriptors = octree.descriptors();
+  const auto& nodes = octree.nodes();
+  const auto& points = octree.points();
+  const auto& irradiance = octree.pointIrradiance();
+  const size_t m = profiles.stride();
+  profiles.nodes.assign(m * octree.nodeCount(), glm::vec4(0.0f));
+  // Children have larger indices than their parent: the reverse order is bottom-up.
+  std::vector<glm::dvec3> s(m), sa(m);
+  for (size_t v = octree.nodeCount(); v-- > 0;) {
+    const uint32_t d = descriptors[v];
+    std::fill(s.begin(), s.end(), glm::dvec3(0.0));
+    std::fill(sa.begin(), sa.end(), glm::dvec3(0.0));
+    glm::dvec3 power(0.0);
+    double area = 0.0;
+    const auto add = [&](const glm::vec4* ln, const glm::dvec3& phi, double a) {
+      power += phi;
+      area += a;
+      for (size_t k = 0; k < m; ++k) {
+        const glm::dvec3 root = glm::exp(0.5 * glm::dvec3(ln[k]));
+        s[k] += phi * root;
+        sa[k] += a * root;
+      }
+    };
+    if (desc::isLeaf(d)) {
+      for (uint32_t p = desc::index(d), e = p + desc::pointCount(d); p < e; ++p) {
+        const double a = points[p].positionArea.w;
+        add(&profiles.points[p * m], glm::dvec3(irradiance[p]) * a, a);
+      }
+    } else {
+      for (uint32_t c = desc::index(d), e = c + desc::childCount(d); c < e; ++c)
+        add(&profiles.nodes[c * m], glm::dvec3(nodes[c].powerArea), nodes[c].powerArea.w);
+    }
+    for (size_t k = 0; k < m; ++k)
+      for (int c = 0; c < 3; ++c) {
+        const double mean = power[c] > 0.0 ? s[k][c] / power[c] : sa[k][c] / area;
+        profiles.nodes[v * m + k][c] = static_cast<float>(
+            mean > 0.0 ? std::max(2.0 * std::log(mean), material::kLnFloor) : material::kLnFloor);
+      }
+  }
+}
+
+std::vector<glm::vec4> shadingProfile(const geometry::TriangleMesh& mesh,
+                                      const material::PointProfiles& vertices, uint32_t triangle,
+                                      const glm::dvec3& x) {
+  if (triangle >= mesh.triangleCount() || vertices.size() != mesh.vertexCount())
+    throw std::invalid_argument(fmt::format("shading profile: triangle {} of {}, {} vertex profiles "
+                                            "for {} vertices", triangle, mesh.triangleCount(),
+                                            vertices.size(), mesh.vertexCount()));
+  const glm::uvec3 t = mesh.triangles[triangle];
+  const glm::dvec3 a = mesh.positions[t[0]], b = mesh.positions[t[1]], c = mesh.positions[t[2]];
+  // Barycentrics of the projection of x onto the triangle's plane, clamped and renormalised.
+  const glm::dvec3 e0 = b - a, e1 = c - a, e2 = x - a;
+  const double d00 = glm::dot(e0, e0), d01 = glm::dot(e0, e1), d11 = glm::dot(e1, e1);
+  const double d20 = glm::dot(e2, e0), d21 = glm::dot(e2, e1);
+  const double den = d00 * d11 - d01 * d01;
+  double v = den > 0.0 ? (d11 * d20 - d01 * d21) / den : 1.0 / 3.0;
+  double w = den > 0.0 ? (d00 * d21 - d01 * d20) / den : 1.0 / 3.0;
+  v = std::max(v, 0.0);
+  w = std::max(w, 0.0);
+  double u = std::max(1.0 - v - w, 0.0);
+  const double sum = u + v + w;
+  u /= sum;
+  v /= sum;
+  w /= sum;
+  std::vector<glm::vec4> out(size_t(vertices.segments()) + 1);
+  for (int k = 0; k <= vertices.segments(); ++k)
+    for (int ch = 0; ch < 3; ++ch)
+      out[size_t(k)][ch] = static_cast<float>(u * vertices.node(t[0], ch, k) +
+                                              v * vertices.node(t[1], ch, k) +
+                                              w * vertices.node(t[2], ch, k));
+  return out;
+}
+
+glm::dvec3 radiantExitance(const geometry::Octree& octree, const glm::dvec3& x,
+                           const HeteroProfiles& profiles, std::span<const glm::vec4> shading,
+                           const TraversalOptions& options, TraversalStats* stats) {
+  checkProfiles(profiles, octree, true);
+  if (shading.size() != profiles.stride())
+    throw std::invalid_argument(fmt::format("shading profile of {} nodes: expected {}",
+                                            shading.size(), profiles.stride()));
+  const size_t m = profiles.stride();
+  const int n = profiles.segments;
+  const double rs = profiles.radius;
+  const auto term = [&](const glm::vec4* source, double r) {
+    const Segment seg = segmentAt(n, rs, r);
+    return glm::exp(0.5 * (lnOnSegment(source, seg) + lnOnSegment(shading.data(), seg)));
+  };
+  const auto pointTerm = [&](uint32_t slot, double r) { return term(&profiles.points[slot * m], r); };
+  const auto nodeTerm = [&](uint32_t node, double r) { return term(&profiles.nodes[node * m], r); };
+  return traverse(octree, x, pointTerm, nodeTerm, options, stats);
+}
+
+glm::dvec3 radiantExitanceBruteForce(const geometry::PointCloud& cloud, const glm::dvec3& x,
+                                     const material::PointProfiles& cloudProfiles,
+                                     std::span<const glm::vec4> shading) {
+  if (!cloud.hasIrradiance() || cloud.irradiance.size() != cloud.size())
+    throw geometry::PointCloudError("brute-force radiant exitance: the point cloud has no "
+                                    "irradiance: expected one value per point");
+  if (cloudProfiles.size() != cloud.size() ||
+      shading.size() != size_t(cloudProfiles.segments()) + 1)
+    throw std::invalid_argument(fmt::format("brute-force Eq. 8: {} profiles for {} points, shading "
+                                            "profile of {} nodes", cloudProfiles.size(),
+                                            cloud.size(), shading.size()));
+  const int n = cloudProfiles.segments();
+  const double rs = cloudProfiles.radius();
+  glm::dvec3 sum(0.0);
+  for (size_t i = 0; i < cloud.size(); ++i) {
+    const double r = glm::length(x - glm::dvec3(cloud.positions[i]));
+    const Segment seg = segmentAt(n, rs, r);
+    glm::dvec3 lnI;
+    for (int c = 0; c < 3; ++c)
+      lnI[c] = lnOnSegment(cloudProfiles.node(i, c, seg.k), cloudProfiles.node(i, c, seg.k + 1), seg);
+    const glm::dvec3 kernel = glm::exp(0.5 * (lnI + lnOnSegment(shading.data(), seg)));
+    sum += kernel * glm::dvec3(cloud.irradiance[i]) * double(cloud.areas[i]);
   }
   return sum;
 }

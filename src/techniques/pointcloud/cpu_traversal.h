@@ -31,13 +31,17 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <span>
+#include <vector>
 
 #include <glm/vec3.hpp>
 
 #include "bssrdf/profile.h"
 #include "bssrdf/profile_table.h"
+#include "geometry/mesh.h"
 #include "geometry/octree.h"
 #include "geometry/point_cloud.h"
+#include "material/point_profiles.h"
 
 namespace translucent::pointcloud {
 
@@ -100,5 +104,67 @@ glm::dvec3 radiantExitance(const geometry::Octree& octree, const glm::dvec3& x,
 // cloud has no irradiance.
 glm::dvec3 radiantExitanceBruteForce(const geometry::PointCloud& cloud, const glm::dvec3& x,
                                      const RgbKernel& kernel);
+
+// ---- Heterogeneous materials (SubEdit Eqs. 8-9; material/point_profiles.h) -------------------
+//
+// With a spatially varying material every point p_i carries its own profile P_i (n + 1 nodes of
+// ln P per channel on [0, r_s]) and the shading point x_o its own P_o, and a term of B is Eq. 8:
+//     R(x_o, x_c) = sqrt(P_c(r) P_o(r)) = exp((ln P_c(r) + ln P_o(r)) / 2),  r = |x_o − x_c|.
+// Both profiles share the grid, so one (k, w) per term serves both (lnAt below; the GPU's
+// pcHeteroPoint and pcHeteroNode, shaders/pointcloud/hetero.glsl, are the same arithmetic in
+// float).
+//
+// A cluster (octree node) v needs a representative P_v. We use the *power-weighted mean of
+// sqrt P* of its points, per channel and node k:
+//     sqrt(P_v^k) = Σ_i Φ_i sqrt(P_i^k) / Σ_i Φ_i        (Φ_i = E_i A_i; area weights where Σ Φ = 0)
+// built bottom-up (a child's Φ and sqrt P_v stand for its points), stored as ln P_v^k. Why: the
+// exact sum over the cluster is sqrt(P_o(r)) Σ_i Φ_i sqrt(P_i(r_i)); with the cluster's one
+// distance r_i ≈ r (the approximation the homogeneous traversal already makes) it equals
+// Φ_v sqrt(P_v(r)) exactly at every node r_k. The area-weighted mean of ln P (a geometric mean)
+// is biased low where media mix and ignores where the light falls (a cluster straddling a lit
+// and an unlit medium), and the profile of the mean medium needs the model on the GPU and is
+// biased too (P is not linear in σ). Cost: the weights follow the irradiance, so the
+// representatives are refit every frame with the power (refit.comp on the GPU).
+
+// Per-point and per-node ln P nodes in the layout the GPU reads: (n + 1) vec4 per entry, xyz =
+// ln P (RGB), w = 0; points in the octree's slot order (Octree::points()).
+struct HeteroProfiles {
+  int segments = material::kDefaultProfileSegments;  // n
+  double radius = 0.0;                                // r_s [scene units]
+  std::vector<glm::vec4> points;  // (n + 1) · octree.pointCount()
+  std::vector<glm::vec4> nodes;   // (n + 1) · octree.nodeCount(), from refitNodeProfiles
+  size_t stride() const { return size_t(segments) + 1; }
+};
+
+// The point profiles (indexed like the PointCloud the octree was built from) in slot order; the
+// node representatives are left empty until refitNodeProfiles.
+HeteroProfiles heteroProfiles(const geometry::Octree& octree, const material::PointProfiles& cloud);
+// The node representatives (see above) from the octree's current irradiance (Octree::refit).
+void refitNodeProfiles(const geometry::Octree& octree, HeteroProfiles& profiles);
+
+// ln P at r of one profile (n + 1 float nodes, xyz = RGB): Eq. 9 with the extrapolation and the
+// cut of material/point_profiles.h (−∞: P = 0).
+glm::dvec3 lnProfileAt(const glm::vec4* nodes, int segments, double radius, double r);
+// One profile (n + 1 nodes) as floats, from PointProfiles entry p.
+std::vector<glm::vec4> profileNodes(const material::PointProfiles& profiles, size_t p);
+// The shading point's profile on a triangle: the barycentric interpolation (of ln P) of its
+// vertices' profiles (`vertices`: PointProfiles indexed like mesh.positions), at the point of the
+// triangle's plane nearest to x (barycentrics clamped to the triangle) — what the GPU does from
+// the G-buffer's triangle index.
+std::vector<glm::vec4> shadingProfile(const geometry::TriangleMesh& mesh,
+                                      const material::PointProfiles& vertices, uint32_t triangle,
+                                      const glm::dvec3& x);
+
+// B(x_o) with Eq. 8: Algorithm 2 as above, the kernel exp((ln P_c + ln P_o) / 2) with the
+// shading point's profile `shading` (n + 1 nodes) and the points' and nodes' profiles.
+// `profiles.nodes` must be refit (refitNodeProfiles) for the octree's irradiance.
+glm::dvec3 radiantExitance(const geometry::Octree& octree, const glm::dvec3& x,
+                           const HeteroProfiles& profiles, std::span<const glm::vec4> shading,
+                           const TraversalOptions& options = {}, TraversalStats* stats = nullptr);
+// The brute-force Eq. 8 sum over every point of the cloud (index order): Σ_i sqrt(P_i P_o) E_i A_i
+// with the double nodes of `cloudProfiles` (indexed like the cloud).
+glm::dvec3 radiantExitanceBruteForce(const geometry::PointCloud& cloud, const glm::dvec3& x,
+                                     const material::PointProfiles& cloudProfiles,
+                                     std::span<const glm::vec4> shading);
 
 }  // namespace translucent::pointcloud

@@ -15,6 +15,7 @@
 #include "bssrdf/bssrdf_file.h"
 #include "bssrdf/exit_radiance.h"
 #include "bssrdf/registry.h"
+#include "geometry/atlas.h"
 #include "gpu/bssrdf_kernels.h"
 #include "gpu/bssrdf_profiles.h"
 #include "gpu/compute.h"
@@ -47,6 +48,12 @@ enum Binding : GLuint {
   kLevels = 6,
   kRadianceOut = 7,
   kExitanceOut = 8,
+  // Heterogeneous materials only (shaders/pointcloud/hetero.glsl).
+  kPointProfiles = 9,
+  kNodeProfiles = 10,
+  kVertexProfiles = 11,
+  kMeshVertices = 12,
+  kMeshTriangles = 13,
 };
 
 std::vector<ParameterInfo> parameterInfos() {
@@ -117,6 +124,19 @@ struct PointCloudTechnique::Impl : techniques::ClosedMeshState {
   // Programs.
   std::optional<gpu::ShaderProgram> gbufferProgram, refitProgram;
 
+  // Material (prepare(): scene::sceneMaterial or setMaterial's). Heterogeneous (Volume, Surface):
+  // per-point, per-vertex and per-node profiles, and the PC_HETERO variants of the g-buffer,
+  // refit and radiance programs (built only then).
+  std::optional<material::Material> materialOverride;
+  material::ProfileOptions profileOptions;
+  material::Material mat;
+  bool hetero = false;
+  bool heteroDirty = true;
+  material::PointProfiles cloudProfiles, vertexProfiles;
+  gpu::Buffer pointProfiles, nodeProfiles, vertexProfileBuffer, meshVertices, meshTriangles;
+  std::optional<gpu::ShaderProgram> gbufferHetero, refitHetero;
+  int heteroProgramNodes = 0;
+
   // Lights: the shared irradiance pass (techniques/common/surface_irradiance.h).
   techniques::SurfaceIrradiance lighting;
   bool lightingDirty = true;
@@ -141,6 +161,97 @@ struct PointCloudTechnique::Impl : techniques::ClosedMeshState {
   void loadMesh(const scene::Scene& s) {
     if (!loadClosedMesh(s)) return;
     geometryDirty = true;
+  }
+
+  void prepareMaterial(const scene::Scene& s) {
+    mat = materialOverride ? *materialOverride : scene::sceneMaterial(s, mesh);
+    hetero = mat.heterogeneous();
+    heteroDirty = true;
+  }
+
+  // Kind::Surface: the atlas UV of every cloud point (its triangle's corner UVs at the point's
+  // barycentrics) and of every vertex (from the first triangle that uses it: a vertex on a chart
+  // seam has one UV per chart, and the map is read at one of them). The atlas is the default one
+  // (geometry::AtlasOptions{}, cached like tsis's): the surface map must be defined over it.
+  void surfaceUvs(std::vector<glm::vec2>& cloudUvs, std::vector<glm::vec2>& vertexUvs) {
+    if (cloud.faces.size() != cloud.size())
+      throw ParameterError("pointcloud: a surface-map material needs the triangle of every point: "
+                           "the point cloud has none");
+    const geometry::CachedAtlas cached = geometry::loadOrBuildAtlas(mesh, geometry::AtlasOptions{});
+    const geometry::Atlas& atlas = cached.atlas;
+    notes.push_back(fmt::format("pointcloud: surface-map material over the {}² {} atlas ({} {})",
+                                atlas.size, geometry::toString(atlas.method),
+                                cached.fromCache ? "read from" : "cached in", cached.file.string()));
+    cloudUvs.resize(cloud.size());
+    for (size_t i = 0; i < cloud.size(); ++i) {
+      const uint32_t f = cloud.faces[i];
+      const glm::uvec3 t = mesh.triangles[f];
+      const glm::dvec3 a = mesh.positions[t[0]], e0 = mesh.positions[t[1]] - a,
+                       e1 = mesh.positions[t[2]] - a, e2 = glm::dvec3(cloud.positions[i]) - a;
+      const double d00 = glm::dot(e0, e0), d01 = glm::dot(e0, e1), d11 = glm::dot(e1, e1);
+      const double d20 = glm::dot(e2, e0), d21 = glm::dot(e2, e1), den = d00 * d11 - d01 * d01;
+      const double v = den > 0.0 ? std::clamp((d11 * d20 - d01 * d21) / den, 0.0, 1.0) : 1.0 / 3.0;
+      const double w = den > 0.0 ? std::clamp((d00 * d21 - d01 * d20) / den, 0.0, 1.0 - v) : 1.0 / 3.0;
+      const double u = 1.0 - v - w;
+      cloudUvs[i] = glm::vec2(u * glm::dvec2(atlas.uv(f, 0)) + v * glm::dvec2(atlas.uv(f, 1)) +
+                              w * glm::dvec2(atlas.uv(f, 2)));
+    }
+    vertexUvs.assign(mesh.vertexCount(), glm::vec2(0.0f));
+    std::vector<bool> seen(mesh.vertexCount(), false);
+    for (size_t f = 0; f < mesh.triangleCount(); ++f)
+      for (int c = 0; c < 3; ++c) {
+        const uint32_t v = mesh.triangles[f][c];
+        if (seen[v]) continue;
+        seen[v] = true;
+        vertexUvs[v] = atlas.uv(f, c);
+      }
+  }
+
+  // The profiles of the cloud's points, of the mesh's vertices (the shading points' profiles are
+  // interpolated from them) and room for the nodes' representatives (refit per frame).
+  void buildHetero() {
+    if (!hetero || !heteroDirty) return;
+    const std::vector<glm::dvec3> normals = vertexNormals(mesh);
+    std::vector<glm::vec3> vp(mesh.vertexCount()), vn(mesh.vertexCount());
+    for (size_t i = 0; i < vp.size(); ++i) {
+      vp[i] = glm::vec3(mesh.positions[i]);
+      vn[i] = glm::vec3(normals[i]);
+    }
+    std::vector<glm::vec2> cloudUvs, vertexUvs;
+    if (mat.kind == material::Material::Kind::Surface) surfaceUvs(cloudUvs, vertexUvs);
+    cloudProfiles = material::PointProfiles::build(
+        mat, material::PointProfiles::surfaceMedia(mat, cloud.positions, cloud.normals, cloudUvs),
+        profileOptions);
+    vertexProfiles = material::PointProfiles::build(
+        mat, material::PointProfiles::surfaceMedia(mat, vp, vn, vertexUvs),
+        {cloudProfiles.segments(), cloudProfiles.radius()});
+    const HeteroProfiles slots = heteroProfiles(octree, cloudProfiles);
+    pointProfiles = gpu::makeStorageBuffer(std::span<const glm::vec4>(slots.points));
+    nodeProfiles = gpu::makeStorageBuffer(slots.stride() * octree.nodeCount() * sizeof(glm::vec4));
+    std::vector<glm::vec4> vprof;
+    vprof.reserve(slots.stride() * mesh.vertexCount());
+    for (size_t v = 0; v < mesh.vertexCount(); ++v)
+      for (const glm::vec4& node : profileNodes(vertexProfiles, v)) vprof.push_back(node);
+    vertexProfileBuffer = gpu::makeStorageBuffer(std::span<const glm::vec4>(vprof));
+    std::vector<glm::vec4> verts(mesh.vertexCount());
+    for (size_t i = 0; i < verts.size(); ++i) verts[i] = glm::vec4(vp[i], 1.0f);
+    std::vector<glm::uvec4> tris(mesh.triangleCount());
+    for (size_t i = 0; i < tris.size(); ++i) tris[i] = glm::uvec4(mesh.triangles[i], 0u);
+    meshVertices = gpu::makeStorageBuffer(std::span<const glm::vec4>(verts));
+    meshTriangles = gpu::makeStorageBuffer(std::span<const glm::uvec4>(tris));
+    const int profileNodes = cloudProfiles.segments() + 1;
+    if (!gbufferHetero || heteroProgramNodes != profileNodes) {
+      const gpu::Defines d{{"PC_HETERO", "1"}, {"PC_PROFILE_NODES", std::to_string(profileNodes)}};
+      gbufferHetero.emplace(
+          gpu::ShaderProgram::graphics("pointcloud/gbuffer.vert", "pointcloud/gbuffer.frag", d));
+      refitHetero.emplace(gpu::ShaderProgram::compute("pointcloud/refit.comp", d));
+      heteroProgramNodes = profileNodes;
+    }
+    notes.push_back(fmt::format("pointcloud: heterogeneous material, {} segments of ln P on "
+                                "[0, r_s = {:.4g}] per point (Eq. 8)", cloudProfiles.segments(),
+                                cloudProfiles.radius()));
+    gpu::checkGlError("building the heterogeneous profiles");
+    heteroDirty = false;
   }
 
   void prepareLights(const scene::Scene& s) {
@@ -190,6 +301,7 @@ struct PointCloudTechnique::Impl : techniques::ClosedMeshState {
     levelNodes = gpu::makeStorageBuffer(std::span<const uint32_t>(order));
     geometryDirty = false;
     lightingDirty = true;
+    heteroDirty = true;
   }
 
   // The profile R(r) per channel (techniques/common/profile_kernel.h): from the C++ model, or,
@@ -206,11 +318,17 @@ struct PointCloudTechnique::Impl : techniques::ClosedMeshState {
   void buildKernel() {
     const scene::Scene& s = *scene;
     const bool wantShader = params.getEnum("kernel") == "shader";
-    const std::string key = fmt::format("{}|{}|{}|{}|{}|{}|{}|{}|{}", s.model, s.medium.sigma_a,
+    // Heterogeneous: the PC_HETERO variant with n + 1 profile nodes (0: homogeneous).
+    const int heteroNodes = hetero ? (profileOptions.segments + 1) : 0;
+    const std::string key = fmt::format("{}|{}|{}|{}|{}|{}|{}|{}|{}|{}", s.model, s.medium.sigma_a,
                                         s.medium.sigma_s, s.medium.g, s.medium.eta, s.medium.scale,
-                                        params.getInt("table_size"), wantShader, stackSize);
+                                        params.getInt("table_size"), wantShader, stackSize,
+                                        heteroNodes);
     if (key == kernelKey && radianceProgram) return;
     kernelKey.clear();  // until this build succeeds: a failure must not leave a stale kernel
+    if (hetero && wantShader)
+      throw ParameterError("pointcloud: kernel 'shader' with a heterogeneous material: expected "
+                           "kernel 'table' (per-point profiles come from the registered model)");
     s.medium.validate();
     evaluator.reset();
     std::filesystem::path file;
@@ -236,9 +354,13 @@ struct PointCloudTechnique::Impl : techniques::ClosedMeshState {
     const auto stack = stackSize;
     std::shared_ptr<const bssrdf::BssrdfFile> bssrdfFile;
     if (wantShader) bssrdfFile = std::make_shared<const bssrdf::BssrdfFile>(evaluator->file());
-    auto recipe = [stack, bssrdfFile]() {
+    auto recipe = [stack, bssrdfFile, heteroNodes]() {
       gpu::ShaderPreprocessor pp = bssrdfFile ? gpu::bssrdfPreprocessor(*bssrdfFile) : gpu::ShaderPreprocessor();
       pp.define("PC_STACK_SIZE", std::to_string(stack));
+      if (heteroNodes > 0) {
+        pp.define("PC_HETERO", "1");
+        pp.define("PC_PROFILE_NODES", std::to_string(heteroNodes));
+      }
       gpu::SourceFile kernel;
       kernel.path = bssrdfFile ? "<pointcloud kernel: .bssrdf shader>" : "<pointcloud kernel: table>";
       kernel.text = bssrdfFile ? "#include \"bssrdf/interface.glsl\"\n"
@@ -264,6 +386,7 @@ struct PointCloudTechnique::Impl : techniques::ClosedMeshState {
     buildPrograms();
     buildGeometry();
     buildKernel();
+    buildHetero();
     if (!timer) timer.emplace();
     techniques::Frame frame;
     frame.notes = std::move(notes);
@@ -275,6 +398,13 @@ struct PointCloudTechnique::Impl : techniques::ClosedMeshState {
     gpu::bindStorage(kPoints, points);
     gpu::bindStorage(kProfile, profile);
     gpu::bindStorage(kLevels, levelNodes);
+    if (hetero) {
+      gpu::bindStorage(kPointProfiles, pointProfiles);
+      gpu::bindStorage(kNodeProfiles, nodeProfiles);
+      gpu::bindStorage(kVertexProfiles, vertexProfileBuffer);
+      gpu::bindStorage(kMeshVertices, meshVertices);
+      gpu::bindStorage(kMeshTriangles, meshTriangles);
+    }
 
     // The irradiance of every light at the points (the shared pass), then bound for the refit and
     // the traversal.
@@ -289,7 +419,7 @@ struct PointCloudTechnique::Impl : techniques::ClosedMeshState {
     // Refit, deepest level first.
     {
       auto t = timer->scope("refit");
-      const gpu::ShaderProgram& rp = *refitProgram;
+      const gpu::ShaderProgram& rp = hetero ? *refitHetero : *refitProgram;
       for (const auto& [offset, count] : levels) {
         rp.set("LevelOffset", offset);
         rp.set("LevelCount", count);
@@ -303,7 +433,7 @@ struct PointCloudTechnique::Impl : techniques::ClosedMeshState {
       gbuffer.resize(width, height);
       const glm::mat4 vp = cameraViewProjection(s.camera, s.clip_near, s.clip_far, center, radius,
                                                 width, height);
-      gbuffer.render(*gpuMesh, *gbufferProgram, vp);
+      gbuffer.render(*gpuMesh, hetero ? *gbufferHetero : *gbufferProgram, vp);
     }
 
     // Radiance.
@@ -333,6 +463,7 @@ struct PointCloudTechnique::Impl : techniques::ClosedMeshState {
       p.set("Orthographic", s.camera.projection == reference::Camera::Projection::Orthographic);
       p.set("ProfileRMax", static_cast<float>(tables[0].r_max));
       p.set("ProfileCount", static_cast<unsigned>(tables[0].size()));
+      if (hetero) p.set("HeteroRadius", static_cast<float>(cloudProfiles.radius()));
       if (shaderKernel) setBssrdfUniforms(p);
       int spec = 0;
       if (params.getBool("specular")) {
@@ -428,9 +559,22 @@ void PointCloudTechnique::prepare(const scene::Scene& scene, gpu::Context& gl) {
   impl_->loadMesh(scene);
   impl_->prepareLights(scene);
   impl_->scene = scene;
+  impl_->prepareMaterial(scene);
   impl_->buildGeometry();
   impl_->buildKernel();
+  impl_->buildHetero();
 }
+
+void PointCloudTechnique::setMaterial(std::optional<material::Material> material,
+                                      const material::ProfileOptions& options) {
+  impl_->materialOverride = std::move(material);
+  impl_->profileOptions = options;
+  impl_->heteroDirty = true;
+}
+
+bool PointCloudTechnique::heterogeneous() const { return impl_->hetero; }
+const material::PointProfiles& PointCloudTechnique::cloudProfiles() const { return impl_->cloudProfiles; }
+const material::PointProfiles& PointCloudTechnique::vertexProfiles() const { return impl_->vertexProfiles; }
 
 techniques::Frame PointCloudTechnique::render(const techniques::FrameRequest& request) {
   return impl_->render(request);

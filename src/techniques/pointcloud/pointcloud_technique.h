@@ -32,11 +32,24 @@
 //   radiance_convention normalized (kDefaultRadianceConvention) | jensen;
 //   specular false; roughness 0.3 [0.01, 1].
 //
+// Heterogeneous materials (material/material.h; prepare() calls scene::sceneMaterial(scene, mesh),
+// or takes the Material given to setMaterial()): for a Kind::Volume material every point carries
+// its local profile (material/point_profiles.h: n = kDefaultProfileSegments segments of ln P on
+// [0, r_s], r_s the largest 95% radius; an SSBO of n + 1 vec4 per point in octree slot order),
+// the radiance pass evaluates Eq. 8, sqrt(P_c(r) P_o(r)), with P_o the shading point's profile
+// (interpolated from per-vertex profiles on the triangle the G-buffer names) and, for a cluster,
+// the power-weighted mean of sqrt P of its points (refit every frame with the power;
+// cpu_traversal.h says why). Kind::Volume and Kind::Surface both: a surface map is read at the
+// atlas UV of each point (from its triangle, PointCloud::faces, and the default atlas,
+// geometry::AtlasOptions{}, built or read from the cache) and of each vertex. The `shader` kernel is not available for heterogeneous materials (ParameterError).
+// A homogeneous material takes exactly the path it took before (same programs, same buffers).
+//
 // Units: scene units for lengths; light fluxes as in the scene (scene/scene.h); the image is
 // radiance per unit of the lights' flux units.
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -45,6 +58,8 @@
 #include "geometry/mesh.h"
 #include "geometry/octree.h"
 #include "geometry/point_cloud.h"
+#include "material/material.h"
+#include "material/point_profiles.h"
 #include "techniques/common/profile_kernel.h"
 #include "techniques/pointcloud/cpu_traversal.h"
 #include "techniques/technique.h"
@@ -76,7 +91,19 @@ class PointCloudTechnique final : public techniques::Technique {
   void prepare(const scene::Scene& scene, gpu::Context& gl) override;
   techniques::Frame render(const techniques::FrameRequest& request) override;
 
+  // The material to render from the next prepare() on instead of scene::sceneMaterial(scene,
+  // mesh) (a hand-built Material: tests, callers with their own fields); std::nullopt goes back
+  // to the scene's. `options` sets n and r_s of the per-point profiles.
+  void setMaterial(std::optional<material::Material> material,
+                   const material::ProfileOptions& options = {});
+
   // ---- Inspection (tests and benchmarks; valid after a render) --------------------------------
+  // True when the last prepare() found a heterogeneous material (Kind::Volume or Kind::Surface).
+  bool heterogeneous() const;
+  // Heterogeneous: the per-point profiles (indexed like pointCloud()) and the per-vertex ones
+  // (indexed like mesh().positions) the GPU uses; empty otherwise.
+  const material::PointProfiles& cloudProfiles() const;
+  const material::PointProfiles& vertexProfiles() const;
   // The placed, outward-oriented mesh, its point cloud and the octree built over it.
   const geometry::TriangleMesh& mesh() const;
   const geometry::PointCloud& pointCloud() const;
@@ -86,7 +113,8 @@ class PointCloudTechnique final : public techniques::Technique {
   std::vector<glm::vec3> gpuIrradiance() const;
   // The kernel the radiance pass uses, for the CPU traversal (table kernel only).
   RgbKernel cpuKernel() const;
-  // G-buffer positions of the last frame (xyz; w = 1 where covered), rows from the top.
+  // G-buffer positions of the last frame (xyz; w = 1 where covered, 1 + the triangle index for a
+  // heterogeneous material; 0 elsewhere), rows from the top.
   std::vector<glm::vec4> gbufferPositions() const;
   TraversalOptions traversalOptions() const;
 
