@@ -537,6 +537,9 @@ TEST(DataScenes, EverySceneParsesRoundTripsAndBuildsItsMaterial) {
       const std::string once = toJson(s);
       EXPECT_EQ(toJson(parseScene(once, "", "round trip")), once);
       const geometry::TriangleMesh mesh = loadSceneMesh(s);
+      if (s.mesh_fill_holes) {
+        EXPECT_NO_THROW(mesh.requireClosed(e.path().string()));
+      }
       const material::Material m = sceneMaterial(s, mesh);
       EXPECT_EQ(m.heterogeneous(), !s.material.homogeneous());
       if (m.heterogeneous()) {
