@@ -1,5 +1,7 @@
 #include "material/checker.h"
 
+#include "material/parse_context.h"
+
 #include <cmath>
 
 namespace translucent::material {

@@ -1,5 +1,7 @@
 #include "material/gradient.h"
 
+#include "material/parse_context.h"
+
 #include <algorithm>
 
 #include <glm/geometric.hpp>

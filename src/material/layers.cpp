@@ -1,5 +1,7 @@
 #include "material/layers.h"
 
+#include "material/parse_context.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>

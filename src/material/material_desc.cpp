@@ -1,5 +1,7 @@
 #include "material/material_desc.h"
 
+#include "material/parse_context.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>

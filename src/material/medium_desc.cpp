@@ -1,5 +1,7 @@
 #include "material/medium_desc.h"
 
+#include "material/parse_context.h"
+
 #include "optics/presets.h"
 
 namespace translucent::material {

@@ -7,7 +7,9 @@
 
 #include <string>
 
-#include "material/json_reader.h"
+#include <vector>
+
+#include "material/field_common.h"
 #include "material/material.h"
 
 namespace translucent::material {

@@ -1,5 +1,7 @@
 #include "material/surface_maps.h"
 
+#include "material/parse_context.h"
+
 #include <algorithm>
 #include <cmath>
 

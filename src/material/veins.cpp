@@ -1,5 +1,7 @@
 #include "material/veins.h"
 
+#include "material/parse_context.h"
+
 #include <cmath>
 #include <numbers>
 

@@ -17,6 +17,7 @@
 
 #include "material/json_reader.h"
 #include "material/material_desc.h"
+#include "material/parse_context.h"
 #include "optics/presets.h"
 #include "scene/data_path.h"
 

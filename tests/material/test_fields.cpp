@@ -19,6 +19,7 @@
 #include "material/gradient.h"
 #include "material/layers.h"
 #include "material/noise.h"
+#include "material/parse_context.h"
 #include "material/surface_distance.h"
 #include "material/surface_maps.h"
 #include "material/veins.h"

@@ -11,6 +11,7 @@
 #include "analysis/image_io.h"
 #include "geometry/mesh.h"
 #include "material/material_desc.h"
+#include "material/parse_context.h"
 #include "scene/scene.h"
 #include "test_helpers.h"
 
