@@ -1,6 +1,7 @@
 #include "material/material.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace translucent::material {
 
@@ -13,14 +14,22 @@ LocalMedium Material::surfaceMedium(const glm::dvec3& x, const glm::dvec3& n,
                                     const glm::dvec2& uv) const {
   if (kind == Kind::Surface && surface) return surface->at(uv);
   if (kind != Kind::Volume || !volume) return LocalMedium::of(medium);
-  // The mean of the field along the inward normal over [0, surface_depth] (midpoint rule, 8
-  // samples): the light that diffuses out at x has travelled through this layer.
+  // The field along the inward normal over depths [0, D], D = surface_depth, weighted by
+  // e^(-z/D) (16 samples at the quantiles of that truncated exponential, equal weights).
+  // Why: sceneMaterial sets D to ℓd = 1/σtr of the medium under the surface (its smallest
+  // channel): the diffusion fluence below an illuminated surface falls off as e^(-σtr z), so the
+  // light that leaves at x was scattered mostly within about one ℓd of depth, most of it in the
+  // upper part. Averaging deeper (several ℓd) would mix in media the light rarely reaches and,
+  // on thin parts (ears), media of the other side; averaging only ℓ' (one reduced mean free
+  // path, the dipole's source depth) would make a layer thinner than ℓd invisible below a coat.
   const glm::dvec3 q = frame.toMaterial(x);
   const glm::dvec3 inward = -(glm::transpose(frame.rotation) * n);
-  constexpr int kSamples = 8;
+  constexpr int kSamples = 16;
+  const double tail = 1.0 - std::exp(-1.0);  // the weights' mass on [0, D]
   LocalMedium sum;
   for (int i = 0; i < kSamples; ++i) {
-    const double depth = surface_depth * (i + 0.5) / kSamples;
+    const double u = (i + 0.5) / kSamples;
+    const double depth = -surface_depth * std::log1p(-u * tail);
     const LocalMedium m = volume->at(q + depth * inward);
     for (size_t c = 0; c < 3; ++c) {
       sum.sigma_a[c] += m.sigma_a[c] / kSamples;

@@ -42,6 +42,19 @@ struct LocalMedium {
   // The point's medium as a full Medium with the object's η and scale.
   Medium medium(double eta, double scale) const { return {sigma_a, sigma_s, g, eta, scale}; }
   static LocalMedium of(const Medium& m) { return {m.sigma_a, m.sigma_s, m.g}; }
+  // (1 − t) a + t b for σa, σs and g alike (t in [0, 1]): the blend of two media that the
+  // two-media fields (veins, gradient, voxel density) use. Every coefficient stays between the
+  // two media's, so their larger σt bounds the blend.
+  static LocalMedium mix(const LocalMedium& a, const LocalMedium& b, double t) {
+    LocalMedium m;
+    for (size_t c = 0; c < 3; ++c) {
+      m.sigma_a[c] = a.sigma_a[c] + t * (b.sigma_a[c] - a.sigma_a[c]);
+      m.sigma_s[c] = a.sigma_s[c] + t * (b.sigma_s[c] - a.sigma_s[c]);
+    }
+    m.g = a.g + t * (b.g - a.g);
+    return m;
+  }
+  bool operator==(const LocalMedium&) const = default;
 };
 
 // A 3D field over material space. Implementations are immutable once built and safe to query
@@ -99,7 +112,8 @@ struct Material {
   LocalMedium atScenePoint(const glm::dvec3& x) const;
   // The local medium of a surface point: scene position x, outward unit normal n, atlas UV (used
   // by Kind::Surface only; ignored otherwise). Volume: the field averaged along −n over
-  // [0, surface_depth]; Surface: the map at uv; Homogeneous: `medium`.
+  // [0, surface_depth], weighted by e^(−z / surface_depth) (material.cpp says why); Surface: the
+  // map at uv; Homogeneous: `medium`.
   LocalMedium surfaceMedium(const glm::dvec3& x, const glm::dvec3& n, const glm::dvec2& uv) const;
 };
 

@@ -18,6 +18,9 @@
 #include <glm/mat3x3.hpp>
 
 #include "geometry/ray_scene.h"
+#include "material/json_reader.h"
+#include "material/material_desc.h"
+#include "material/parse_context.h"
 #include "optics/presets.h"
 #include "scene/data_path.h"
 
@@ -30,98 +33,9 @@ using reference::Camera;
 using reference::DirectionalLight;
 using reference::PointLight;
 
-// Reads JSON values with messages that name the source and the key path.
-struct Reader {
-  std::string what;
-
-  [[noreturn]] void fail(const std::string& key, const std::string& message) const {
-    throw ParameterError(fmt::format("{}: {}: {}", what, key, message));
-  }
-  void onlyKeys(const json& j, const std::string& key, std::initializer_list<const char*> valid) const {
-    if (!j.is_object())
-      fail(key.empty() ? "top level" : key, fmt::format("{}: expected an object", describe(j)));
-    const std::set<std::string> ok(valid.begin(), valid.end());
-    for (const auto& [k, v] : j.items())
-      if (!ok.count(k))
-        fail(key.empty() ? k : key + "." + k,
-             fmt::format("unknown key; valid keys here are {}", fmt::join(valid, ", ")));
-  }
-  // Every scene number is finite and of magnitude at most kMaxMagnitude: larger values are
-  // finite in double but overflow to inf in the float buffers and shaders they reach (an
-  // irradiance of 1e308 times a colour or a profile gives inf, then NaN pixels).
-  static constexpr double kMaxMagnitude = 1e15;
-  double number(const json& j, const std::string& key) const {
-    if (!j.is_number()) fail(key, fmt::format("{}: expected a number", describe(j)));
-    const double v = j.get<double>();
-    if (!std::isfinite(v) || std::abs(v) > kMaxMagnitude)
-      fail(key, fmt::format("is {}: expected a finite number of magnitude at most {:g}", v,
-                            kMaxMagnitude));
-    return v;
-  }
-  // A value as the message shows it: JSON text, cut short (a whole array would drown the message).
-  static std::string describe(const json& j) {
-    std::string text = j.dump();
-    if (text.size() > 40) text = text.substr(0, 37) + "...";
-    return fmt::format("{} {}", j.type_name(), text);
-  }
-  double number(const json& obj, const char* name, const std::string& key, double fallback) const {
-    return obj.contains(name) ? number(obj.at(name), key + "." + name) : fallback;
-  }
-  bool boolean(const json& obj, const char* name, const std::string& key, bool fallback) const {
-    if (!obj.contains(name)) return fallback;
-    if (!obj.at(name).is_boolean())
-      fail(key + "." + name, fmt::format("{}: expected true or false", describe(obj.at(name))));
-    return obj.at(name).get<bool>();
-  }
-  // A whole number in [lo, hi]. The range is checked on the 64-bit value before narrowing:
-  // j.get<int>() would read 4294967360 as 64.
-  int integer(const json& obj, const char* name, const std::string& key, int fallback, int lo,
-              int hi) const {
-    if (!obj.contains(name)) return fallback;
-    const json& j = obj.at(name);
-    const std::string k = key + "." + name;
-    if (!j.is_number_integer())
-      fail(k, fmt::format("{}: expected a whole number in [{}, {}]", describe(j), lo, hi));
-    // Non-negative integers are stored unsigned (and may exceed int64); compare in that type.
-    const bool fits = j.is_number_unsigned()
-                          ? j.get<uint64_t>() <= uint64_t(hi) &&
-                                (lo <= 0 || j.get<uint64_t>() >= uint64_t(lo))
-                          : j.get<int64_t>() >= lo && j.get<int64_t>() <= hi;
-    if (!fits) fail(k, fmt::format("is {}: expected a whole number in [{}, {}]", j.dump(), lo, hi));
-    return static_cast<int>(j.get<int64_t>());
-  }
-  glm::dvec3 vec3(const json& j, const std::string& key) const {
-    if (!j.is_array() || j.size() != 3)
-      fail(key, fmt::format("{}: expected an array of three numbers [x, y, z]", describe(j)));
-    return {number(j[0], key + "[0]"), number(j[1], key + "[1]"), number(j[2], key + "[2]")};
-  }
-  glm::dvec3 vec3(const json& obj, const char* name, const std::string& key,
-                  const glm::dvec3& fallback) const {
-    return obj.contains(name) ? vec3(obj.at(name), key + "." + name) : fallback;
-  }
-  glm::dvec3 requiredVec3(const json& obj, const char* name, const std::string& key) const {
-    if (!obj.contains(name)) fail(key + "." + name, "required");
-    return vec3(obj.at(name), key + "." + name);
-  }
-  Rgb rgb(const json& j, const std::string& key) const {
-    if (j.is_number()) {
-      const double v = number(j, key);
-      return {v, v, v};
-    }
-    if (!j.is_array() || j.size() != 3)
-      fail(key, fmt::format("{}: expected a number or an array [r, g, b]", describe(j)));
-    return {number(j[0], key + "[0]"), number(j[1], key + "[1]"), number(j[2], key + "[2]")};
-  }
-  std::string string(const json& obj, const char* name, const std::string& key) const {
-    if (!obj.contains(name)) fail(key + "." + name, "required");
-    const json& j = obj.at(name);
-    if (!j.is_string()) fail(key + "." + name, fmt::format("{}: expected a string", describe(j)));
-    return j.get<std::string>();
-  }
-};
-
-json vec(const glm::dvec3& v) { return json::array({v.x, v.y, v.z}); }
-json rgbJson(const Rgb& v) { return json::array({v[0], v[1], v[2]}); }
+using Reader = material::JsonReader;
+using material::rgbJson;
+using material::vec;
 
 std::filesystem::path resolve(const std::filesystem::path& p, const std::filesystem::path& base) {
   return p.is_absolute() || base.empty() ? p : base / p;
@@ -273,48 +187,75 @@ Scene parseScene(const std::string& text, const std::filesystem::path& base_dir,
   requirePositive(r, s.mesh_scale, "mesh.scale");
   s.mesh_translate = r.vec3(mesh, "translate", "mesh", glm::dvec3(0.0));
 
-  // Material: a preset or explicit coefficients, and the BSSRDF model.
+  // Material: a preset or explicit coefficients (the homogeneous form), or a spatially varying
+  // type (material/material_desc.h), and the BSSRDF model.
   if (!doc.contains("material")) r.fail("material", "required");
   const json& mat = doc["material"];
-  r.onlyKeys(mat, "material", {"preset", "sigma_a", "sigma_s", "g", "eta", "scale", "model"});
-  const bool explicitCoefficients = mat.contains("sigma_a") || mat.contains("sigma_s");
-  if (mat.contains("preset") && explicitCoefficients)
-    r.fail("material", "give either \"preset\" or \"sigma_a\" and \"sigma_s\", not both");
-  if (mat.contains("preset")) {
-    s.preset = r.string(mat, "preset", "material");
-    const Preset* p = nullptr;
+  if (!mat.is_object()) r.fail("material", fmt::format("{}: expected an object", Reader::describe(mat)));
+  const std::string materialType =
+      mat.contains("type") ? r.string(mat, "type", "material") : "homogeneous";
+  if (materialType != "homogeneous") {
     try {
-      p = &preset(s.preset);
+      (void)material::materialKind(materialType);
     } catch (const ParameterError& e) {
-      r.fail("material.preset", e.what());
+      r.fail("material.type", e.what());
     }
-    const double g = r.number(mat, "g", "material", p->g);
-    try {
-      s.medium = Medium::fromReduced(p->sigma_a, p->sigma_s_prime, g,
-                                     r.number(mat, "eta", "material", p->eta));
-    } catch (const ParameterError& e) {
-      r.fail("material", e.what());
+  }
+  if (materialType == "homogeneous") {
+    r.onlyKeys(mat, "material", {"type", "preset", "sigma_a", "sigma_s", "g", "eta", "scale", "model"});
+    const bool explicitCoefficients = mat.contains("sigma_a") || mat.contains("sigma_s");
+    if (mat.contains("preset") && explicitCoefficients)
+      r.fail("material", "give either \"preset\" or \"sigma_a\" and \"sigma_s\", not both");
+    if (mat.contains("preset")) {
+      s.preset = r.string(mat, "preset", "material");
+      const Preset* p = nullptr;
+      try {
+        p = &preset(s.preset);
+      } catch (const ParameterError& e) {
+        r.fail("material.preset", e.what());
+      }
+      const double g = r.number(mat, "g", "material", p->g);
+      try {
+        s.medium = Medium::fromReduced(p->sigma_a, p->sigma_s_prime, g,
+                                       r.number(mat, "eta", "material", p->eta));
+      } catch (const ParameterError& e) {
+        r.fail("material", e.what());
+      }
+    } else if (explicitCoefficients) {
+      if (!mat.contains("sigma_a") || !mat.contains("sigma_s"))
+        r.fail("material", "\"sigma_a\" and \"sigma_s\" must be given together");
+      s.medium.sigma_a = r.rgb(mat["sigma_a"], "material.sigma_a");
+      s.medium.sigma_s = r.rgb(mat["sigma_s"], "material.sigma_s");
+      s.medium.g = r.number(mat, "g", "material", 0.0);
+      s.medium.eta = r.number(mat, "eta", "material", 1.3);
+    } else {
+      r.fail("material", "expected \"preset\" or \"sigma_a\" and \"sigma_s\"");
     }
-  } else if (explicitCoefficients) {
-    if (!mat.contains("sigma_a") || !mat.contains("sigma_s"))
-      r.fail("material", "\"sigma_a\" and \"sigma_s\" must be given together");
-    s.medium.sigma_a = r.rgb(mat["sigma_a"], "material.sigma_a");
-    s.medium.sigma_s = r.rgb(mat["sigma_s"], "material.sigma_s");
-    s.medium.g = r.number(mat, "g", "material", 0.0);
-    s.medium.eta = r.number(mat, "eta", "material", 1.3);
-  } else {
-    r.fail("material", "expected \"preset\" or \"sigma_a\" and \"sigma_s\"");
   }
   s.medium.scale = r.number(mat, "scale", "material", 1.0);
-  try {
-    s.medium.validate();
-  } catch (const ParameterError& e) {
-    r.fail("material", e.what());
-  }
   if (mat.contains("model")) {
     const std::string m = r.string(mat, "model", "material");
     if (m.empty()) r.fail("material.model", "expected a model name or a .bssrdf file");
     s.model = std::filesystem::path(m).extension() == ".bssrdf" ? resolve(m, base_dir).string() : m;
+  }
+  if (materialType != "homogeneous") {
+    // The field's own keys; the object's η and scale, and the representative medium as
+    // Scene::medium (what techniques without heterogeneous support render).
+    material::ParseContext c;
+    c.reader = r;
+    c.resolve = [&](const std::string& name, const std::string& key) {
+      return resolveFile(r, s, name, base_dir, key);
+    };
+    c.eta = r.number(mat, "eta", "material", 1.3);
+    c.model = s.model;
+    s.material = material::parseMaterialDesc(c, mat, "material");
+    const material::LocalMedium rep = s.material.representative();
+    s.medium = rep.medium(c.eta, s.medium.scale);
+  }
+  try {
+    s.medium.validate();
+  } catch (const ParameterError& e) {
+    r.fail("material", e.what());
   }
 
   // Lights.
@@ -422,13 +363,16 @@ std::string toJson(const Scene& s) {
                  {"rotate", vec(s.mesh_rotate)}, {"scale", s.mesh_scale},
                  {"translate", vec(s.mesh_translate)}};
   json mat;
-  if (!s.preset.empty()) {
+  if (!s.material.homogeneous()) {
+    material::writeMaterialDesc(s.material, mat,
+                                [&](const std::filesystem::path& p) { return writtenPath(s, p); });
+  } else if (!s.preset.empty()) {
     mat["preset"] = s.preset;
   } else {
     mat["sigma_a"] = rgbJson(s.medium.sigma_a);
     mat["sigma_s"] = rgbJson(s.medium.sigma_s);
   }
-  mat["g"] = s.medium.g;
+  if (s.material.homogeneous()) mat["g"] = s.medium.g;
   mat["eta"] = s.medium.eta;
   mat["scale"] = s.medium.scale;
   mat["model"] = s.model;
@@ -598,14 +542,19 @@ void requireOutsideMesh(const Scene& scene, const geometry::TriangleMesh& placed
 }
 
 material::Material sceneMaterial(const Scene& scene, const geometry::TriangleMesh& placed_mesh) {
-  (void)placed_mesh;  // homogeneous: the mesh is not needed
-  material::Material m;
-  m.medium = scene.medium;
-  m.model = scene.model;
-  m.frame.rotation = rotation(scene.mesh_rotate);
-  m.frame.translate = scene.mesh_translate;
-  m.frame.scale = scene.medium.scale;
-  return m;
+  material::BuildContext b;
+  b.placed_mesh = &placed_mesh;
+  b.frame.rotation = rotation(scene.mesh_rotate);
+  b.frame.translate = scene.mesh_translate;
+  b.frame.scale = scene.medium.scale;
+  if (scene.material.homogeneous()) {  // the mesh is not needed
+    material::Material m;
+    m.medium = scene.medium;
+    m.model = scene.model;
+    m.frame = b.frame;
+    return m;
+  }
+  return material::buildMaterial(scene.material, scene.medium, scene.model, b);
 }
 
 std::string meshKey(const Scene& s) {

@@ -19,6 +19,10 @@
 //                  "g": 0.0, "eta": 1.3,        // (preset: its own unless given)
 //                  "scale": 1.0,                // medium units per scene unit (seed 3.6.1)
 //                  "model": "dipole"},          // registered model name, or a .bssrdf file
+//                 or a spatially varying material (material/material_desc.h):
+//                 {"type": "layers" | "veins" | "checker" | "gradient" | "voxels" | "map" |
+//                          "rd_map" | "surface_checker", ...the type's keys...,
+//                  "eta": 1.3, "scale": 1.0, "model": "dipole"},
 //     "lights":   [{"type": "directional", "direction": [x, y, z],   // towards the light
 //                   "irradiance": 1.0, "color": [1, 1, 1]},
 //                  {"type": "point", "position": [x, y, z], "intensity": 1.0},
@@ -43,7 +47,7 @@
 // Every light takes "color" (per-channel multiplier of its flux). Units: positions in scene units;
 // light fluxes in W (irradiance W/unit², intensity W/sr, environment radiance W/(unit² sr)).
 //
-// Files ("mesh.file", a light's "texture" and "file"): a relative name is found beside the scene
+// Files ("mesh.file", a light's "texture" and "file", the material's image and .vdb files): a relative name is found beside the scene
 // file, else in each folder of $TRANSLUCENT_DATA, else in ~/.cache/translucent/data
 // (scene/data_path.h); a file that is nowhere is an error at parse time that lists every place
 // tried. toJson writes a file found beside the scene (or by absolute name) as the resolved path,
@@ -69,6 +73,7 @@
 #include "geometry/hole_filling.h"
 #include "geometry/mesh.h"
 #include "material/material.h"
+#include "material/material_desc.h"
 #include "optics/medium.h"
 #include "reference/camera.h"
 #include "reference/transport.h"
@@ -116,8 +121,14 @@ struct Scene {
 
   // Material.
   std::string preset;  // material preset name, empty for explicit coefficients
+  // Homogeneous: the medium. Heterogeneous: η, scale and the representative medium (the top
+  // layer, the first of "media", or the mean of a map or coefficient grid), what techniques
+  // without heterogeneous support render.
   Medium medium;
   std::string model = "dipole";  // registered model name or a .bssrdf file (resolved path)
+  // The spatially varying part ("type" other than "homogeneous", material/material_desc.h);
+  // HomogeneousDesc for today's form. sceneMaterial builds it against the placed mesh.
+  material::MaterialDesc material;
 
   std::vector<Light> lights;
   reference::Camera camera;

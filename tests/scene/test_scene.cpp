@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <numbers>
 #include <optional>
 
@@ -507,6 +508,55 @@ TEST(StandingSuite, EverySceneParsesAndItsMeshIsClosed) {
   }
   EXPECT_EQ(scenes, 10);
   EXPECT_EQ(heads, 6);  // 10 and 40 mm x skim milk, marble, skin
+}
+
+// ---- data/scenes ---------------------------------------------------------------------------
+
+// Every scene of data/scenes parses, round-trips through toJson, loads its mesh and builds its
+// material (the heterogeneous ones included: layers from the surface build their distance
+// structure over the placed head). The dragon comes from scripts/install-bench-data (benchmark
+// data the tests do not require): without it that scene is reported and skipped.
+TEST(DataScenes, EverySceneParsesRoundTripsAndBuildsItsMaterial) {
+  const std::filesystem::path dir = std::filesystem::path(TRANSLUCENT_DATA_DIR) / "scenes";
+  int scenes = 0, heterogeneous = 0;
+  for (const auto& e : std::filesystem::directory_iterator(dir)) {
+    if (e.path().extension() != ".json") continue;
+    SCOPED_TRACE(e.path().string());
+    Scene s;
+    try {
+      s = loadScene(e.path());
+    } catch (const ParameterError& x) {
+      const std::string msg = x.what();
+      if (msg.find("'dragon/") != std::string::npos && msg.find("not found") != std::string::npos) {
+        std::cout << "skipped " << e.path() << " (run scripts/install-bench-data): " << msg << "\n";
+        continue;
+      }
+      ADD_FAILURE() << msg;
+      continue;
+    }
+    ++scenes;
+    try {
+      const std::string once = toJson(s);
+      EXPECT_EQ(toJson(parseScene(once, "", "round trip")), once);
+      const geometry::TriangleMesh mesh = loadSceneMesh(s);
+      if (s.mesh_fill_holes) {
+        EXPECT_NO_THROW(mesh.requireClosed(e.path().string()));
+      }
+      const material::Material m = sceneMaterial(s, mesh);
+      EXPECT_EQ(m.heterogeneous(), !s.material.homogeneous());
+      if (m.heterogeneous()) {
+        ++heterogeneous;
+        // The material answers at a surface point (the volume's average below it, or the map).
+        const glm::dvec3 n = mesh.normals.empty() ? glm::dvec3(0, 0, 1) : glm::normalize(mesh.normals[0]);
+        EXPECT_NO_THROW(Medium(m.surfaceMedium(mesh.positions[0], n, {0.5, 0.5})
+                                   .medium(s.medium.eta, s.medium.scale)).validate());
+      }
+    } catch (const std::exception& x) {
+      ADD_FAILURE() << x.what();
+    }
+  }
+  EXPECT_GE(scenes, 7);
+  EXPECT_GE(heterogeneous, 3);  // veins, chessboard and layered head (and the dragon when installed)
 }
 
 }  // namespace
