@@ -13,9 +13,12 @@
 //           denser one below z = -1);
 //   slab_*  the same two media as slabs: traceSlab (scalar kernel) and traceLayeredSlab (one and
 //           two layers).
-// Counters: photons/s on one worker thread (wall time), events/photon (real scattering events).
+// Counters: photons/s on one worker thread (wall time), photons/cpu_s (per second of process
+// CPU time: robust to other load), events/photon (real scattering events).
 // Run: build/release/bin/bench_hetero
 #include <benchmark/benchmark.h>
+
+#include <time.h>
 
 #include <memory>
 #include <optional>
@@ -33,8 +36,17 @@ using namespace translucent;
 using namespace translucent::reference;
 using translucent::reference::testing::grey;
 
-void report(benchmark::State& state, uint64_t photons, uint64_t events) {
+// Process CPU time [s]: the worker thread's (the calling thread sleeps in the block driver), so
+// photons per CPU second is robust to other load on the machine, unlike wall time.
+double cpuSeconds() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+void report(benchmark::State& state, uint64_t photons, uint64_t events, double cpu) {
   state.counters["photons/s"] = benchmark::Counter(static_cast<double>(photons), benchmark::Counter::kIsRate);
+  state.counters["photons/cpu_s"] = static_cast<double>(photons) / cpu;
   state.counters["events/photon"] = static_cast<double>(events) / static_cast<double>(photons);
 }
 
@@ -67,6 +79,7 @@ void trace(benchmark::State& state, const geometry::TriangleMesh& mesh, const Li
     v = VolumeMedium::make(mat, b.lower - 1e-4, b.upper + 1e-4);
   }
   uint64_t photons = 0, events = 0;
+  const double cpu0 = cpuSeconds();
   for (auto _ : state) {
     const TransportStats s = v ? tracePhotons(body, *v, std::span<const Light>(&light, 1), o, tally)
                                : tracePhotons(body, channels, std::span<const Light>(&light, 1), o, tally);
@@ -74,7 +87,7 @@ void trace(benchmark::State& state, const geometry::TriangleMesh& mesh, const Li
     photons += s.totalPhotons();
     events += s.scattering_events;
   }
-  report(state, photons, events);
+  report(state, photons, events, cpuSeconds() - cpu0);
 }
 
 const geometry::TriangleMesh& ico() {
@@ -127,6 +140,7 @@ TraceOptions slabOptions() {
 }
 void slab(benchmark::State& state, int layers) {
   uint64_t photons = 0, events = 0, seed = 1;
+  const double cpu0 = cpuSeconds();
   for (auto _ : state) {
     TraceOptions o = slabOptions();
     o.seed = seed++;
@@ -149,7 +163,7 @@ void slab(benchmark::State& state, int layers) {
     photons += r.photons;
     events += r.scattering_events;
   }
-  report(state, photons, events);
+  report(state, photons, events, cpuSeconds() - cpu0);
 }
 BENCHMARK_CAPTURE(slab, slab_homogeneous_scalar, 0)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(slab, slab_layered_one, 1)->Unit(benchmark::kMillisecond)->UseRealTime();
