@@ -250,9 +250,7 @@ void writeCsv(const std::string& path, const SlabResult& r) {
 
 void runSlab(const PathtraceArgs& a) {
   std::string unit;
-  SlabSetup setup = buildSetup(a, unit);
-  std::optional<reference::LayeredSlabSetup> layered;
-  if (!a.layers.empty()) layered = buildLayered(a, setup);
+  const SlabSetup setup = buildSetup(a, unit);
   const TraceOptions options = buildOptions(a);
   if (a.time_limit && !(*a.time_limit > 0.0))
     throw ParameterError(fmt::format("--time-limit is {}: expected seconds > 0", *a.time_limit));
@@ -262,6 +260,11 @@ void runSlab(const PathtraceArgs& a) {
   outputs.output("--json", a.json);
   outputs.output("--csv", a.csv);
   outputs.check();
+  // A layered slab: the layers from the file; `shown` is then the top layer with the total
+  // thickness (what the JSON's surfaces and thickness refer to).
+  SlabSetup shown = setup;
+  std::optional<reference::LayeredSlabSetup> layered;
+  if (!a.layers.empty()) layered = buildLayered(a, shown);
   if (options.long_path_roulette > 0)
     fmt::print(stderr,
                "pathtrace: note: long-path roulette keeps estimates unbiased, but each roulette "
@@ -278,7 +281,7 @@ void runSlab(const PathtraceArgs& a) {
     progress.end();
   }
 
-  writeJson(a.json, setup, options, r, unit, layered ? &*layered : nullptr, a.layers);
+  writeJson(a.json, shown, options, r, unit, layered ? &*layered : nullptr, a.layers);
   if (!a.csv.empty()) writeCsv(a.csv, r);
   fmt::print(stderr,
              "pathtrace: {}{} photons in {:.2f} s ({:.3g} photons/s, {} threads): Rsp {:.5f}, "
