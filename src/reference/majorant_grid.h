@@ -34,6 +34,7 @@
 #pragma once
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -94,6 +95,16 @@ struct VolumeMedium {
   double coefficient_scale = 1.0;  // per medium unit -> per scene unit (Medium::scale)
   double eta = 1.3;                // n_inside / n_outside, the same for every point
   std::shared_ptr<const MajorantGrid> grid;
+  // Tentative collisions where the field exceeded the bound in force (a field whose majorant()
+  // is wrong: delta tracking is then biased there), summed over every run with this medium; a
+  // check for field implementations, 0 when the bounds hold. (It may also count collisions of a
+  // photon that slipped out of the body and flies beyond the grid's box, where the bound is the
+  // largest cell's and the field is not bounded by anything.)
+  std::shared_ptr<std::atomic<uint64_t>> majorant_violations =
+      std::make_shared<std::atomic<uint64_t>>(0);
+  uint64_t majorantViolations() const {
+    return majorant_violations ? majorant_violations->load() : 0;
+  }
 
   // From a Kind::Volume material (its medium's η and scale); the grid over [lower, upper].
   // Throws ParameterError for another kind or a missing field.

@@ -89,6 +89,8 @@ class MeshPathTracer {
   const MeshBody& body() const { return body_; }
   // The heterogeneous medium (null for a homogeneous one) and its majorant grid.
   const VolumeMedium* volume() const { return volume_ ? &*volume_ : nullptr; }
+  // VolumeMedium::majorant_violations so far (0 for a homogeneous medium).
+  uint64_t majorantViolations() const { return volume_ ? volume_->majorantViolations() : 0; }
   const CameraModel& camera() const { return tally_->camera(); }
   // Photons that scored into more than one pixel (ImageTally::severalPixelPhotons).
   uint64_t severalPixelPhotons() const { return tally_->severalPixelPhotons(); }

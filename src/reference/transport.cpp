@@ -197,7 +197,7 @@ TransportStats tracePhotons(const Body& body, const VolumeMedium& medium,
                             std::span<const Light> lights, const TransportOptions& options,
                             ExitTally& tally, const ProgressCallback& progress) {
   options.validate();
-  if (!medium.field || !medium.grid)
+  if (!medium.field || !medium.grid || !medium.majorant_violations)
     throw ParameterError("transport: heterogeneous medium without a field or a majorant grid");
   if (!std::isfinite(medium.eta) || !(medium.eta > 0.0))
     throw ParameterError(fmt::format("transport: eta is {}: expected a value > 0", medium.eta));

@@ -321,7 +321,12 @@ void traceVolumePhoton(const BodyT& body, const BoundingSphere& bounds,
     auto accept = [&](double tc, double bound) {
       local = V.at(o + tc * d);
       localSigmaT = (local.sigma_a[ci] + local.sigma_s[ci]) * scale;
-      return localSigmaT >= bound || uniform01(rng) * bound < localSigmaT;
+      if (localSigmaT >= bound) {
+        if (localSigmaT > bound * (1.0 + 1e-9))
+          V.majorant_violations->fetch_add(1, std::memory_order_relaxed);
+        return true;
+      }
+      return uniform01(rng) * bound < localSigmaT;
     };
     const bool collided = grid.track(o, d, kInf, c, rng, accept, t);
     if (!body.intersect(o, d, onSurface ? eps : 0.0, collided ? t : kInf, hit)) {

@@ -108,6 +108,7 @@ TEST(HeterogeneousMesh, HomogeneousFieldWithLooseMajorantMatchesTheHomogeneousWa
   EXPECT_EQ(hetero.volume()->grid->cells(), MajorantGrid::defaultCells(s.mesh.bounds().lower,
                                                                         s.mesh.bounds().upper));
   expectSameImages(hetero, homogeneous);
+  EXPECT_EQ(hetero.majorantViolations(), 0u);
 }
 
 TEST(HeterogeneousMesh, HomogeneousMaterialTakesTheHomogeneousWalkBitForBit) {
@@ -144,6 +145,7 @@ TEST(HeterogeneousMesh, CoreFarBelowTheSurfaceDoesNotShowUp) {
                        {s.light}, s.camera(), 5.0, o);
   cored.addPass(40'000);
   expectSameImages(cored, homogeneous);
+  EXPECT_EQ(cored.majorantViolations(), 0u);
 }
 
 // Annuli about the beam on the top face z = 0 and the flux leaving elsewhere, every channel
@@ -225,6 +227,27 @@ TEST(HeterogeneousMesh, LayeredFieldInAFlatBoxMatchesTheLayeredSlab) {
                 kZ, "Rd(r) annulus " + std::to_string(k));
   }
   EXPECT_LT(tally.top.estimate(n).std_error, 0.01 * tally.top.estimate(n).value);
+  EXPECT_EQ(v.majorantViolations(), 0u);
+}
+
+// A field whose majorant() lies (half of σt) is caught: the walk counts the tentative
+// collisions where the field exceeded the bound.
+class LyingField final : public material::VolumeField {
+ public:
+  material::LocalMedium at(const glm::dvec3&) const override { return grey(1.0, 9.0, 0.0); }
+  Rgb majorant(const glm::dvec3&, const glm::dvec3&) const override { return {5.0, 5.0, 5.0}; }
+};
+
+TEST(HeterogeneousMesh, CountsTentativeCollisionsAboveTheMajorant) {
+  LitSphere s;
+  TracerOptions o;
+  o.threads = 2;
+  MeshPathTracer t(s.mesh, volumeMaterial(std::make_shared<LyingField>(), 1.3), {s.light},
+                   s.camera(), 5.0, o);
+  t.addPass(1024);
+  // Every tentative collision is above the bound: at least one per photon that entered and
+  // scattered.
+  EXPECT_GT(t.majorantViolations(), 1000u);
 }
 
 TEST(HeterogeneousMesh, SameSeedSameImagesForAnyThreadCount) {
@@ -250,6 +273,21 @@ TEST(HeterogeneousMesh, SameSeedSameImagesForAnyThreadCount) {
     EXPECT_EQ(one->stats().exited[static_cast<size_t>(c)].s2, three->stats().exited[static_cast<size_t>(c)].s2);
   }
   EXPECT_GT(one->stats().scattering_events, 0u);
+}
+
+TEST(HeterogeneousMesh, StopsOnRequestKeepingWholeBlocks) {
+  // Progress and Ctrl-C as for the homogeneous walk (the same block driver): a stop keeps the
+  // blocks traced so far, marks the pass partial, and the next pass continues after them.
+  LitSphere s;
+  TracerOptions o;
+  o.threads = 2;
+  MeshPathTracer t(s.mesh,
+                   volumeMaterial(std::make_shared<testing::UniformField>(grey(0.001, 50.0, 0.0), 2.0), 1.3),
+                   {s.light}, s.camera(), 5.0, o);
+  const TransportStats p = t.addPass(50'000'000, [](const TraceProgress& pr) { return pr.seconds < 0.2; });
+  EXPECT_TRUE(p.partial);
+  EXPECT_LT(p.photons[0], 50'000'000u);
+  EXPECT_EQ(p.photons[0] % kBlockPhotons, 0u);
 }
 
 TEST(HeterogeneousMesh, ErrorsNameTheProblem) {
