@@ -39,6 +39,7 @@ MajorantGrid::MajorantGrid(const material::VolumeField& field, const material::M
     throw ParameterError("majorant grid: more than 2^24 cells");
   n_ = cells;
   cell_ = (upper - lower) / glm::dvec3(n_);
+  invCell_ = 1.0 / cell_;
   sigma_.reserve(static_cast<size_t>(n_.x) * static_cast<size_t>(n_.y) * static_cast<size_t>(n_.z) * 3);
   for (int k = 0; k < n_.z; ++k)
     for (int j = 0; j < n_.y; ++j)

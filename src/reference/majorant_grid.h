@@ -81,7 +81,7 @@ class MajorantGrid {
              Accept&& accept, double& t) const;
 
  private:
-  glm::dvec3 lower_, upper_, cell_;
+  glm::dvec3 lower_, upper_, cell_, invCell_;
   glm::ivec3 n_;
   std::vector<double> sigma_;  // [k][j][i][c]
   double max_[3] = {0.0, 0.0, 0.0}, mean_[3] = {0.0, 0.0, 0.0};
@@ -143,13 +143,14 @@ bool MajorantGrid::track(const glm::dvec3& o, const glm::dvec3& d, double tMax, 
   const double mOut = max_[c];
   // Clip [0, t_max] to the box (slab test).
   double t0 = 0.0, t1 = tMax;
+  double inv[3];
   for (int a = 0; a < 3; ++a) {
+    inv[a] = d[a] != 0.0 ? 1.0 / d[a] : 0.0;
     if (d[a] == 0.0) {
       if (o[a] < lower_[a] || o[a] > upper_[a]) t1 = -1.0;
       continue;
     }
-    const double inv = 1.0 / d[a];
-    double ta = (lower_[a] - o[a]) * inv, tb = (upper_[a] - o[a]) * inv;
+    double ta = (lower_[a] - o[a]) * inv[a], tb = (upper_[a] - o[a]) * inv[a];
     if (ta > tb) std::swap(ta, tb);
     t0 = std::max(t0, ta);
     t1 = std::min(t1, tb);
@@ -163,15 +164,15 @@ bool MajorantGrid::track(const glm::dvec3& o, const glm::dvec3& d, double tMax, 
   double next[3], delta[3];
   for (int a = 0; a < 3; ++a) {
     const int na = n_[a];
-    cell[a] = std::clamp(static_cast<int>(std::floor((p[a] - lower_[a]) / cell_[a])), 0, na - 1);
+    cell[a] = std::clamp(static_cast<int>((p[a] - lower_[a]) * invCell_[a]), 0, na - 1);
     if (d[a] > 0.0) {
       step[a] = 1;
-      next[a] = (lower_[a] + (cell[a] + 1) * cell_[a] - o[a]) / d[a];
-      delta[a] = cell_[a] / d[a];
+      next[a] = (lower_[a] + (cell[a] + 1) * cell_[a] - o[a]) * inv[a];
+      delta[a] = cell_[a] * inv[a];
     } else if (d[a] < 0.0) {
       step[a] = -1;
-      next[a] = (lower_[a] + cell[a] * cell_[a] - o[a]) / d[a];
-      delta[a] = -cell_[a] / d[a];
+      next[a] = (lower_[a] + cell[a] * cell_[a] - o[a]) * inv[a];
+      delta[a] = -cell_[a] * inv[a];
     } else {
       step[a] = 0;
       next[a] = kInf;
