@@ -4,7 +4,9 @@
 //
 // Medium: --sigma-a A --sigma-s S [--g G] --eta N (one channel, coefficients per length unit),
 // or --preset NAME --channel r|g|b (Jensen et al. 2001, 1/mm, σs = σs'/(1-g) for the given g).
-// No --thickness: semi-infinite. Ctrl-C (or --time-limit) stops the run; what was traced so far
+// No --thickness: semi-infinite. Layered slab (MCML's multi-layer mode, reference/layered_slab.h):
+// --layers FILE --eta N, the file a JSON array of layers, top first, each {"thickness": t or null,
+// "sigma_a", "sigma_s", "g"} in the units of the other options, every layer at --eta. Ctrl-C (or --time-limit) stops the run; what was traced so far
 // is written with "partial": true.
 #include <fmt/format.h>
 
@@ -24,6 +26,7 @@
 #include "output_guard.h"
 #include "progress.h"
 #include "optics/presets.h"
+#include "reference/layered_slab.h"
 #include "reference/slab.h"
 
 namespace translucent::cli {
@@ -51,6 +54,7 @@ struct PathtraceArgs {
   std::string absorption = "analog", kernel = "lanes";
   std::optional<double> time_limit;
   std::string json, csv;
+  std::string layers;  // --layers FILE
 };
 
 uint64_t parsePhotons(const std::string& text) {
@@ -65,9 +69,22 @@ uint64_t parsePhotons(const std::string& text) {
 SlabSetup buildSetup(const PathtraceArgs& a, std::string& lengthUnit) {
   SlabSetup s;
   const bool scalar = a.sigma_a || a.sigma_s;
+  if (!a.layers.empty()) {
+    // The layers come from the file; the slab's surfaces and beam from the options. The returned
+    // setup is the top layer with the total thickness (what the output's surfaces refer to).
+    if (scalar || a.g || !a.preset.empty() || !a.channel.empty() || a.thickness)
+      throw ParameterError("--layers gives the media and thicknesses: it cannot be combined "
+                           "with --sigma-a, --sigma-s, --g, --preset, --channel or --thickness");
+    if (!a.eta)
+      throw ParameterError("--eta: required with --layers (index of every layer, e.g. 1.4)");
+    lengthUnit = "length unit of the coefficients";
+  } else if (scalar && !a.preset.empty())
+    throw ParameterError("--preset cannot be combined with --sigma-a/--sigma-s");
   if (scalar && !a.preset.empty())
     throw ParameterError("--preset cannot be combined with --sigma-a/--sigma-s");
-  if (scalar) {
+  if (!a.layers.empty()) {
+    s.n_inside = *a.eta;
+  } else if (scalar) {
     if (!a.sigma_a || !a.sigma_s)
       throw ParameterError("--sigma-a and --sigma-s must be given together");
     if (!a.eta)
@@ -112,8 +129,28 @@ SlabSetup buildSetup(const PathtraceArgs& a, std::string& lengthUnit) {
     throw ParameterError(fmt::format("--theta is {}: expected degrees in [0, 90)", a.theta));
   s.theta = a.theta * std::numbers::pi / 180.0;
   s.phi = a.phi * std::numbers::pi / 180.0;
-  s.validate();
+  if (a.layers.empty()) s.validate();
   return s;
+}
+
+reference::LayeredSlabSetup buildLayered(const PathtraceArgs& a, SlabSetup& s) {
+  reference::LayeredSlabSetup L;
+  L.layers = reference::loadSlabLayers(a.layers);
+  L.n_inside = s.n_inside;
+  L.n_above = s.n_above;
+  L.n_below = s.n_below;
+  L.theta = s.theta;
+  L.phi = s.phi;
+  try {
+    L.validate();
+  } catch (const ParameterError& e) {
+    throw ParameterError(fmt::format("--layers {}: {}", a.layers, e.what()));
+  }
+  s.sigma_a = L.layers[0].sigma_a;
+  s.sigma_s = L.layers[0].sigma_s;
+  s.g = L.layers[0].g;
+  s.thickness = L.totalThickness();
+  return L;
 }
 
 TraceOptions buildOptions(const PathtraceArgs& a) {
@@ -145,12 +182,25 @@ void estimate(nlohmann::json& j, const std::string& key, const reference::Estima
 }
 
 void writeJson(const std::string& path, const SlabSetup& s, const TraceOptions& o,
-               const SlabResult& r, const std::string& lengthUnit) {
+               const SlabResult& r, const std::string& lengthUnit,
+               const reference::LayeredSlabSetup* layered = nullptr,
+               const std::string& layersFile = "") {
   nlohmann::json j;
-  j["geometry"] = "slab";
-  j["medium"] = {{"sigma_a", s.sigma_a}, {"sigma_s", s.sigma_s}, {"g", s.g},
-                 {"eta", s.n_inside}, {"eta_above", s.n_above}, {"eta_below", s.n_below},
-                 {"length_unit", lengthUnit}};
+  j["geometry"] = layered ? "layered slab" : "slab";
+  if (layered) {
+    nlohmann::json layers = nlohmann::json::array();
+    for (const auto& L : layered->layers)
+      layers.push_back({{"thickness", std::isfinite(L.thickness) ? nlohmann::json(L.thickness)
+                                                                 : nlohmann::json(nullptr)},
+                        {"sigma_a", L.sigma_a}, {"sigma_s", L.sigma_s}, {"g", L.g}});
+    j["layers_file"] = layersFile;
+    j["medium"] = {{"layers", layers}, {"eta", s.n_inside}, {"eta_above", s.n_above},
+                   {"eta_below", s.n_below}, {"length_unit", lengthUnit}};
+  } else {
+    j["medium"] = {{"sigma_a", s.sigma_a}, {"sigma_s", s.sigma_s}, {"g", s.g},
+                   {"eta", s.n_inside}, {"eta_above", s.n_above}, {"eta_below", s.n_below},
+                   {"length_unit", lengthUnit}};
+  }
   j["thickness"] = s.finite() ? nlohmann::json(s.thickness) : nlohmann::json(nullptr);
   j["theta_deg"] = s.theta * 180.0 / std::numbers::pi;
   j["phi_deg"] = s.phi * 180.0 / std::numbers::pi;
@@ -239,6 +289,11 @@ void runSlab(const PathtraceArgs& a) {
   outputs.output("--json", a.json);
   outputs.output("--csv", a.csv);
   outputs.check();
+  // A layered slab: the layers from the file; `shown` is then the top layer with the total
+  // thickness (what the JSON's surfaces and thickness refer to).
+  SlabSetup shown = setup;
+  std::optional<reference::LayeredSlabSetup> layered;
+  if (!a.layers.empty()) layered = buildLayered(a, shown);
   if (options.long_path_roulette > 0)
     printStderr(
                "pathtrace: note: long-path roulette keeps estimates unbiased, but each roulette "
@@ -249,12 +304,13 @@ void runSlab(const PathtraceArgs& a) {
   {
     InterruptGuard guard;
     ProgressBar progress("pathtrace", "photons", a.time_limit);
-    r = reference::traceSlab(setup, options,
-                             [&](const reference::TraceProgress& p) { return progress(p); });
+    const auto cb = [&](const reference::TraceProgress& p) { return progress(p); };
+    r = layered ? reference::traceLayeredSlab(*layered, options, cb)
+                : reference::traceSlab(setup, options, cb);
     progress.end();
   }
 
-  writeJson(a.json, setup, options, r, unit);
+  writeJson(a.json, shown, options, r, unit, layered ? &*layered : nullptr, a.layers);
   if (!a.csv.empty()) writeCsv(a.csv, r);
   printStderr(
              "pathtrace: {}{} photons in {:.2f} s ({:.3g} photons/s, {} threads): Rsp {:.5f}, "
@@ -288,6 +344,10 @@ void addPathtraceCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--eta-below", args->eta_below, "Refractive index below the slab")
       ->capture_default_str();
+  cmd->add_option("--layers", args->layers,
+                  "Layered slab (MCML multi-layer): JSON array, top first, of {\"thickness\": t "
+                  "or null (last only: semi-infinite), \"sigma_a\", \"sigma_s\", \"g\"}, "
+                  "every layer at --eta (scalar walker; --kernel does not apply)");
   cmd->add_option("--thickness", args->thickness, "Slab thickness [length]; omit: semi-infinite");
   cmd->add_option("--theta", args->theta, "Polar angle of the incident beam [degrees]")
       ->capture_default_str();

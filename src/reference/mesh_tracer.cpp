@@ -63,6 +63,34 @@ MeshPathTracer::MeshPathTracer(const geometry::TriangleMesh& mesh, const ScalarM
   init(camera, cone_half_angle);
 }
 
+namespace {
+std::vector<ScalarMedium> materialChannels(const material::Material& m) {
+  if (m.kind == material::Material::Kind::Surface)
+    throw ParameterError(
+        "mesh tracer: a surface-map material (2D maps over the atlas) has no volume to trace; "
+        "its reference is the compare report's model reference (brute-force Eq. 8)");
+  m.medium.validate();
+  std::vector<ScalarMedium> ch;
+  for (int c = 0; c < 3; ++c) ch.push_back(m.medium.channel(c));
+  return ch;
+}
+}  // namespace
+
+MeshPathTracer::MeshPathTracer(const geometry::TriangleMesh& mesh, const material::Material& material,
+                               std::vector<Light> lights, const Camera& camera,
+                               double cone_half_angle, const TracerOptions& options,
+                               glm::ivec3 majorant_cells)
+    : channels_(materialChannels(material)), lights_(std::move(lights)), options_(options),
+      body_(mesh) {
+  if (material.kind == material::Material::Kind::Volume) {
+    // The grid over the mesh's box, enlarged by a hair so that boundary points are inside it.
+    const geometry::Bounds b = mesh.bounds();
+    const glm::dvec3 pad(1e-6 * (glm::length(b.center()) + b.radius()));
+    volume_ = VolumeMedium::make(material, b.lower - pad, b.upper + pad, majorant_cells);
+  }
+  init(camera, cone_half_angle);
+}
+
 void MeshPathTracer::init(const Camera& camera, double cone_half_angle) {
   if (lights_.empty()) throw ParameterError("mesh tracer: no lights: expected at least one");
   for (size_t i = 0; i < lights_.size(); ++i)
@@ -79,7 +107,8 @@ TransportStats MeshPathTracer::addPass(uint64_t photons, const ProgressCallback&
   o.threads = options_.threads;
   o.long_path_roulette = options_.long_path_roulette;
   o.first_block = stats_.next_block;
-  TransportStats pass = tracePhotons(body_, channels_, lights_, o, *tally_, progress);
+  TransportStats pass = volume_ ? tracePhotons(body_, *volume_, lights_, o, *tally_, progress)
+                                : tracePhotons(body_, channels_, lights_, o, *tally_, progress);
   tally_->addPhotons(pass.photons);
   stats_.merge(pass);
   return pass;

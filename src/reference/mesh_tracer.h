@@ -26,10 +26,12 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "geometry/mesh.h"
 #include "geometry/ray_scene.h"
+#include "material/material.h"
 #include "reference/camera.h"
 #include "reference/sphere.h"
 #include "reference/transport.h"
@@ -69,6 +71,15 @@ class MeshPathTracer {
   MeshPathTracer(const geometry::TriangleMesh& mesh, const ScalarMedium& medium,
                  std::vector<Light> lights, const Camera& camera, double cone_half_angle,
                  const TracerOptions& options);
+  // A built material (material/material.h; the scene's: scene::sceneMaterial(scene, mesh)).
+  // Homogeneous: the constructor above with material.medium (bit-identical results). Volume:
+  // the field inside the mesh, delta-tracked through a majorant grid over the mesh's bounds
+  // (`majorant_cells` per axis, 0: MajorantGrid::defaultCells), η = material.medium.eta.
+  // Surface (2D atlas maps) has no volume to trace: ParameterError (its reference is the compare
+  // report's model reference, brute-force Eq. 8 over the surface).
+  MeshPathTracer(const geometry::TriangleMesh& mesh, const material::Material& material,
+                 std::vector<Light> lights, const Camera& camera, double cone_half_angle,
+                 const TracerOptions& options, glm::ivec3 majorant_cells = {0, 0, 0});
 
   // Traces `photons` more photons per channel (rounded up to whole blocks of kBlockPhotons).
   TransportStats addPass(uint64_t photons, const ProgressCallback& progress = {});
@@ -76,6 +87,10 @@ class MeshPathTracer {
   const CameraImages& images() const { return tally_->images(); }
   const TransportStats& stats() const { return stats_; }
   const MeshBody& body() const { return body_; }
+  // The heterogeneous medium (null for a homogeneous one) and its majorant grid.
+  const VolumeMedium* volume() const { return volume_ ? &*volume_ : nullptr; }
+  // VolumeMedium::majorant_violations so far (0 for a homogeneous medium).
+  uint64_t majorantViolations() const { return volume_ ? volume_->majorantViolations() : 0; }
   const CameraModel& camera() const { return tally_->camera(); }
   // Photons that scored into more than one pixel (ImageTally::severalPixelPhotons).
   uint64_t severalPixelPhotons() const { return tally_->severalPixelPhotons(); }
@@ -83,6 +98,7 @@ class MeshPathTracer {
  private:
   void init(const Camera& camera, double cone_half_angle);
   std::vector<ScalarMedium> channels_;
+  std::optional<VolumeMedium> volume_;
   std::vector<Light> lights_;
   TracerOptions options_;
   MeshBody body_;

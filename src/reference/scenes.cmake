@@ -12,11 +12,13 @@ add_library(translucent_reference_scenes STATIC
   sphere.cpp
   sphere_integration.cpp
   mesh_tracer.cpp
+  majorant_grid.cpp  # heterogeneous media: delta tracking through a majorant grid
   model_reference.cpp)  # scene files: src/scene (mesh_scene.h maps the old names)
 add_library(translucent::reference_scenes ALIAS translucent_reference_scenes)
 target_include_directories(translucent_reference_scenes PUBLIC ${PROJECT_SOURCE_DIR}/src)
 target_link_libraries(translucent_reference_scenes
-  PUBLIC translucent::reference translucent::bssrdf translucent::geometry translucent::lights glm::glm
+  PUBLIC translucent::reference translucent::bssrdf translucent::geometry translucent::lights
+         translucent::material glm::glm
   PRIVATE embree TBB::tbb nlohmann_json::nlohmann_json fmt::fmt Threads::Threads)
 translucent_project_target(translucent_reference_scenes)
 # The model reference's inner loop over samples: `omp simd` (no OpenMP runtime), sqrt without

@@ -62,11 +62,7 @@ void TraceOptions::validate() const {
     throw ParameterError("trace: radial_bins x angle_bins exceeds 2^24 bins");
 }
 
-namespace {
-
-using detail::Sums;
-using detail::Tally;
-using detail::Walk;
+namespace detail {
 
 Walk makeWalk(const SlabSetup& S, const TraceOptions& O, double& rsp) {
   Walk W;
@@ -97,7 +93,7 @@ Walk makeWalk(const SlabSetup& S, const TraceOptions& O, double& rsp) {
   return W;
 }
 
-SlabResult finish(const Tally& T, const TraceOptions& O, double rsp) {
+SlabResult finishSlab(const Tally& T, const TraceOptions& O, double rsp) {
   SlabResult R;
   const uint64_t n = T.photons;
   R.photons = n;
@@ -149,6 +145,11 @@ SlabResult finish(const Tally& T, const TraceOptions& O, double rsp) {
   return R;
 }
 
+}  // namespace detail
+
+namespace {
+using detail::Tally;
+using detail::Walk;
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------
@@ -166,7 +167,7 @@ SlabResult traceSlab(const SlabSetup& setup, const TraceOptions& options,
         "slab: sigma_a is 0 in a semi-infinite medium: path lengths have infinite mean; give a "
         "finite thickness, some absorption, or the long-path roulette");
   double rsp = 0.0;
-  const Walk W = makeWalk(setup, options, rsp);
+  const Walk W = detail::makeWalk(setup, options, rsp);
   const detail::BlockKernel scalar = detail::scalarKernel(options.absorption, setup.finite());
   const detail::LanesKernel lanes = detail::lanesKernel(
       options.absorption, setup.finite(), W.g, options.kernel == Kernel::LanesPortable);
@@ -191,7 +192,7 @@ SlabResult traceSlab(const SlabSetup& setup, const TraceOptions& options,
         return !progress || progress({photonsIn(blocks), options.photons, seconds});
       });
 
-  SlabResult result = finish(total, options, rsp);
+  SlabResult result = detail::finishSlab(total, options, rsp);
   result.seconds = run.seconds;
   result.threads = run.threads;
   result.partial = total.photons < options.photons;

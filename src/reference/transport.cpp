@@ -193,4 +193,18 @@ TransportStats tracePhotons(const Body& body, std::span<const ScalarMedium> chan
   return detail::traceBlocks(body, channels, lights, options, tally, progress);
 }
 
+TransportStats tracePhotons(const Body& body, const VolumeMedium& medium,
+                            std::span<const Light> lights, const TransportOptions& options,
+                            ExitTally& tally, const ProgressCallback& progress) {
+  options.validate();
+  if (!medium.field || !medium.grid || !medium.majorant_violations)
+    throw ParameterError("transport: heterogeneous medium without a field or a majorant grid");
+  if (!std::isfinite(medium.eta) || !(medium.eta > 0.0))
+    throw ParameterError(fmt::format("transport: eta is {}: expected a value > 0", medium.eta));
+  // The channels carry η and the light fluxes; their coefficients are not used by the walk.
+  const ScalarMedium ch{0.0, 1.0, 0.0, medium.eta};
+  const std::vector<ScalarMedium> channels(3, ch);
+  return detail::traceBlocks(body, channels, lights, options, tally, progress, &medium);
+}
+
 }  // namespace translucent::reference

@@ -37,6 +37,10 @@
 //     Henyey-Greenstein scattering (phase.h);
 //   - the seed's long-path roulette after `long_path_roulette` scattering events (keep with
 //     probability 1/10, weight x10): unbiased, and it guarantees that every walk ends.
+// Heterogeneous media (tracePhotons with a VolumeMedium, majorant_grid.h): the same walk with
+// the free flight by delta tracking through a majorant grid and, at a real collision, the local
+// albedo (analog absorption) and local g; η is the object's single η (the media of a field are
+// index-matched, material/material.h). The homogeneous walk is untouched by it.
 // Everything is unbiased. A photon may leave several times (and score several times, even into
 // the same pixel): a standard error needs the per-photon second moment, so tallies must sum a
 // photon's scores before squaring. ExitTally::Block::endPhoton() marks the end of each photon
@@ -64,6 +68,7 @@
 
 #include "lights/environment_map.h"
 #include "optics/medium.h"
+#include "reference/majorant_grid.h"
 #include "reference/slab.h"
 
 namespace translucent::reference {
@@ -230,6 +235,13 @@ struct TransportStats {
 // counts photons over all channels; returning false stops the run (blocks already traced are
 // kept; partial = true). Throws ParameterError for bad media, lights or options.
 TransportStats tracePhotons(const Body& body, std::span<const ScalarMedium> channels,
+                            std::span<const Light> lights, const TransportOptions& options,
+                            ExitTally& tally, const ProgressCallback& progress = {});
+
+// The same through a body filled with a heterogeneous medium (three channels, majorant_grid.h;
+// medium.grid must cover the body). Throws ParameterError for a medium without field or grid,
+// bad lights or options.
+TransportStats tracePhotons(const Body& body, const VolumeMedium& medium,
                             std::span<const Light> lights, const TransportOptions& options,
                             ExitTally& tally, const ProgressCallback& progress = {});
 

@@ -10,6 +10,7 @@
 
 #include "optics/fresnel.h"
 #include "reference/block_driver.h"
+#include "reference/majorant_grid.h"
 #include "reference/phase.h"
 #include "reference/rng.h"
 #include "reference/sampling.h"
@@ -141,18 +142,17 @@ bool reenter(const BodyT& body, const ChannelWalk& W, double eps, glm::dvec3& x,
   }
 }
 
-// One photon of channel `c`: emission, entry, walk, exits and re-entries (Algorithm 1).
+// A photon's start: the light (probability ∝ its flux, so every photon carries the total),
+// emission, and the entry at the first hit with the Fresnel transmittance as a weight and Snell
+// refraction. False (and the photon's zero scores recorded) when the ray misses the body.
 template <class BodyT>
-void tracePhoton(const BodyT& body, const BoundingSphere& bounds, std::span<const Light> lights,
-                 const ChannelWalk& W, int c, uint64_t longPath, Rng& rng, BlockCounters& k,
-                 ExitTally::Block& tally) {
+bool launch(const BodyT& body, const BoundingSphere& bounds, std::span<const Light> lights,
+            const ChannelWalk& W, int c, Rng& rng, BlockCounters& k, ExitTally::Block& tally,
+            double& w, glm::dvec3& x, glm::dvec3& d) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
   const size_t ci = static_cast<size_t>(c);
-  const double eps = body.epsilon();
-  double w = W.totalFlux;
+  w = W.totalFlux;
   k.emitted[ci].add(w);
-
-  // Choose the light (probability ∝ its flux, so every photon carries the total).
   size_t li = 0;
   if (lights.size() > 1) {
     const double u = uniform01(rng) * W.lightCdf.back();
@@ -161,25 +161,88 @@ void tracePhoton(const BodyT& body, const BoundingSphere& bounds, std::span<cons
     li = std::min(li, lights.size() - 1);
   }
   const Emission em = emit(lights[li], bounds, c, rng);
-
-  // Entry at the first hit: Fresnel transmittance as a weight, Snell refraction.
   SurfaceHit hit;
   if (!body.intersect(em.origin, em.direction, 0.0, kInf, hit)) {
     k.entered[ci].add(0.0);
     k.exited[ci].add(0.0);
     k.escaped[ci].add(0.0);
     tally.endPhoton();
-    return;
+    return false;
   }
-  glm::dvec3 x = em.origin + hit.t * em.direction;
-  glm::dvec3 inward = glm::dot(hit.normal, em.direction) > 0.0 ? hit.normal : -hit.normal;
-  glm::dvec3 d = em.direction;
+  x = em.origin + hit.t * em.direction;
+  const glm::dvec3 inward = glm::dot(hit.normal, em.direction) > 0.0 ? hit.normal : -hit.normal;
+  d = em.direction;
   if (!W.matched) {
     const double cosI = glm::dot(d, inward);
     w *= 1.0 - fresnelReflectance(cosI, W.eta);
     d = refract(d, inward, 1.0 / W.eta, refractedCosine(cosI, W.eta));
   }
   k.entered[ci].add(w);
+  return true;
+}
+
+// What happened to a photon at the boundary point x (reached along d, surface normal n).
+enum class AtBoundary { Reflected, Reentered, Escaped };
+
+// Line 6: leave with probability Ft = 1 - F, else reflect (line 7) and go on (line 8). A photon
+// that leaves is scored, flies on in air and may re-enter (x, d: the re-entry point and inward
+// direction).
+template <class BodyT>
+AtBoundary crossBoundary(const BodyT& body, const ChannelWalk& W, double eps, int c, double w,
+                         const glm::dvec3& normal, glm::dvec3& x, glm::dvec3& d, Rng& rng,
+                         ExitTally::Block& tally, double& exitedSum) {
+  const glm::dvec3 outward = glm::dot(normal, d) > 0.0 ? normal : -normal;
+  const double cosIn = glm::dot(d, outward);
+  const double F = W.matched ? 0.0 : fresnelReflectance(cosIn, 1.0 / W.eta);
+  if (F > 0.0 && uniform01(rng) < F) {
+    d = glm::normalize(d - 2.0 * cosIn * outward);
+    return AtBoundary::Reflected;
+  }
+  ExitRecord e;
+  e.position = x;
+  e.normal = outward;
+  e.direction = W.matched ? d : refract(d, outward, W.eta, refractedCosine(cosIn, 1.0 / W.eta));
+  e.weight = w;
+  e.channel = c;
+  tally.record(e);
+  exitedSum += w;
+  if constexpr (!convexBody<BodyT>()) {
+    d = e.direction;
+    if (reenter(body, W, eps, x, d, rng)) return AtBoundary::Reentered;
+  }
+  return AtBoundary::Escaped;
+}
+
+// Henyey-Greenstein scattering (line 16) and the seed's long-path roulette (section 3.2); false
+// when the roulette ends the walk.
+inline bool scatter(float g, uint64_t longPath, Rng& rng, glm::dvec3& d, uint64_t& scatters,
+                    double& w) {
+  const double mu = static_cast<double>(sampleHgCosine(g, rng.uniform()));
+  const double phi = 2.0 * std::numbers::pi * uniform01(rng);
+  const double sinT = std::sqrt(std::max(0.0, 1.0 - mu * mu));
+  glm::dvec3 t1, t2;
+  tangentFrame(d, t1, t2);
+  d = glm::normalize(sinT * std::cos(phi) * t1 + sinT * std::sin(phi) * t2 + mu * d);
+  ++scatters;
+  if (longPath != 0 && scatters > longPath) {
+    if (rng.next() >= kSurviveThreshold) return false;
+    w *= kSurviveBoost;
+  }
+  return true;
+}
+
+// One photon of channel `c` in the homogeneous body: emission, entry, walk, exits and re-entries
+// (Algorithm 1).
+template <class BodyT>
+void tracePhoton(const BodyT& body, const BoundingSphere& bounds, std::span<const Light> lights,
+                 const ChannelWalk& W, int c, uint64_t longPath, Rng& rng, BlockCounters& k,
+                 ExitTally::Block& tally) {
+  const size_t ci = static_cast<size_t>(c);
+  const double eps = body.epsilon();
+  double w = 0.0;
+  glm::dvec3 x, d;
+  if (!launch(body, bounds, lights, W, c, rng, k, tally, w, x, d)) return;
+  SurfaceHit hit;
   bool onSurface = true;  // the next ray starts on the boundary: ignore hits closer than eps
   uint64_t scatters = 0;
   double exitedSum = 0.0;  // this photon's exits, summed before squaring (transport.h)
@@ -197,29 +260,11 @@ void tracePhoton(const BodyT& body, const BoundingSphere& bounds, std::span<cons
       }
       x += hit.t * d;
       s = std::max(0.0, s - hit.t);
-      const glm::dvec3 outward = glm::dot(hit.normal, d) > 0.0 ? hit.normal : -hit.normal;
-      const double cosIn = glm::dot(d, outward);
       onSurface = true;
-      // Line 6: leave with probability Ft = 1 - F, else reflect (line 7) and go on (line 8).
-      const double F = W.matched ? 0.0 : fresnelReflectance(cosIn, 1.0 / W.eta);
-      if (F > 0.0 && uniform01(rng) < F) {
-        d = glm::normalize(d - 2.0 * cosIn * outward);
-        continue;
-      }
-      ExitRecord e;
-      e.position = x;
-      e.normal = outward;
-      e.direction = W.matched ? d : refract(d, outward, W.eta, refractedCosine(cosIn, 1.0 / W.eta));
-      e.weight = w;
-      e.channel = c;
-      tally.record(e);
-      exitedSum += w;
-      // The exit ray, in air, may meet the body again; the rest of the free path s goes on from
-      // the re-entry point (memoryless flights, transport.h).
-      if constexpr (!convexBody<BodyT>()) {
-        d = e.direction;
-        if (reenter(body, W, eps, x, d, rng)) continue;
-      }
+      // The rest of the free path s goes on after a reflection or from the re-entry point
+      // (memoryless flights, transport.h).
+      const AtBoundary b = crossBoundary(body, W, eps, c, w, hit.normal, x, d, rng, tally, exitedSum);
+      if (b != AtBoundary::Escaped) continue;
       escaped = true;
       escapedWeight = w;
       break;
@@ -227,19 +272,78 @@ void tracePhoton(const BodyT& body, const BoundingSphere& bounds, std::span<cons
     if (escaped) break;
     // Absorption (line 15).
     if (uniform01(rng) < W.absorbProbability) break;
-    // Scattering (line 16): Henyey-Greenstein cosine (phase.h), uniform azimuth.
-    const double mu = static_cast<double>(sampleHgCosine(W.g, rng.uniform()));
-    const double phi = 2.0 * std::numbers::pi * uniform01(rng);
-    const double sinT = std::sqrt(std::max(0.0, 1.0 - mu * mu));
-    glm::dvec3 t1, t2;
-    tangentFrame(d, t1, t2);
-    d = glm::normalize(sinT * std::cos(phi) * t1 + sinT * std::sin(phi) * t2 + mu * d);
-    ++scatters;
-    // The seed's long-path roulette (section 3.2).
-    if (longPath != 0 && scatters > longPath) {
-      if (rng.next() >= kSurviveThreshold) break;
-      w *= kSurviveBoost;
+    if (!scatter(W.g, longPath, rng, d, scatters, w)) break;
+  }
+  k.exited[ci].add(exitedSum);
+  k.escaped[ci].add(escapedWeight);
+  k.events += scatters;
+  tally.endPhoton();
+}
+
+// One photon of channel `c` in a body filled with a heterogeneous medium (majorant_grid.h): the
+// same emission, entry, boundary, exit and re-entry as tracePhoton; the free flight is delta
+// tracking through the majorant grid, the boundary found by one ray query bounded by the
+// collision it found, and a real collision uses the local medium: analog absorption with
+// probability σa/σt there, then Henyey-Greenstein scattering with the local g. After a
+// reflection or a re-entry the tracking starts afresh (the tentative collisions are a Poisson
+// process: memoryless at any stopping point). Like the homogeneous walk, a photon that slipped
+// out through an edge (mesh_tracer.h) flies on in "medium" (the field there, with the grid's
+// largest bound beyond its box) until it crosses the mesh; one whose ray meets neither a
+// collision nor the mesh is dropped (it would fly forever).
+template <class BodyT>
+void traceVolumePhoton(const BodyT& body, const BoundingSphere& bounds,
+                       std::span<const Light> lights, const ChannelWalk& W,
+                       const VolumeMedium& V, int c, uint64_t longPath, Rng& rng,
+                       BlockCounters& k, ExitTally::Block& tally) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  const size_t ci = static_cast<size_t>(c);
+  const double eps = body.epsilon();
+  const double scale = V.coefficient_scale;
+  const MajorantGrid& grid = *V.grid;
+  double w = 0.0;
+  glm::dvec3 x, d;
+  if (!launch(body, bounds, lights, W, c, rng, k, tally, w, x, d)) return;
+  SurfaceHit hit;
+  bool onSurface = true;
+  uint64_t scatters = 0;
+  double exitedSum = 0.0, escapedWeight = 0.0;
+  material::LocalMedium local;  // the medium at the last tentative collision
+  double localSigmaT = 0.0;     // its σt in channel c [1/scene unit]
+
+  for (;;) {
+    // The first real collision along the ray, ignoring the boundary, then the boundary up to
+    // there: the collisions the tracking finds before the boundary have exactly the density they
+    // would have if it stopped there (what lies beyond does not change them), and the ray query
+    // is bounded by the collision distance, as in the homogeneous walk (an unbounded query per
+    // flight costs about 3x more in Embree).
+    double t = 0.0;
+    const glm::dvec3 o = x;
+    auto accept = [&](double tc, double bound) {
+      local = V.at(o + tc * d);
+      localSigmaT = (local.sigma_a[ci] + local.sigma_s[ci]) * scale;
+      if (localSigmaT >= bound) {
+        if (localSigmaT > bound * (1.0 + 1e-9))
+          V.majorant_violations->fetch_add(1, std::memory_order_relaxed);
+        return true;
+      }
+      return uniform01(rng) * bound < localSigmaT;
+    };
+    const bool collided = grid.track(o, d, kInf, c, rng, accept, t);
+    if (!body.intersect(o, d, onSurface ? eps : 0.0, collided ? t : kInf, hit)) {
+      if (!collided) break;  // lost (see above)
+      x = o + t * d;
+      onSurface = false;
+      // Absorption with the local albedo, scattering with the local g.
+      if (uniform01(rng) * localSigmaT < local.sigma_a[ci] * scale) break;
+      if (!scatter(static_cast<float>(local.g), longPath, rng, d, scatters, w)) break;
+      continue;
     }
+    x = o + hit.t * d;
+    onSurface = true;
+    const AtBoundary b = crossBoundary(body, W, eps, c, w, hit.normal, x, d, rng, tally, exitedSum);
+    if (b != AtBoundary::Escaped) continue;
+    escapedWeight = w;
+    break;
   }
   k.exited[ci].add(exitedSum);
   k.escaped[ci].add(escapedWeight);
@@ -255,7 +359,8 @@ std::vector<ChannelWalk> channelWalks(const BoundingSphere& bounds,
 template <class BodyT>
 TransportStats traceBlocks(const BodyT& body, std::span<const ScalarMedium> channels,
                            std::span<const Light> givenLights, const TransportOptions& O,
-                           ExitTally& tally, const ProgressCallback& progress) {
+                           ExitTally& tally, const ProgressCallback& progress,
+                           const VolumeMedium* volume = nullptr) {
   O.validate();
   const std::vector<Light> lightList = validatedLights(givenLights);
   const std::span<const Light> lights(lightList);
@@ -281,8 +386,12 @@ TransportStats traceBlocks(const BodyT& body, std::span<const ScalarMedium> chan
       Rng rng(O.seed, b * nc + c);
       for (uint64_t p = 0; p < kBlockPhotons; ++p) {
         if ((p & 63u) == 0 && stop.load(std::memory_order_relaxed)) return false;
-        tracePhoton(body, bounds, lights, walks[c], static_cast<int>(c), O.long_path_roulette,
-                    rng, r.counters, *r.tally);
+        if (volume)
+          traceVolumePhoton(body, bounds, lights, walks[c], *volume, static_cast<int>(c),
+                            O.long_path_roulette, rng, r.counters, *r.tally);
+        else
+          tracePhoton(body, bounds, lights, walks[c], static_cast<int>(c), O.long_path_roulette,
+                      rng, r.counters, *r.tally);
       }
     }
     return true;

@@ -134,6 +134,11 @@ inline void scoreBottom(Tally& T, uint64_t scatters, double w) {
   if (scatters == 0) T.unscattered.add(w);
 }
 
+// The run constants of a slab (entry direction and weight, interfaces, tallies; rsp: the exact
+// specular reflectance) and the result from a tally (slab.cpp; also used by layered_slab.cpp).
+Walk makeWalk(const SlabSetup& S, const TraceOptions& O, double& rsp);
+SlabResult finishSlab(const Tally& T, const TraceOptions& O, double rsp);
+
 // Traces `count` photons of block `block`; returns false (and leaves T incomplete) when `stop`
 // was raised before the block was done.
 using BlockKernel = bool (*)(const Walk& W, uint64_t seed, uint64_t block, uint64_t count,
