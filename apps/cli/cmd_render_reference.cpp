@@ -357,8 +357,11 @@ void runPathtraceMesh(const std::string& sceneFile, const RunArgs& a) {
   const geometry::TriangleMesh mesh = scene::loadSceneMesh(scene);  // normalised and placed
   scene::requireOutsideMesh(scene, mesh);
   const uint64_t photons = parseCount(a.count, "--photons");
-  reference::MeshPathTracer tracer(mesh, scene.medium, scene::referenceLights(scene), scene.camera,
-                                   scene.cone_angle, {a.seed, a.threads});
+  // The scene's material: homogeneous (the walk of transport.h), or a 3D field delta-tracked
+  // through a majorant grid; a 2D-map material has no volume and is refused with the reason.
+  reference::MeshPathTracer tracer(mesh, scene::sceneMaterial(scene, mesh),
+                                   scene::referenceLights(scene), scene.camera, scene.cone_angle,
+                                   {a.seed, a.threads});
   auto pass = [&](const reference::ProgressCallback& cb) { return tracer.addPass(photons, cb).partial; };
   auto write = [&](bool partial) {
     const auto& st = tracer.stats();
@@ -372,6 +375,7 @@ void runPathtraceMesh(const std::string& sceneFile, const RunArgs& a) {
                         {"seconds", st.seconds}, {"photons_per_second", st.photonsPerSecond()},
                         {"scattering_events", st.scattering_events},
                         {"photons_in_several_pixels", tracer.severalPixelPhotons()},
+                        {"majorant_violations", tracer.majorantViolations()},
                         {"threads", st.threads}, {"flux_per_channel", fluxJson(st)},
                         {"partial", partial}};
     writeJson(a, j);
