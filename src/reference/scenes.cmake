@@ -17,7 +17,8 @@ add_library(translucent::reference_scenes ALIAS translucent_reference_scenes)
 target_include_directories(translucent_reference_scenes PUBLIC ${PROJECT_SOURCE_DIR}/src)
 target_link_libraries(translucent_reference_scenes
   PUBLIC translucent::reference translucent::bssrdf translucent::geometry translucent::lights glm::glm
-  PRIVATE embree TBB::tbb nlohmann_json::nlohmann_json fmt::fmt Threads::Threads)
+  PRIVATE translucent::material  # heterogeneous materials in the model reference
+          embree TBB::tbb nlohmann_json::nlohmann_json fmt::fmt Threads::Threads)
 translucent_project_target(translucent_reference_scenes)
 # The model reference's inner loop over samples: `omp simd` (no OpenMP runtime), sqrt without
 # errno (its arguments are squared distances, >= 0).
