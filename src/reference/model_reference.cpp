@@ -571,10 +571,50 @@ struct Hetero {
   int n = 0;
   double rs = 0.0, rCut = 0.0;
   std::vector<double> sampleNodes;  // per distinct sample medium u: (n + 1) · 3 at u (n + 1) 3
+  std::vector<double> sampleSlopes; // per distinct sample medium u: tailSlopes, 3 at 3 u
   std::vector<uint32_t> mediumOf;   // per sample: its distinct medium u
   std::optional<geometry::Atlas> atlas;  // Kind::Surface
   const double* nodesOf(uint32_t u) const { return sampleNodes.data() + size_t(u) * size_t(n + 1) * 3; }
+  const double* slopesOf(uint32_t u) const { return sampleSlopes.data() + size_t(u) * 3; }
 };
+
+// Per channel, the slope s of the extrapolated tail of one representation (lnProfileAt:
+// ln P = v_n + (t − n) s − 2 ln(t / n) beyond r_s, t = n r / r_s), or +∞ where it has none
+// (s >= 0: P = 0 beyond r_s).
+void tailSlopes(const double* nodes, int n, double out[3]) {
+  const double c = n > 1 ? 2.0 * std::log(double(n) / double(n - 1)) : 0.0;
+  for (int ch = 0; ch < 3; ++ch) {
+    const double s = nodes[size_t(n) * 3 + size_t(ch)] - nodes[size_t(n - 1) * 3 + size_t(ch)] + c;
+    out[ch] = s < 0.0 ? s : std::numeric_limits<double>::infinity();
+  }
+}
+
+// Eq. 8 at t = n r / r_s for two representations on the same grid (a, b: (n + 1) · 3 nodes; sa,
+// sb: their tailSlopes): sqrt(P_a P_b) per channel, what exp((lnProfileAt(a) + lnProfileAt(b)) / 2)
+// gives, with one (k, w) for both and, in the tail, the r² factor as (n / t)² instead of a log.
+[[gnu::always_inline]] inline void eq8(const double* a, const double* b, const double* sa,
+                                       const double* sb, int n, double t, double out[3]) {
+  if (t <= double(n)) {
+    const int k = std::min(static_cast<int>(t), n - 1);
+    const double w = t - k;
+    const double* a0 = a + size_t(k) * 3;
+    const double* b0 = b + size_t(k) * 3;
+    for (int c = 0; c < 3; ++c)
+      out[c] = std::exp(0.5 * ((1.0 - w) * (a0[c] + b0[c]) + w * (a0[c + 3] + b0[c + 3])));
+    return;
+  }
+  if (t > material::kExtrapolationFactor * n) {
+    out[0] = out[1] = out[2] = 0.0;
+    return;
+  }
+  const double q = double(n) / t, r2 = n > 1 ? q * q : 1.0;
+  const double* an = a + size_t(n) * 3;
+  const double* bn = b + size_t(n) * 3;
+  for (int c = 0; c < 3; ++c) {
+    const double s = 0.5 * (sa[c] + sb[c]);  // +∞ when either has no tail
+    out[c] = s < 0.0 ? std::exp(0.5 * (an[c] + bn[c]) + (t - n) * s) * r2 : 0.0;
+  }
+}
 
 using MediumKey = std::array<double, 7>;
 MediumKey keyOf(const material::LocalMedium& m) {
@@ -584,7 +624,8 @@ MediumKey keyOf(const material::LocalMedium& m) {
 // A camera hit's profile, by medium (one map per image row: deterministic whatever the thread).
 struct HitProfile {
   Nodes nodes;
-  double near[3]{};  // F_c(ρ) of the representation
+  double slopes[3]{};  // tailSlopes
+  double near[3]{};    // F_c(ρ) of the representation
 };
 using HitProfiles = std::map<MediumKey, HitProfile>;
 
@@ -597,6 +638,7 @@ const HitProfile& hitProfile(const Hetero& het, const material::LocalMedium& m, 
       material::PointProfiles::build(*het.material, std::span(&m, 1), {het.n, het.rs});
   HitProfile h;
   h.nodes = p.nodes();
+  tailSlopes(h.nodes.data(), het.n, h.slopes);
   for (int c = 0; c < 3; ++c) h.near[c] = representationCumulative(h.nodes.data() + c, het.n, het.rs, rho);
   return cache.emplace(key, std::move(h)).first->second;
 }
@@ -605,25 +647,25 @@ const HitProfile& hitProfile(const Hetero& het, const material::LocalMedium& m, 
 // pixel's hits, Eq. 8 per pair in double, the same sums (per-ray, and the second moments of the
 // per-sample terms). Fixed order: deterministic.
 void accumulateHetero(const SampleGrid& grid, uint32_t begin, uint32_t end, int half,
-                      std::span<const RayHit> hits, std::span<const double* const> hitNodes,
+                      std::span<const RayHit> hits, std::span<const HitProfile* const> hitProfiles,
                       const Hetero& het, double rho, PixelSums& sums) {
-  const double rho2 = rho * rho, cut2 = het.rCut * het.rCut;
+  const double rho2 = rho * rho, cut2 = het.rCut * het.rCut, scale = het.n / het.rs;
   for (uint32_t k = begin; k < end; ++k) {
     const double px = grid.x[k], py = grid.y[k], pz = grid.z[k];
     const double e[3] = {grid.e0[k], grid.e1[k], grid.e2[k]};
     const double* nk = het.nodesOf(grid.tag[k]);
+    const double* sk = het.slopesOf(grid.tag[k]);
     double vb[3] = {0.0, 0.0, 0.0}, vl[3] = {0.0, 0.0, 0.0};
     bool any = false;
     for (size_t s = 0; s < hits.size(); ++s) {
       const double dx = px - double(hits[s].x), dy = py - double(hits[s].y), dz = pz - double(hits[s].z);
       const double d2 = dx * dx + dy * dy + dz * dz;
       if (d2 < rho2 || d2 > cut2) continue;
-      const double r = std::sqrt(d2);
+      double kernel[3];
+      eq8(nk, hitProfiles[s]->nodes.data(), sk, hitProfiles[s]->slopes, het.n, std::sqrt(d2) * scale, kernel);
       const double f = double(hits[s].factor);
       for (int c = 0; c < 3; ++c) {
-        const double ln = 0.5 * (material::lnProfileAt(nk + c, 3, het.n, het.rs, r) +
-                                 material::lnProfileAt(hitNodes[s] + c, 3, het.n, het.rs, r));
-        const double v = std::exp(ln) * e[c];
+        const double v = kernel[c] * e[c];
         sums.ray[half][s][c] += v;
         vb[c] += v;
         vl[c] += f * v;
@@ -792,6 +834,9 @@ ModelReferenceImages render(const geometry::TriangleMesh& meshIn, const Medium& 
     het.rs = p.radius();
     het.rCut = p.cutRadius();
     het.sampleNodes = p.nodes();
+    het.sampleSlopes.resize(3 * distinct.size());
+    for (size_t u = 0; u < distinct.size(); ++u)
+      tailSlopes(het.nodesOf(static_cast<uint32_t>(u)), het.n, &het.sampleSlopes[3 * u]);
     rMax = het.rCut;
     if (!(rho < rMax))
       throw ParameterError(fmt::format(
@@ -848,7 +893,7 @@ ModelReferenceImages render(const geometry::TriangleMesh& meshIn, const Medium& 
     std::vector<RayHit> hits;
     std::vector<HitGroup> groups;
     HitProfiles hitProfiles;              // heterogeneous: the row's hit media
-    std::vector<const double*> hitNodes;  // heterogeneous: per hit, its profile's nodes
+    std::vector<const HitProfile*> hitNodes;  // heterogeneous: per hit, its profile
     for (int i = 0; i < w; ++i) {
       if (stop.load(std::memory_order_relaxed)) return false;
       // Camera rays: stratified over the pixel, at the strata's centres or jittered from the
@@ -895,7 +940,7 @@ ModelReferenceImages render(const geometry::TriangleMesh& meshIn, const Medium& 
                                             : glm::dvec2(0.0);
             const HitProfile& hp = hitProfile(het, material->surfaceMedium(x, ne, uv), rho, hitProfiles);
             nf = hp.near;
-            hitNodes.push_back(hp.nodes.data());
+            hitNodes.push_back(&hp);
           }
           const double cosO = glm::dot(ns, -d);
           RayHit rh;

@@ -395,9 +395,9 @@ TEST(CompareMaterial, ThePhysicalReferenceOfEachMaterialKind) {
   r = materialReferences(m);
   EXPECT_EQ(r.kind, "volume");
   EXPECT_NE(r.text.find("path tracer"), std::string::npos) << r.text;
-  // A physical reference of a surface map is refused, naming why.
+  // Today's scenes are homogeneous: both references.
   const scene::Scene s = cubeScene(8, 6);
-  EXPECT_NO_THROW((void)materialReferences(scene::sceneMaterial(s, scene::loadSceneMesh(s))));
+  EXPECT_TRUE(materialReferences(scene::sceneMaterial(s, scene::loadSceneMesh(s))).physical);
 }
 
 // compare's model reference integrates scene::sceneMaterial: for a homogeneous scene exactly the
