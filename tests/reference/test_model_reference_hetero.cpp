@@ -313,6 +313,40 @@ TEST(ModelReferenceHetero, SameSeedIsBitIdenticalOnAnyThreadCount) {
   }
 }
 
+// A surface map (read at the default atlas's UVs, material/surface_uv.h) of one medium gives the
+// same images, bit for bit, as the same medium as a field: the media, and so every profile, are
+// the same. And the UVs reach the map: one that depends on them changes the image.
+class UniformMap final : public material::SurfaceMap {
+ public:
+  explicit UniformMap(const Medium& m, const Medium* right = nullptr)
+      : m_(LocalMedium::of(m)), r_(right ? LocalMedium::of(*right) : m_) {}
+  LocalMedium at(const glm::dvec2& uv) const override { return uv.x < 0.5 ? m_ : r_; }
+
+ private:
+  LocalMedium m_, r_;
+};
+
+TEST(ModelReferenceHetero, SurfaceMapOfOneMediumEqualsTheField) {
+  const auto mesh = geometry::makeIcosphere(3);
+  const Camera cam = camera(8);
+  const material::Material field = volumeMaterial(std::make_shared<Uniform>(mediumA()));
+  material::Material map = field;
+  map.kind = material::Material::Kind::Surface;
+  map.volume.reset();
+  map.surface = std::make_shared<UniformMap>(mediumA());
+  ModelReferenceOptions o;
+  o.samples = 30000;
+  const auto a = renderModelReference(mesh, field, light(), cam, o);
+  const auto b = renderModelReference(mesh, map, light(), cam, o);
+  EXPECT_EQ(a.exitance, b.exitance);
+  EXPECT_EQ(a.exitance_se, b.exitance_se);
+  const Medium other = mediumB();
+  map.surface = std::make_shared<UniformMap>(mediumA(), &other);
+  const auto c = renderModelReference(mesh, map, light(), cam, o);
+  EXPECT_EQ(c.sample_media, 2u);
+  EXPECT_NE(a.exitance, c.exitance);
+}
+
 // Stopping: a partial image, as the homogeneous path.
 TEST(ModelReferenceHetero, ProgressCallbackStops) {
   const auto mesh = geometry::makeIcosphere(3);
