@@ -86,7 +86,9 @@
 // the medium across the disc where a boundary between media crosses it (the disc is a few sample
 // spacings wide). With one medium everywhere the sum is the homogeneous one with the
 // representation's profile instead of the model's: it differs from the homogeneous reference by
-// the representation's error (~1e-3 of B at n = 64, tests/reference/test_model_reference_hetero).
+// the representation's error (at most 2.2e-3 of B at n = 64 on the test sphere,
+// tests/reference/test_model_reference_hetero.cpp). Cost: ~2x the homogeneous AVX2 loop per
+// (sample, hit) pair (BENCHMARKS.md); r_cut is usually a little below r_max.
 // The inner loop is scalar double arithmetic (no table, no AVX2): the same standard errors (one
 // term per sample, the two halves for the jitter), determinism and progress/stop as above. The
 // atlas of a surface map is the default one (geometry::AtlasOptions{}, cached), read at the
