@@ -295,12 +295,21 @@ SceneOutcome compareScene(const CompareArgs& a, const Parsed& parsed, const std:
                      {"out", out.string()}};
 
   // ---- References --------------------------------------------------------------------------
+  // The material says which reference is physical (a 2D surface map has none: its reference is
+  // the model reference, brute-force Eq. 8); the model reference integrates the material itself.
+  report.material = analysis::materialReferences(scene::sceneMaterial(s, mesh));
   const std::optional<analysis::ReferenceCache> cache =
       a.no_cache ? std::nullopt : std::optional<analysis::ReferenceCache>(cacheDir);
   for (const auto kind : kinds) {
     if (InterruptGuard::interrupted()) {
       report.notes.push_back(fmt::format("{} reference skipped (Ctrl-C)", toString(kind)));
       report.partial = true;
+      continue;
+    }
+    if (kind == analysis::ReferenceKind::Physical && !report.material.physical) {
+      const std::string why = fmt::format("physical reference skipped: {}", report.material.text);
+      printStderr("{}\n", why);
+      report.notes.push_back(why);
       continue;
     }
     analysis::ReferenceRequest req;

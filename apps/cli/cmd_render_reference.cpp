@@ -433,9 +433,11 @@ void runIntegrateMesh(const ModelReferenceArgs& m, const RunArgs& a) {
   o.convention = bssrdf::parseExitConvention(m.convention);
   o.jitter = m.jitter;
   reference::ModelReferenceImages img;
+  // The scene's material (homogeneous: exactly the medium's reference; heterogeneous: brute-force
+  // Eq. 8, model_reference.h).
+  const material::Material material = scene::sceneMaterial(scene, mesh);
   auto pass = [&](const reference::ProgressCallback& cb) {
-    img = reference::renderModelReference(mesh, scene.medium, bssrdf::model(scene.model), lights,
-                                          scene.camera, o, cb);
+    img = reference::renderModelReference(mesh, material, lights, scene.camera, o, cb);
     return img.partial;
   };
   auto write = [&](bool partial) {
@@ -461,6 +463,10 @@ void runIntegrateMesh(const ModelReferenceArgs& m, const RunArgs& a) {
                         {"median_relative_stderr", medianRelativeError(img)},
                         {"seconds", img.seconds},
                         {"threads", img.threads}, {"partial", partial}};
+    if (img.heterogeneous)
+      j["heterogeneous"] = {{"profile_segments", img.profile_segments},
+                            {"profile_radius", img.profile_radius},
+                            {"sample_media", img.sample_media}, {"hit_media", img.hit_media}};
     writeJson(a, j);
   };
   runPasses(a, "integrate mesh", "pixels", pass, write);

@@ -48,6 +48,17 @@ CompareImage Reference::radianceFor(bssrdf::ExitConvention convention, double et
   return radiance.scaled(bssrdf::exitConventionScale(convention, eta));
 }
 
+// ---- Heterogeneous physical reference -----------------------------------------------------------
+
+namespace {
+
+// HETEROGENEOUS PHYSICAL REFERENCE: whether the mesh path tracer takes a material::Material (3D
+// fields). Flip to true together with the single call site in computeReference below once
+// reference::MeshPathTracer takes one.
+constexpr bool kPathTracerTakesMaterials = false;
+
+}  // namespace
+
 // ---- Cache keys ----------------------------------------------------------------------------
 
 namespace {
@@ -72,8 +83,26 @@ std::string readFileBytes(const fs::path& path, const std::string& what) {
 
 }  // namespace
 
+std::string referenceMaterialDescription(const scene::Scene& scene) {
+  // The homogeneous fields (the scene's medium and model); a heterogeneous material's description
+  // replaces this text (compare.h).
+  const Medium& m = scene.medium;
+  const json j = {{"kind", "homogeneous"},
+                  {"model", scene.model},
+                  {"sigma_a", {m.sigma_a[0], m.sigma_a[1], m.sigma_a[2]}},
+                  {"sigma_s", {m.sigma_s[0], m.sigma_s[1], m.sigma_s[2]}},
+                  {"g", m.g}, {"eta", m.eta}, {"scale", m.scale}};
+  return j.dump();
+}
+
 std::string referenceKeyText(const scene::Scene& scene, const ReferenceRequest& request) {
+  return referenceKeyText(scene, request, referenceMaterialDescription(scene));
+}
+
+std::string referenceKeyText(const scene::Scene& scene, const ReferenceRequest& request,
+                             const std::string& material_description) {
   json j;
+  j["material"] = material_description;
   // The scene as the references see it: the technique and display settings change neither.
   json s = json::parse(scene::toJson(scene));
   s.erase("technique");
@@ -109,6 +138,43 @@ std::string referenceKeyText(const scene::Scene& scene, const ReferenceRequest& 
 
 std::string referenceKey(const scene::Scene& scene, const ReferenceRequest& request) {
   return sha256Hex(referenceKeyText(scene, request));
+}
+
+std::string referenceKey(const scene::Scene& scene, const ReferenceRequest& request,
+                         const std::string& material_description) {
+  return sha256Hex(referenceKeyText(scene, request, material_description));
+}
+
+MaterialReferences materialReferences(const material::Material& material) {
+  MaterialReferences r;
+  switch (material.kind) {
+    case material::Material::Kind::Homogeneous:
+      r.kind = "homogeneous";
+      r.physical = true;
+      r.text = "Homogeneous material: the physical reference is the volumetric path tracer, the "
+               "model reference the scene's BSSRDF integrated over the surface.";
+      break;
+    case material::Material::Kind::Volume:
+      r.kind = "volume";
+      r.physical = kPathTracerTakesMaterials;
+      r.text = "Heterogeneous material (3D field): the physical reference is the volumetric path "
+               "tracer through the field; the model reference is brute-force Eq. 8 over the "
+               "surface (per-point SubEdit profiles, geometric mean of the two points' profiles), "
+               "so technique vs model is the technique's own error and model vs physical that of "
+               "Eq. 8 and the local profiles.";
+      if (!r.physical)
+        r.text += " The mesh path tracer does not take heterogeneous materials yet: no physical "
+                  "reference in this report.";
+      break;
+    case material::Material::Kind::Surface:
+      r.kind = "surface";
+      r.physical = false;
+      r.text = "Heterogeneous material (2D map over the surface atlas): it has no volume, so there "
+               "is no physical reference; the reference is the model reference, brute-force Eq. 8 "
+               "over the surface (per-point SubEdit profiles of the map's media).";
+      break;
+  }
+  return r;
 }
 
 // ---- Cache ---------------------------------------------------------------------------------
@@ -294,7 +360,19 @@ Reference computeReference(const scene::Scene& scene, const geometry::TriangleMe
   r.request = request;
   r.key = referenceKey(scene, request);
   const std::vector<reference::Light> lights = scene::referenceLights(scene);
+  const material::Material material = scene::sceneMaterial(scene, mesh);
   if (request.kind == ReferenceKind::Physical) {
+    if (material.heterogeneous()) {
+      const MaterialReferences roles = materialReferences(material);
+      if (!roles.physical)
+        throw ParameterError(fmt::format("--reference physical: {}", roles.text));
+      // HETEROGENEOUS PHYSICAL REFERENCE, the single call site: the path tracer through the
+      // material's field, e.g.
+      //   reference::MeshPathTracer tracer(mesh, material, lights, scene.camera, ...);
+      // then the same images as below (kPathTracerTakesMaterials above says it is there).
+      throw ParameterError("--reference physical: the mesh path tracer does not take "
+                           "heterogeneous materials yet");
+    }
     reference::MeshPathTracer tracer(mesh, scene.medium, lights, scene.camera, scene.cone_angle,
                                      {request.seed, request.threads});
     const reference::TransportStats st = tracer.addPass(request.count, progress);
@@ -316,8 +394,10 @@ Reference computeReference(const scene::Scene& scene, const geometry::TriangleMe
   o.seed = request.seed;
   o.threads = request.threads;
   o.convention = bssrdf::ExitConvention::Jensen;  // stored; Reference::radianceFor converts
-  const reference::ModelReferenceImages m = reference::renderModelReference(
-      mesh, scene.medium, bssrdf::model(scene.model), lights, scene.camera, o, progress);
+  // The scene's material: a homogeneous one is bit-identical to renderModelReference(mesh,
+  // scene.medium, model, ...); a heterogeneous one is brute-force Eq. 8 (model_reference.h).
+  const reference::ModelReferenceImages m =
+      reference::renderModelReference(mesh, material, lights, scene.camera, o, progress);
   r.exitance = {m.width, m.height, m.exitance, m.exitance_se};
   r.radiance = {m.width, m.height, m.radiance, m.radiance_se};
   r.coverage = m.coverage;

@@ -18,7 +18,11 @@
 //   physical   reference::MeshPathTracer (volumetric photon tracing, seed 3.2), `count` photons
 //              per channel
 //   model      reference::renderModelReference (the scene's BSSRDF integrated over the whole
-//              surface), `count` samples
+//              surface), `count` samples, of the scene's material (scene::sceneMaterial): for a
+//              heterogeneous one brute-force Eq. 8 with per-point profiles (model_reference.h)
+// Heterogeneous materials (materialReferences below): a 3D field has a volume, so the physical
+// reference is the path tracer through the field; a 2D surface map has none, so there is no
+// physical reference and the model reference (brute-force Eq. 8) is the reference.
 // Both are stored with the Jensen radiance; the normalized one is the same image divided by the
 // constant 4C_φ(1/η) = diffuseTransmittanceFromOutside(η) (exit_radiance.h), exactly what
 // exitRadianceFactor computes per sample, so one cached reference serves both conventions.
@@ -99,14 +103,37 @@ struct Reference {
   CompareImage radianceFor(bssrdf::ExitConvention convention, double eta) const;
 };
 
+// The material's part of a reference's cache key: a text that changes whenever the material would
+// change a reference, so that a heterogeneous scene never reuses a homogeneous reference (nor one
+// of another field or map). For now the homogeneous fields: {"kind": "homogeneous", the model,
+// σa, σs, g, η, scale}. A heterogeneous material's description (its kind, field or map with
+// parameters, file contents by hash, surface_depth) is to be fed to referenceKey below in its
+// place, here, once scenes describe one. The heterogeneous model reference's own settings
+// (ModelReferenceOptions::profile_segments) are code defaults: changing them needs a
+// kReferenceCodeVersion bump.
+std::string referenceMaterialDescription(const scene::Scene& scene);
+
 // The hash (SHA-256, hex) of everything a reference depends on: the scene's canonical JSON
-// (scene::toJson) without the technique and display settings, the mesh file's bytes, the kind,
-// count, seed and subpixels, the stored convention and kReferenceCodeVersion. Not the thread count
-// (a run is a function of its seed only). Throws ParameterError naming the mesh file when it
-// cannot be read.
+// (scene::toJson) without the technique and display settings, the material description, the mesh
+// file's bytes, the kind, count, seed and subpixels, the stored convention and
+// kReferenceCodeVersion. Not the thread count (a run is a function of its seed only). Throws
+// ParameterError naming the mesh file when it cannot be read. Without a description:
+// referenceMaterialDescription(scene).
 std::string referenceKey(const scene::Scene& scene, const ReferenceRequest& request);
+std::string referenceKey(const scene::Scene& scene, const ReferenceRequest& request,
+                         const std::string& material_description);
 // The JSON text that referenceKey hashes (for the report and for tests).
 std::string referenceKeyText(const scene::Scene& scene, const ReferenceRequest& request);
+std::string referenceKeyText(const scene::Scene& scene, const ReferenceRequest& request,
+                             const std::string& material_description);
+
+// Which reference is physical for a material, in words for the report.
+struct MaterialReferences {
+  std::string kind;          // "homogeneous", "volume" (3D field), "surface" (2D map)
+  bool physical = true;      // a physical reference can be computed for it now
+  std::string text;          // one or two sentences: which reference is physical and why
+};
+MaterialReferences materialReferences(const material::Material& material);
 
 // Complete references on disk: <dir>/<kind>-<key>.exr (every image and its error as layers,
 // readable by any EXR viewer) and .json (what it is, how long it took).
@@ -135,9 +162,11 @@ void writeReferenceExr(const std::filesystem::path& path, const Reference& refer
 // $TRANSLUCENT_CACHE_DIR, $XDG_CACHE_HOME/translucent or ~/.cache/translucent, then "references".
 std::filesystem::path defaultReferenceCacheDirectory();
 
-// Computes a reference of the scene (mesh: scene::loadSceneMesh(scene)). Progress counts photons
-// (physical, all channels) or samples (model); returning false stops it: the result is partial.
-// Throws ParameterError naming what the reference cannot handle (a light type, a .bssrdf model).
+// Computes a reference of the scene (mesh: scene::loadSceneMesh(scene)) with its material
+// (scene::sceneMaterial(scene, mesh)). Progress counts photons (physical, all channels) or
+// samples (model); returning false stops it: the result is partial. Throws ParameterError naming
+// what the reference cannot handle (a light type, a .bssrdf model, a physical reference of a
+// material that has none: materialReferences(...).physical false).
 Reference computeReference(const scene::Scene& scene, const geometry::TriangleMesh& mesh,
                            const ReferenceRequest& request,
                            const reference::ProgressCallback& progress = {});

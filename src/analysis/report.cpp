@@ -247,6 +247,9 @@ std::vector<std::string> writeReport(const fs::path& dir, const CompareReport& r
   j["gpu"] = r.gpu;
   j["partial"] = r.partial;
   j["notes"] = r.notes;
+  j["material"] = {{"kind", r.material.kind},
+                   {"physical_reference", r.material.physical},
+                   {"references", r.material.text}};
   j["cache_dir"] = r.cache_dir.string();
   j["masks"] = {{"interior_pixels", r.masks.interiorPixels()},
                 {"interior_cone_pixels", r.masks.conePixels()},
@@ -384,6 +387,7 @@ std::vector<std::string> writeReport(const fs::path& dir, const CompareReport& r
     h += "</ul>\n";
   }
   h += "<p>Reproduce:</p><pre>" + html(r.command) + "</pre>\n";
+  if (!r.material.text.empty()) h += "<p>References: " + html(r.material.text) + "</p>\n";
   for (const std::string& n : r.notes) h += "<p>" + html(n) + "</p>\n";
 
   h += "<h2>Images</h2>\n<p>Tone mapped with exposure " + num(r.scene.exposure) + " stops, gamma " +

@@ -76,6 +76,9 @@ struct CompareReport {
   std::filesystem::path cache_dir;  // "" when caching is off
   bool partial = false;             // stopped early: some reference is partial or missing
   std::vector<std::string> notes;   // what the user should know (cache hits, skipped parts)
+  // The material and which reference is physical for it (materialReferences: report.json
+  // "material", a paragraph of index.html).
+  MaterialReferences material{"homogeneous", true, ""};
 };
 
 // Checks `dir` and removes a previous report's files (see the header comment). `ignore` (e.g.

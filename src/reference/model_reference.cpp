@@ -15,14 +15,22 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <map>
 #include <memory>
 #include <numbers>
+#include <optional>
 
 #include <glm/geometric.hpp>
 
+#include "bssrdf/bssrdf_file.h"
+#include "bssrdf/registry.h"
 #include "geometry/ambient_occlusion.h"
+#include "geometry/atlas.h"
 #include "geometry/point_cloud.h"
 #include "geometry/ray_scene.h"
+#include "material/material.h"
+#include "material/point_profiles.h"
+#include "material/surface_uv.h"
 #include "optics/fresnel.h"
 #include "reference/block_driver.h"
 #include "reference/rng.h"
@@ -231,10 +239,12 @@ struct SampleGrid {
   std::vector<uint32_t> start;  // per cell (x fastest), + 1 sentinel
   std::vector<uint32_t> middle; // per cell: the first sample of odd index (the second half)
   std::vector<float> x, y, z, e0, e1, e2;
+  std::vector<uint32_t> tag;    // per slot: tags[k] of its sample, when buildGrid was given tags
   glm::dvec3 lower(const glm::ivec3& c) const { return origin + glm::dvec3(c) * cell; }
 };
 
-SampleGrid buildGrid(const geometry::PointCloud& cloud, const std::vector<Rgb>& e, double rMax) {
+SampleGrid buildGrid(const geometry::PointCloud& cloud, const std::vector<Rgb>& e, double rMax,
+                     const std::vector<uint32_t>* tags = nullptr) {
   SampleGrid g;
   std::vector<uint32_t> lit;
   glm::dvec3 lo(std::numeric_limits<double>::max()), hi(std::numeric_limits<double>::lowest());
@@ -278,6 +288,7 @@ SampleGrid buildGrid(const geometry::PointCloud& cloud, const std::vector<Rgb>& 
   }
   const size_t m = lit.size();
   g.x.resize(m), g.y.resize(m), g.z.resize(m), g.e0.resize(m), g.e1.resize(m), g.e2.resize(m);
+  if (tags) g.tag.resize(m);
   for (uint32_t k : lit) {
     const size_t cell = cellOf(cloud.positions[k]);
     const uint32_t slot = k % 2 == 0 ? fillEven[cell]++ : fillOdd[cell]++;
@@ -287,6 +298,7 @@ SampleGrid buildGrid(const geometry::PointCloud& cloud, const std::vector<Rgb>& 
     g.e0[slot] = static_cast<float>(e[k][0]);
     g.e1[slot] = static_cast<float>(e[k][1]);
     g.e2[slot] = static_cast<float>(e[k][2]);
+    if (tags) g.tag[slot] = (*tags)[k];
   }
   return g;
 }
@@ -525,6 +537,149 @@ void accumulate(const SampleGrid& grid, uint32_t begin, uint32_t end, int half,
   }
 }
 
+// ---- Heterogeneous materials (model_reference.h) --------------------------------------------
+
+// ln P nodes of one medium: (n + 1) · 3 doubles, [k · 3 + c] (material::PointProfiles' layout).
+using Nodes = std::vector<double>;
+
+// 2π∫0^ρ P r dr of one channel of a representation: 8-point Gauss-Legendre on every piece of
+// [0, min(ρ, r_cut)] between the nodes r_k = k r_s / n (ln P is linear on each; beyond r_s the
+// tail is smooth), so it is exact to ~1e-10.
+double representationCumulative(const double* nodes, int n, double rs, double rho) {
+  static constexpr double kX[8] = {-0.9602898564975363, -0.7966664774136267, -0.5255324099163290,
+                                   -0.1834346424956498, 0.1834346424956498,  0.5255324099163290,
+                                   0.7966664774136267,  0.9602898564975363};
+  static constexpr double kW[8] = {0.1012285362903763, 0.2223810344533745, 0.3137066578011563,
+                                   0.3626837833783620, 0.3626837833783620, 0.3137066578011563,
+                                   0.2223810344533745, 0.1012285362903763};
+  const double end = std::min(rho, material::kExtrapolationFactor * rs);
+  double sum = 0.0;
+  for (int k = 0; k * rs / n < end; ++k) {
+    const double a = k * rs / n, b = std::min(end, (k + 1) * rs / n);
+    const double half = 0.5 * (b - a), mid = 0.5 * (a + b);
+    for (int i = 0; i < 8; ++i) {
+      const double r = mid + half * kX[i];
+      sum += kW[i] * half * std::exp(material::lnProfileAt(nodes, 3, n, rs, r)) * r;
+    }
+  }
+  return 2.0 * kPi * sum;
+}
+
+// What the heterogeneous path needs besides the homogeneous set-up.
+struct Hetero {
+  const material::Material* material = nullptr;
+  int n = 0;
+  double rs = 0.0, rCut = 0.0;
+  std::vector<double> sampleNodes;  // per distinct sample medium u: (n + 1) · 3 at u (n + 1) 3
+  std::vector<double> sampleSlopes; // per distinct sample medium u: tailSlopes, 3 at 3 u
+  std::vector<uint32_t> mediumOf;   // per sample: its distinct medium u
+  std::optional<geometry::Atlas> atlas;  // Kind::Surface
+  const double* nodesOf(uint32_t u) const { return sampleNodes.data() + size_t(u) * size_t(n + 1) * 3; }
+  const double* slopesOf(uint32_t u) const { return sampleSlopes.data() + size_t(u) * 3; }
+};
+
+// Per channel, the slope s of the extrapolated tail of one representation (lnProfileAt:
+// ln P = v_n + (t − n) s − 2 ln(t / n) beyond r_s, t = n r / r_s), or +∞ where it has none
+// (s >= 0: P = 0 beyond r_s).
+void tailSlopes(const double* nodes, int n, double out[3]) {
+  const double c = n > 1 ? 2.0 * std::log(double(n) / double(n - 1)) : 0.0;
+  for (int ch = 0; ch < 3; ++ch) {
+    const double s = nodes[size_t(n) * 3 + size_t(ch)] - nodes[size_t(n - 1) * 3 + size_t(ch)] + c;
+    out[ch] = s < 0.0 ? s : std::numeric_limits<double>::infinity();
+  }
+}
+
+// Eq. 8 at t = n r / r_s for two representations on the same grid (a, b: (n + 1) · 3 nodes; sa,
+// sb: their tailSlopes): sqrt(P_a P_b) per channel, what exp((lnProfileAt(a) + lnProfileAt(b)) / 2)
+// gives, with one (k, w) for both and, in the tail, the r² factor as (n / t)² instead of a log.
+[[gnu::always_inline]] inline void eq8(const double* a, const double* b, const double* sa,
+                                       const double* sb, int n, double t, double out[3]) {
+  if (t <= double(n)) {
+    const int k = std::min(static_cast<int>(t), n - 1);
+    const double w = t - k;
+    const double* a0 = a + size_t(k) * 3;
+    const double* b0 = b + size_t(k) * 3;
+    for (int c = 0; c < 3; ++c)
+      out[c] = std::exp(0.5 * ((1.0 - w) * (a0[c] + b0[c]) + w * (a0[c + 3] + b0[c + 3])));
+    return;
+  }
+  if (t > material::kExtrapolationFactor * n) {
+    out[0] = out[1] = out[2] = 0.0;
+    return;
+  }
+  const double q = double(n) / t, r2 = n > 1 ? q * q : 1.0;
+  const double* an = a + size_t(n) * 3;
+  const double* bn = b + size_t(n) * 3;
+  for (int c = 0; c < 3; ++c) {
+    const double s = 0.5 * (sa[c] + sb[c]);  // +∞ when either has no tail
+    out[c] = s < 0.0 ? std::exp(0.5 * (an[c] + bn[c]) + (t - n) * s) * r2 : 0.0;
+  }
+}
+
+using MediumKey = std::array<double, 7>;
+MediumKey keyOf(const material::LocalMedium& m) {
+  return {m.sigma_a[0], m.sigma_a[1], m.sigma_a[2], m.sigma_s[0], m.sigma_s[1], m.sigma_s[2], m.g};
+}
+
+// A camera hit's profile, by medium (one map per image row: deterministic whatever the thread).
+struct HitProfile {
+  Nodes nodes;
+  double slopes[3]{};  // tailSlopes
+  double near[3]{};    // F_c(ρ) of the representation
+};
+using HitProfiles = std::map<MediumKey, HitProfile>;
+
+const HitProfile& hitProfile(const Hetero& het, const material::LocalMedium& m, double rho,
+                             HitProfiles& cache) {
+  const MediumKey key = keyOf(m);
+  auto it = cache.find(key);
+  if (it != cache.end()) return it->second;
+  const material::PointProfiles p =
+      material::PointProfiles::build(*het.material, std::span(&m, 1), {het.n, het.rs});
+  HitProfile h;
+  h.nodes = p.nodes();
+  tailSlopes(h.nodes.data(), het.n, h.slopes);
+  for (int c = 0; c < 3; ++c) h.near[c] = representationCumulative(h.nodes.data() + c, het.n, het.rs, rho);
+  return cache.emplace(key, std::move(h)).first->second;
+}
+
+// The heterogeneous counterpart of accumulate: samples [begin, end) of the grid against the
+// pixel's hits, Eq. 8 per pair in double, the same sums (per-ray, and the second moments of the
+// per-sample terms). Fixed order: deterministic.
+void accumulateHetero(const SampleGrid& grid, uint32_t begin, uint32_t end, int half,
+                      std::span<const RayHit> hits, std::span<const HitProfile* const> hitProfiles,
+                      const Hetero& het, double rho, PixelSums& sums) {
+  const double rho2 = rho * rho, cut2 = het.rCut * het.rCut, scale = het.n / het.rs;
+  for (uint32_t k = begin; k < end; ++k) {
+    const double px = grid.x[k], py = grid.y[k], pz = grid.z[k];
+    const double e[3] = {grid.e0[k], grid.e1[k], grid.e2[k]};
+    const double* nk = het.nodesOf(grid.tag[k]);
+    const double* sk = het.slopesOf(grid.tag[k]);
+    double vb[3] = {0.0, 0.0, 0.0}, vl[3] = {0.0, 0.0, 0.0};
+    bool any = false;
+    for (size_t s = 0; s < hits.size(); ++s) {
+      const double dx = px - double(hits[s].x), dy = py - double(hits[s].y), dz = pz - double(hits[s].z);
+      const double d2 = dx * dx + dy * dy + dz * dz;
+      if (d2 < rho2 || d2 > cut2) continue;
+      double kernel[3];
+      eq8(nk, hitProfiles[s]->nodes.data(), sk, hitProfiles[s]->slopes, het.n, std::sqrt(d2) * scale, kernel);
+      const double f = double(hits[s].factor);
+      for (int c = 0; c < 3; ++c) {
+        const double v = kernel[c] * e[c];
+        sums.ray[half][s][c] += v;
+        vb[c] += v;
+        vl[c] += f * v;
+      }
+      any = true;
+    }
+    if (!any) continue;
+    for (int c = 0; c < 3; ++c) {
+      sums.b2[c] += vb[c] * vb[c];
+      sums.l2[c] += vl[c] * vl[c];
+    }
+  }
+}
+
 }  // namespace
 
 void ModelReferenceOptions::validate() const {
@@ -545,12 +700,19 @@ void ModelReferenceOptions::validate() const {
   if (environment_rays < 2 || environment_rays > 4096 || environment_rays % 2 != 0)
     throw ParameterError(fmt::format("model reference: environment_rays is {}: expected an even "
                                      "number from 2 to 4096", environment_rays));
+  if (profile_segments < 1 || profile_segments > 1024)
+    throw ParameterError(fmt::format("model reference: profile_segments is {}: expected 1 to 1024 "
+                                     "segments of ln P", profile_segments));
 }
 
-ModelReferenceImages renderModelReference(const geometry::TriangleMesh& meshIn, const Medium& medium,
-                                          const bssrdf::Model& model, std::span<const Light> lights,
-                                          const Camera& camera, const ModelReferenceOptions& options,
-                                          const ProgressCallback& progress) {
+namespace {
+
+// Both paths: `material` null for the homogeneous one (`model` and `medium`), else heterogeneous
+// (`medium`: material->medium, `model` unused).
+ModelReferenceImages render(const geometry::TriangleMesh& meshIn, const Medium& medium,
+                            const bssrdf::Model* model, const material::Material* material,
+                            std::span<const Light> lights, const Camera& camera,
+                            const ModelReferenceOptions& options, const ProgressCallback& progress) {
   const auto start = std::chrono::steady_clock::now();
   // Check the set-up before any work.
   options.validate();
@@ -563,7 +725,8 @@ ModelReferenceImages renderModelReference(const geometry::TriangleMesh& meshIn, 
   mesh.orientOutwards();  // face normals point out (the technique does the same)
 
   std::vector<std::unique_ptr<bssrdf::RadialProfile>> profiles;
-  for (int c = 0; c < 3; ++c) profiles.push_back(model.profile(medium.channel(c)));
+  if (!material)
+    for (int c = 0; c < 3; ++c) profiles.push_back(model->profile(medium.channel(c)));
   const double eta = medium.eta;
   const double norm = bssrdf::diffuseTransmittanceFromOutside(eta);
   const int threads = detail::resolveThreads(options.threads, std::numeric_limits<uint64_t>::max());
@@ -579,31 +742,34 @@ ModelReferenceImages renderModelReference(const geometry::TriangleMesh& meshIn, 
   const double area = mesh.area();
   out.area = area;
   const double rho = options.near_field * std::sqrt(area / double(options.samples));
-  double rMax = 0.0;
-  for (const auto& p : profiles) rMax = std::max(rMax, p->radiusForFraction(1.0 - options.tail));
-  if (!(rho < rMax))
-    throw ParameterError(fmt::format(
-        "model reference: samples is {}: the near-field radius ρ = {:.4g} (near_field {} sample "
-        "spacings) reaches the profile's pruning radius {:.4g}: expected more samples",
-        options.samples, rho, options.near_field, rMax));
   out.near_radius = rho;
-  out.prune_radius = rMax;
-  double nearF[3];
-  for (size_t c = 0; c < 3; ++c) {
-    const double rd = profiles[c]->Rd();
-    nearF[c] = cumulativeAt(*profiles[c], rho);
-    out.near_fraction[c] = rd > 0.0 ? nearF[c] / rd : 0.0;
-    out.tail_fraction[c] = rd > 0.0 ? std::max(0.0, 1.0 - cumulativeAt(*profiles[c], rMax) / rd) : 0.0;
-  }
-
-  // Profile table: refined until linear interpolation is within 1e-4 of R at the midpoints.
+  // Homogeneous: the model's profile, its table and r_max (heterogeneous: after the samples).
+  double rMax = 0.0;
+  double nearF[3]{};
   ProfileGrid table;
-  for (size_t n = 2048;; n *= 2) {
-    table = tabulate(profiles, rho, rMax, n);
-    if (table.maxRelative <= 1e-4 || n >= 65536) break;
+  if (!material) {
+    for (const auto& p : profiles) rMax = std::max(rMax, p->radiusForFraction(1.0 - options.tail));
+    if (!(rho < rMax))
+      throw ParameterError(fmt::format(
+          "model reference: samples is {}: the near-field radius ρ = {:.4g} (near_field {} sample "
+          "spacings) reaches the profile's pruning radius {:.4g}: expected more samples",
+          options.samples, rho, options.near_field, rMax));
+    out.prune_radius = rMax;
+    for (size_t c = 0; c < 3; ++c) {
+      const double rd = profiles[c]->Rd();
+      nearF[c] = cumulativeAt(*profiles[c], rho);
+      out.near_fraction[c] = rd > 0.0 ? nearF[c] / rd : 0.0;
+      out.tail_fraction[c] = rd > 0.0 ? std::max(0.0, 1.0 - cumulativeAt(*profiles[c], rMax) / rd) : 0.0;
+    }
+
+    // Profile table: refined until linear interpolation is within 1e-4 of R at the midpoints.
+    for (size_t n = 2048;; n *= 2) {
+      table = tabulate(profiles, rho, rMax, n);
+      if (table.maxRelative <= 1e-4 || n >= 65536) break;
+    }
+    out.table_size = table.n;
+    out.table_error = table.integrated;
   }
-  out.table_size = table.n;
-  out.table_error = table.integrated;
 
   // Geometry: ray queries, smooth (G-buffer) normals, the samples and their irradiance.
   const geometry::RayScene scene(mesh, "model reference mesh", geometry::RayScene::Quality::High);
@@ -640,7 +806,58 @@ ModelReferenceImages renderModelReference(const geometry::TriangleMesh& meshIn, 
         },
         [](uint64_t, None&) {}, {});
   }
-  const SampleGrid grid = buildGrid(cloud, irradiance, rMax);
+  // Heterogeneous: the samples' local media, deduplicated, and their profiles (which fix r_s).
+  Hetero het;
+  if (material) {
+    het.material = material;
+    het.n = options.profile_segments;
+    if (material->kind == material::Material::Kind::Surface)
+      het.atlas = geometry::loadOrBuildAtlas(mesh, geometry::AtlasOptions{}).atlas;
+    std::vector<glm::vec2> uvs;
+    if (het.atlas) {
+      if (cloud.faces.size() != cloud.size())
+        throw ParameterError("model reference: a surface-map material needs the triangle of every "
+                             "sample: the point cloud has none");
+      uvs = material::atlasUvs(mesh, *het.atlas, cloud.faces, cloud.positions);
+    }
+    const std::vector<material::LocalMedium> media =
+        material::PointProfiles::surfaceMedia(*material, cloud.positions, cloud.normals, uvs);
+    std::map<MediumKey, uint32_t> index;
+    std::vector<material::LocalMedium> distinct;
+    het.mediumOf.resize(media.size());
+    for (size_t k = 0; k < media.size(); ++k) {
+      auto [it, inserted] = index.try_emplace(keyOf(media[k]), static_cast<uint32_t>(distinct.size()));
+      if (inserted) distinct.push_back(media[k]);
+      het.mediumOf[k] = it->second;
+    }
+    const material::PointProfiles p = material::PointProfiles::build(*material, distinct, {het.n, 0.0});
+    het.rs = p.radius();
+    het.rCut = p.cutRadius();
+    het.sampleNodes = p.nodes();
+    het.sampleSlopes.resize(3 * distinct.size());
+    for (size_t u = 0; u < distinct.size(); ++u)
+      tailSlopes(het.nodesOf(static_cast<uint32_t>(u)), het.n, &het.sampleSlopes[3 * u]);
+    rMax = het.rCut;
+    if (!(rho < rMax))
+      throw ParameterError(fmt::format(
+          "model reference: samples is {}: the near-field radius ρ = {:.4g} (near_field {} sample "
+          "spacings) reaches the profiles' cut radius {:.4g}: expected more samples",
+          options.samples, rho, options.near_field, rMax));
+    out.heterogeneous = true;
+    out.profile_segments = het.n;
+    out.profile_radius = het.rs;
+    out.sample_media = distinct.size();
+    out.prune_radius = rMax;
+    for (size_t u = 0; u < distinct.size(); ++u)
+      for (int c = 0; c < 3; ++c) {
+        const double* nodes = het.nodesOf(static_cast<uint32_t>(u)) + c;
+        const double total = representationCumulative(nodes, het.n, het.rs, het.rCut);
+        if (total > 0.0)
+          out.near_fraction[size_t(c)] = std::max(out.near_fraction[size_t(c)],
+                                                  representationCumulative(nodes, het.n, het.rs, rho) / total);
+      }
+  }
+  const SampleGrid grid = buildGrid(cloud, irradiance, rMax, material ? &het.mediumOf : nullptr);
   out.lit_samples = grid.x.size();
 
   // Per pixel.
@@ -654,16 +871,19 @@ ModelReferenceImages renderModelReference(const geometry::TriangleMesh& meshIn, 
   out.coverage.assign(npix, 0.0f);
   const double N = double(options.samples);
   const GroupPasses passes = groupPasses(options.portable);
-  TableView tv;
-  tv.T = table.values.data();
-  tv.s0 = static_cast<float>(table.s0);
-  tv.inv = static_cast<float>(double(table.n - 1) / (table.s1 - table.s0));
-  tv.tMax = static_cast<float>(table.n - 1) * (1.0f - 1e-6f);  // keeps i + 1 inside the table
-  tv.rho2 = static_cast<float>(rho * rho);
-  tv.rMax2 = static_cast<float>(rMax * rMax);
+  TableView tv{};
+  if (!material) {
+    tv.T = table.values.data();
+    tv.s0 = static_cast<float>(table.s0);
+    tv.inv = static_cast<float>(double(table.n - 1) / (table.s1 - table.s0));
+    tv.tMax = static_cast<float>(table.n - 1) * (1.0f - 1e-6f);  // keeps i + 1 inside the table
+    tv.rho2 = static_cast<float>(rho * rho);
+    tv.rMax2 = static_cast<float>(rMax * rMax);
+  }
 
   struct Row {
     std::vector<float> b, bse, l, lse, cov;
+    size_t media = 0;  // heterogeneous: hit profiles evaluated
   };
   auto work = [&](uint64_t j, Row& row, const std::atomic<bool>& stop) {
     row.b.assign(3 * size_t(w), 0.0f);
@@ -672,11 +892,14 @@ ModelReferenceImages renderModelReference(const geometry::TriangleMesh& meshIn, 
     auto sums = std::make_unique<PixelSums>();
     std::vector<RayHit> hits;
     std::vector<HitGroup> groups;
+    HitProfiles hitProfiles;              // heterogeneous: the row's hit media
+    std::vector<const HitProfile*> hitNodes;  // heterogeneous: per hit, its profile
     for (int i = 0; i < w; ++i) {
       if (stop.load(std::memory_order_relaxed)) return false;
       // Camera rays: stratified over the pixel, at the strata's centres or jittered from the
       // pixel's own stream.
       hits.clear();
+      hitNodes.clear();
       Rng rng(options.seed, uint64_t(j) * uint64_t(w) + uint64_t(i));
       std::vector<int> rayOf;  // hit index -> ray index (misses have none)
       double rayNearB[kMaxRays][3]{}, rayNearL[kMaxRays][3]{};
@@ -709,6 +932,16 @@ ModelReferenceImages renderModelReference(const geometry::TriangleMesh& meshIn, 
                                  b2 * mesh.normals[tri.z];
             if (glm::length(v) > 1e-12) ne = glm::normalize(v);
           }
+          // The near disc's share of the profile: the model's (homogeneous) or x_o's own
+          // representation (heterogeneous: the local homogeneous approximation).
+          const double* nf = nearF;
+          if (material) {
+            const glm::dvec2 uv = het.atlas ? material::atlasUvAt(mesh, *het.atlas, hit.triangle, x)
+                                            : glm::dvec2(0.0);
+            const HitProfile& hp = hitProfile(het, material->surfaceMedium(x, ne, uv), rho, hitProfiles);
+            nf = hp.near;
+            hitNodes.push_back(&hp);
+          }
           const double cosO = glm::dot(ns, -d);
           RayHit rh;
           rh.x = static_cast<float>(x.x);
@@ -723,9 +956,9 @@ ModelReferenceImages renderModelReference(const geometry::TriangleMesh& meshIn, 
           Rgb e0Var{};
           const Rgb e0 = transmittedIrradiance(x, ne, terms, scene, eps, eta, false, hitPairs, envRng, e0Var);
           for (size_t c = 0; c < 3; ++c) {
-            nearVarB[c] += e0Var[c] * nearF[c] * nearF[c];
-            nearVarL[c] += e0Var[c] * nearF[c] * nearF[c] * factor * factor;
-            rh.near[c] = e0[c] * nearF[c];
+            nearVarB[c] += e0Var[c] * nf[c] * nf[c];
+            nearVarL[c] += e0Var[c] * nf[c] * nf[c] * factor * factor;
+            rh.near[c] = e0[c] * nf[c];
             rayNearB[r][c] = rh.near[c];
             rayNearL[r][c] = double(rh.factor) * rh.near[c];
           }
@@ -767,6 +1000,11 @@ ModelReferenceImages renderModelReference(const geometry::TriangleMesh& meshIn, 
             const glm::dvec3 cl = grid.lower({cx, cy, cz}), cu = cl + glm::dvec3(grid.cell);
             const glm::dvec3 gap = glm::max(glm::max(cl - hi, lo - cu), glm::dvec3(0.0));
             if (glm::dot(gap, gap) > rMax * rMax) continue;
+            if (material) {
+              accumulateHetero(grid, b, grid.middle[cell], 0, hits, hitNodes, het, rho, *sums);
+              accumulateHetero(grid, grid.middle[cell], e, 1, hits, hitNodes, het, rho, *sums);
+              continue;
+            }
             accumulate(grid, b, grid.middle[cell], 0, groups, tv, passes, *sums);
             accumulate(grid, grid.middle[cell], e, 1, groups, tv, passes, *sums);
           }
@@ -815,9 +1053,11 @@ ModelReferenceImages renderModelReference(const geometry::TriangleMesh& meshIn, 
         estimate(true, sums->l2[c], row.l[3 * size_t(i) + c], row.lse[3 * size_t(i) + c]);
       }
     }
+    row.media = hitProfiles.size();
     return true;
   };
   auto merge = [&](uint64_t j, Row& row) {
+    out.hit_media += row.media;
     const size_t o = 3 * size_t(j) * size_t(w);
     std::copy(row.b.begin(), row.b.end(), out.exitance.begin() + long(o));
     std::copy(row.bse.begin(), row.bse.end(), out.exitance_se.begin() + long(o));
@@ -837,6 +1077,34 @@ ModelReferenceImages renderModelReference(const geometry::TriangleMesh& meshIn, 
   if (progress) progress(TraceProgress{run.blocks_done * uint64_t(w), total, out.seconds});
   out.partial = run.stopped;
   return out;
+}
+
+}  // namespace
+
+ModelReferenceImages renderModelReference(const geometry::TriangleMesh& mesh, const Medium& medium,
+                                          const bssrdf::Model& model, std::span<const Light> lights,
+                                          const Camera& camera, const ModelReferenceOptions& options,
+                                          const ProgressCallback& progress) {
+  return render(mesh, medium, &model, nullptr, lights, camera, options, progress);
+}
+
+ModelReferenceImages renderModelReference(const geometry::TriangleMesh& mesh,
+                                          const material::Material& material,
+                                          std::span<const Light> lights, const Camera& camera,
+                                          const ModelReferenceOptions& options,
+                                          const ProgressCallback& progress) {
+  if (bssrdf::hasBssrdfExtension(material.model))
+    throw ParameterError(fmt::format(
+        "model reference: the material's model is the .bssrdf file '{}'; the model reference "
+        "integrates a registered model", material.model));
+  if (!material.heterogeneous())
+    return render(mesh, material.medium, &bssrdf::model(material.model), nullptr, lights, camera,
+                  options, progress);
+  if (material.kind == material::Material::Kind::Volume && !material.volume)
+    throw ParameterError("model reference: a volume material without its field");
+  if (material.kind == material::Material::Kind::Surface && !material.surface)
+    throw ParameterError("model reference: a surface-map material without its map");
+  return render(mesh, material.medium, nullptr, &material, lights, camera, options, progress);
 }
 
 }  // namespace translucent::reference

@@ -71,6 +71,30 @@
 //
 // Units: scene units; the medium's coefficients per medium unit, Medium::channel applies its scale
 // (as for MeshPathTracer).
+//
+// Heterogeneous materials (material/material.h; the overload taking a material::Material). The
+// kernel is Eq. 8 of SubEdit (material/point_profiles.h) brute-forced over the surface:
+//   B(x_o) ≈ E(x_o) F_o(ρ) + (A/N) Σ_k sqrt(P_k(r) P_o(r)) E(x_k) [ρ <= r = |x_o - x_k| <= r_cut],
+// P_k the profile of sample k's local medium (Material::surfaceMedium at its position, its
+// irradiance normal and, for a surface map, its atlas UV), P_o that of the camera hit x_o (the
+// same), both in the per-point representation of material::PointProfiles: profile_segments
+// segments of ln P on [0, r_s], r_s the largest 95% radius over the samples' media (the hits' use
+// the same r_s, so Eq. 8 combines nodes of one grid), the extrapolated tail cut at r_cut = 3 r_s,
+// which is the pruning radius. F_o(ρ) = 2π∫0^ρ P_o r dr of x_o's own representation (Gauss-
+// Legendre per segment): the near disc is the local homogeneous approximation, E ≈ E(x_o) and
+// the medium ≈ x_o's within ρ; what is left is second order in ρ as above, plus the change of
+// the medium across the disc where a boundary between media crosses it (the disc is a few sample
+// spacings wide). With one medium everywhere the sum is the homogeneous one with the
+// representation's profile instead of the model's: it differs from the homogeneous reference by
+// the representation's error (at most 2.2e-3 of B at n = 64 on the test sphere,
+// tests/reference/test_model_reference_hetero.cpp). Cost: ~2x the homogeneous AVX2 loop per
+// (sample, hit) pair (BENCHMARKS.md); r_cut is usually a little below r_max.
+// The inner loop is scalar double arithmetic (no table, no AVX2): the same standard errors (one
+// term per sample, the two halves for the jitter), determinism and progress/stop as above. The
+// atlas of a surface map is the default one (geometry::AtlasOptions{}, cached), read at the
+// triangles' UVs by material/surface_uv.h as the point-cloud technique reads it. Media are
+// deduplicated: a field of a few media costs a few profile evaluations; a continuous field one
+// per sample and per camera hit.
 #pragma once
 
 #include <array>
@@ -84,6 +108,10 @@
 #include "optics/medium.h"
 #include "reference/camera.h"
 #include "reference/transport.h"
+
+namespace translucent::material {
+struct Material;
+}
 
 namespace translucent::reference {
 
@@ -99,6 +127,8 @@ struct ModelReferenceOptions {
   bool portable = false;      // the baseline-ISA inner loop even where AVX2 + FMA is available
   int environment_rays = 64;  // shadow rays per sample for E from an environment light (even,
                               // 2 .. 4096; 4x at the camera hits)
+  int profile_segments = 64;  // heterogeneous materials: segments n of each point's ln P
+                              // (material::PointProfiles), 1 .. 1024; more = closer to the model
 
   // Throws ParameterError naming the bad field.
   void validate() const;
@@ -123,6 +153,14 @@ struct ModelReferenceImages {
   double table_error = 0.0;         // max_c ∫|R_table - R| 2πr dr / Rd_c over [ρ, r_max]
   uint64_t lit_samples = 0;         // samples with E > 0 in some channel (the others add nothing)
   int threads = 0;
+  // Heterogeneous materials (above; table_size 0, table_error 0, tail_fraction 0: the
+  // representation holds no energy beyond r_cut = prune_radius; near_fraction: the largest
+  // F(ρ) / F(r_cut) over the samples' media).
+  bool heterogeneous = false;
+  int profile_segments = 0;         // n
+  double profile_radius = 0.0;      // r_s [scene units]
+  size_t sample_media = 0;          // distinct local media of the samples
+  size_t hit_media = 0;             // profiles evaluated for camera hits (distinct per image row)
 };
 
 // Lights: directional, point and beam (radius > 0; a pencil beam has no irradiance to sample) as
@@ -133,6 +171,18 @@ struct ModelReferenceImages {
 ModelReferenceImages renderModelReference(const geometry::TriangleMesh& mesh, const Medium& medium,
                                           const bssrdf::Model& model, std::span<const Light> lights,
                                           const Camera& camera, const ModelReferenceOptions& options,
+                                          const ProgressCallback& progress = {});
+
+// The reference of a material (material/material.h; `mesh` in scene units, placed as the
+// material's frame expects). A homogeneous material is exactly the overload above with
+// material.medium and bssrdf::model(material.model) (bit-identical); a heterogeneous one is Eq. 8
+// as in the header comment, with η and scale of material.medium. Throws ParameterError also for a
+// .bssrdf file model (the local profiles need a registered one) and for a surface map whose
+// mesh has no atlas (geometry::AtlasError).
+ModelReferenceImages renderModelReference(const geometry::TriangleMesh& mesh,
+                                          const material::Material& material,
+                                          std::span<const Light> lights, const Camera& camera,
+                                          const ModelReferenceOptions& options,
                                           const ProgressCallback& progress = {});
 
 }  // namespace translucent::reference

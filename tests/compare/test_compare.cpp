@@ -13,6 +13,8 @@
 #include "analysis/compare.h"
 #include "analysis/report.h"
 #include "bssrdf/exit_radiance.h"
+#include "bssrdf/registry.h"
+#include "reference/model_reference.h"
 
 namespace translucent::analysis {
 namespace {
@@ -354,6 +356,66 @@ TEST(CompareReportFolder, RefusesForeignFilesAndReplacesPreviousReports) {
   // A file in place of the folder.
   std::ofstream(dir.path() / "file") << "x";
   EXPECT_THROW(prepareReportDirectory(dir.path() / "file", true, {}, "--out"), ParameterError);
+}
+
+// The material is part of the key (compare.h, referenceMaterialDescription): another description
+// (a heterogeneous material's, once scenes have one) never reuses this scene's references, the
+// homogeneous one is the default, and the medium's fields change it.
+TEST(CompareCache, TheMaterialDescriptionIsPartOfTheKey) {
+  const scene::Scene s = cubeScene(16, 12);
+  for (const ReferenceRequest& req : {physical(1000, 1), model(1000, 1)}) {
+    const std::string homogeneous = referenceMaterialDescription(s);
+    EXPECT_EQ(referenceKey(s, req), referenceKey(s, req, homogeneous));
+    EXPECT_NE(referenceKey(s, req, R"({"kind":"volume","field":"layers"})"), referenceKey(s, req));
+    EXPECT_NE(referenceKey(s, req, R"({"kind":"volume","field":"layers"})"),
+              referenceKey(s, req, R"({"kind":"volume","field":"marble"})"));
+    EXPECT_NE(referenceKeyText(s, req).find("\"material\""), std::string::npos);
+    scene::Scene other = s;
+    other.medium.g = 0.5;
+    EXPECT_NE(referenceMaterialDescription(other), homogeneous);
+    other = s;
+    other.model = "better-dipole";
+    EXPECT_NE(referenceMaterialDescription(other), homogeneous);
+  }
+}
+
+// Which reference is physical per material kind, in the report's words.
+TEST(CompareMaterial, ThePhysicalReferenceOfEachMaterialKind) {
+  material::Material m;
+  MaterialReferences r = materialReferences(m);
+  EXPECT_EQ(r.kind, "homogeneous");
+  EXPECT_TRUE(r.physical);
+  m.kind = material::Material::Kind::Surface;
+  r = materialReferences(m);
+  EXPECT_EQ(r.kind, "surface");
+  EXPECT_FALSE(r.physical);  // a 2D map has no volume
+  EXPECT_NE(r.text.find("no physical reference"), std::string::npos) << r.text;
+  EXPECT_NE(r.text.find("model reference"), std::string::npos) << r.text;
+  m.kind = material::Material::Kind::Volume;
+  r = materialReferences(m);
+  EXPECT_EQ(r.kind, "volume");
+  EXPECT_NE(r.text.find("path tracer"), std::string::npos) << r.text;
+  // Today's scenes are homogeneous: both references.
+  const scene::Scene s = cubeScene(8, 6);
+  EXPECT_TRUE(materialReferences(scene::sceneMaterial(s, scene::loadSceneMesh(s))).physical);
+}
+
+// compare's model reference integrates scene::sceneMaterial: for a homogeneous scene exactly the
+// homogeneous reference of its medium and model.
+TEST(CompareReferences, TheModelReferenceOfAHomogeneousSceneIsTheMediumsReference) {
+  const scene::Scene s = cubeScene(16, 12);
+  const geometry::TriangleMesh mesh = scene::loadSceneMesh(s);
+  const Reference r = computeReference(s, mesh, model(20000, 4));
+  reference::ModelReferenceOptions o;
+  o.samples = 20000;
+  o.seed = 4;
+  o.threads = 2;
+  o.subpixels = model(20000, 4).subpixels;
+  const auto direct = reference::renderModelReference(mesh, s.medium, bssrdf::model(s.model),
+                                                      scene::referenceLights(s), s.camera, o);
+  EXPECT_EQ(r.exitance.rgb, direct.exitance);
+  EXPECT_EQ(r.exitance.se, direct.exitance_se);
+  EXPECT_EQ(r.radiance.rgb, direct.radiance);
 }
 
 }  // namespace

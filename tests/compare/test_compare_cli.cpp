@@ -114,6 +114,10 @@ TEST_F(CompareCli, ReportIsCompleteAndSelfContained) {
   const json j = json::parse(f);
   EXPECT_EQ(j.at("generator"), "translucent compare");
   for (const auto& file : j.at("files")) EXPECT_TRUE(fs::is_regular_file(dir / file.get<std::string>())) << file;
+  // Which reference is physical for the scene's material (homogeneous: the path tracer).
+  EXPECT_EQ(j.at("material").at("kind"), "homogeneous");
+  EXPECT_TRUE(j.at("material").at("physical_reference").get<bool>());
+  EXPECT_NE(html.find("References: Homogeneous material"), std::string::npos);
   ASSERT_EQ(j.at("references").size(), 2u);
   for (const auto& r : j.at("references")) {
     EXPECT_FALSE(r.at("partial").get<bool>());

@@ -20,6 +20,7 @@
 #include "gpu/bssrdf_profiles.h"
 #include "gpu/compute.h"
 #include "gpu/pass_timer.h"
+#include "material/surface_uv.h"
 #include "techniques/common/gl_resources.h"
 #include "techniques/common/light_shadows.h"
 #include "techniques/common/profile_kernel.h"
@@ -182,29 +183,8 @@ struct PointCloudTechnique::Impl : techniques::ClosedMeshState {
     notes.push_back(fmt::format("pointcloud: surface-map material over the {}² {} atlas ({} {})",
                                 atlas.size, geometry::toString(atlas.method),
                                 cached.fromCache ? "read from" : "cached in", cached.file.string()));
-    cloudUvs.resize(cloud.size());
-    for (size_t i = 0; i < cloud.size(); ++i) {
-      const uint32_t f = cloud.faces[i];
-      const glm::uvec3 t = mesh.triangles[f];
-      const glm::dvec3 a = mesh.positions[t[0]], e0 = mesh.positions[t[1]] - a,
-                       e1 = mesh.positions[t[2]] - a, e2 = glm::dvec3(cloud.positions[i]) - a;
-      const double d00 = glm::dot(e0, e0), d01 = glm::dot(e0, e1), d11 = glm::dot(e1, e1);
-      const double d20 = glm::dot(e2, e0), d21 = glm::dot(e2, e1), den = d00 * d11 - d01 * d01;
-      const double v = den > 0.0 ? std::clamp((d11 * d20 - d01 * d21) / den, 0.0, 1.0) : 1.0 / 3.0;
-      const double w = den > 0.0 ? std::clamp((d00 * d21 - d01 * d20) / den, 0.0, 1.0 - v) : 1.0 / 3.0;
-      const double u = 1.0 - v - w;
-      cloudUvs[i] = glm::vec2(u * glm::dvec2(atlas.uv(f, 0)) + v * glm::dvec2(atlas.uv(f, 1)) +
-                              w * glm::dvec2(atlas.uv(f, 2)));
-    }
-    vertexUvs.assign(mesh.vertexCount(), glm::vec2(0.0f));
-    std::vector<bool> seen(mesh.vertexCount(), false);
-    for (size_t f = 0; f < mesh.triangleCount(); ++f)
-      for (int c = 0; c < 3; ++c) {
-        const uint32_t v = mesh.triangles[f][c];
-        if (seen[v]) continue;
-        seen[v] = true;
-        vertexUvs[v] = atlas.uv(f, c);
-      }
+    cloudUvs = material::atlasUvs(mesh, atlas, cloud.faces, cloud.positions);
+    vertexUvs = material::vertexAtlasUvs(mesh, atlas);
   }
 
   // The profiles of the cloud's points, of the mesh's vertices (the shading points' profiles are
