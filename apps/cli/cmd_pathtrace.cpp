@@ -258,7 +258,8 @@ void writeCsv(const std::string& path, const SlabResult& r) {
 // over kMaxWalkEvents is refused with the estimate.
 constexpr double kMaxWalkEvents = 1e10;  // ~minutes for one photon at ~1e8 events/s
 
-void checkWalkLength(const SlabSetup& s, const TraceOptions& o) {
+void checkWalkLength(const SlabSetup& s, const TraceOptions& o,
+                     const std::string& what = "--sigma-a") {
   if (o.long_path_roulette != 0 || !(s.sigma_a > 0.0)) return;  // σa = 0: traceSlab says why
   const double sigmaTPrime = s.sigma_a + (1.0 - s.g) * s.sigma_s;
   const double absorbed = s.sigma_a / sigmaTPrime;  // 1 − α': absorption chance per step
@@ -268,11 +269,11 @@ void checkWalkLength(const SlabSetup& s, const TraceOptions& o) {
   if (s.finite()) longest = std::min(longest, 10.0 * std::pow(sigmaTPrime * s.thickness, 2) + 10.0);
   if (longest > kMaxWalkEvents)
     throw ParameterError(fmt::format(
-        "--sigma-a is {} with σs' = {}: absorption ends a walk only after ~1/(1 − α') = {:.3g} "
+        "{} is {} with σs' = {}: absorption ends a walk only after ~1/(1 − α') = {:.3g} "
         "scattering events, and the longest of {} walks would take ~{:.3g} events (hours to years, "
         "and no photon is interrupted mid-walk); give --long-path-roulette N (e.g. 1e6) to end "
         "long walks without bias, a larger --sigma-a, or a --thickness",
-        s.sigma_a, (1.0 - s.g) * s.sigma_s, absorbed > 0.0 ? 1.0 / absorbed : HUGE_VAL,
+        what, s.sigma_a, (1.0 - s.g) * s.sigma_s, absorbed > 0.0 ? 1.0 / absorbed : HUGE_VAL,
         o.photons, longest));
 }
 
@@ -293,7 +294,20 @@ void runSlab(const PathtraceArgs& a) {
   // thickness (what the JSON's surfaces and thickness refer to).
   SlabSetup shown = setup;
   std::optional<reference::LayeredSlabSetup> layered;
-  if (!a.layers.empty()) layered = buildLayered(a, shown);
+  if (!a.layers.empty()) {
+    layered = buildLayered(a, shown);
+    // Each layer on its own, as a slab of its thickness (the last one semi-infinite): a walk
+    // stays at least as long in the stack as in its most transparent thick layer.
+    for (size_t i = 0; i < layered->layers.size(); ++i) {
+      const reference::SlabLayer& L = layered->layers[i];
+      SlabSetup one = shown;
+      one.sigma_a = L.sigma_a;
+      one.sigma_s = L.sigma_s;
+      one.g = L.g;
+      one.thickness = L.thickness;
+      checkWalkLength(one, options, fmt::format("--layers {}: layer [{}]: sigma_a", a.layers, i));
+    }
+  }
   if (options.long_path_roulette > 0)
     printStderr(
                "pathtrace: note: long-path roulette keeps estimates unbiased, but each roulette "

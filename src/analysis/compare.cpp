@@ -16,6 +16,7 @@
 #include "geometry/atomic_file.h"  // contentHash
 #include "geometry/point_cloud.h"  // defaultCacheDirectory
 #include "geometry/ray_scene.h"
+#include "material/material_desc.h"
 #include "reference/camera.h"
 #include "reference/mesh_tracer.h"
 #include "reference/model_reference.h"
@@ -52,10 +53,9 @@ CompareImage Reference::radianceFor(bssrdf::ExitConvention convention, double et
 
 namespace {
 
-// HETEROGENEOUS PHYSICAL REFERENCE: whether the mesh path tracer takes a material::Material (3D
-// fields). Flip to true together with the single call site in computeReference below once
-// reference::MeshPathTracer takes one.
-constexpr bool kPathTracerTakesMaterials = false;
+// The mesh path tracer takes a material::Material: 3D fields are delta-tracked through a
+// majorant grid (reference/majorant_grid.h), so they have a physical reference.
+constexpr bool kPathTracerTakesMaterials = true;
 
 }  // namespace
 
@@ -84,14 +84,23 @@ std::string readFileBytes(const fs::path& path, const std::string& what) {
 }  // namespace
 
 std::string referenceMaterialDescription(const scene::Scene& scene) {
-  // The homogeneous fields (the scene's medium and model); a heterogeneous material's description
-  // replaces this text (compare.h).
+  // The homogeneous fields (the scene's medium and model), and for a heterogeneous material its
+  // whole description (material/material_desc.h) with every file it reads (maps, voxel grids)
+  // named by the SHA-256 of its bytes, so that an edited map never reuses a reference.
   const Medium& m = scene.medium;
-  const json j = {{"kind", "homogeneous"},
-                  {"model", scene.model},
-                  {"sigma_a", {m.sigma_a[0], m.sigma_a[1], m.sigma_a[2]}},
-                  {"sigma_s", {m.sigma_s[0], m.sigma_s[1], m.sigma_s[2]}},
-                  {"g", m.g}, {"eta", m.eta}, {"scale", m.scale}};
+  json j = {{"kind", "homogeneous"},
+            {"model", scene.model},
+            {"sigma_a", {m.sigma_a[0], m.sigma_a[1], m.sigma_a[2]}},
+            {"sigma_s", {m.sigma_s[0], m.sigma_s[1], m.sigma_s[2]}},
+            {"g", m.g}, {"eta", m.eta}, {"scale", m.scale}};
+  if (!scene.material.homogeneous()) {
+    json desc;
+    material::writeMaterialDesc(scene.material, desc, [](const fs::path& p) {
+      return "sha256:" + sha256Hex(readFileBytes(p, "material file"));
+    });
+    j["kind"] = desc.value("type", "heterogeneous");
+    j["description"] = desc;
+  }
   return j.dump();
 }
 
@@ -366,14 +375,9 @@ Reference computeReference(const scene::Scene& scene, const geometry::TriangleMe
       const MaterialReferences roles = materialReferences(material);
       if (!roles.physical)
         throw ParameterError(fmt::format("--reference physical: {}", roles.text));
-      // HETEROGENEOUS PHYSICAL REFERENCE, the single call site: the path tracer through the
-      // material's field, e.g.
-      //   reference::MeshPathTracer tracer(mesh, material, lights, scene.camera, ...);
-      // then the same images as below (kPathTracerTakesMaterials above says it is there).
-      throw ParameterError("--reference physical: the mesh path tracer does not take "
-                           "heterogeneous materials yet");
     }
-    reference::MeshPathTracer tracer(mesh, scene.medium, lights, scene.camera, scene.cone_angle,
+    // Homogeneous: bit-identical to the tracer of scene.medium; a 3D field: delta tracking.
+    reference::MeshPathTracer tracer(mesh, material, lights, scene.camera, scene.cone_angle,
                                      {request.seed, request.threads});
     const reference::TransportStats st = tracer.addPass(request.count, progress);
     r.exitance = toCompareImage(tracer.images().exitance);

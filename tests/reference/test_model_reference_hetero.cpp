@@ -374,30 +374,5 @@ TEST(ModelReferenceHetero, ProgressCallbackStops) {
   EXPECT_THROW(renderModelReference(mesh, mat, light(), cam, o), ParameterError);
 }
 
-// Timing (not run by default: --gtest_also_run_disabled_tests): the default bunny scene at
-// 128x96, 200k samples, 1 ray per pixel, homogeneous vs the same medium as a field and vs
-// Marble | Ketchup split by a plane through the middle.
-TEST(ModelReferenceHetero, DISABLED_TimingOnTheBunny) {
-  const scene::Scene sc = scene::defaultScene();
-  const geometry::TriangleMesh mesh = scene::loadSceneMesh(sc);
-  material::Material m = scene::sceneMaterial(sc, mesh);
-  Camera cam = sc.camera;
-  cam.width = 128;
-  cam.height = 96;
-  const std::vector<Light> lights = scene::referenceLights(sc);
-  ModelReferenceOptions o;
-  o.samples = 200000;
-  o.subpixels = 1;
-  o.threads = 2;
-  const auto homo = renderModelReference(mesh, m, lights, cam, o);
-  m.kind = material::Material::Kind::Volume;
-  m.volume = std::make_shared<Uniform>(sc.medium);
-  const auto uni = renderModelReference(mesh, m, lights, cam, o);
-  std::printf("bunny %dx%d, %llu samples, 2 threads: homogeneous %.2f s (r_max %.4g); one medium "
-              "as a field %.2f s (r_cut %.4g, %zu hit profiles)\n", cam.width, cam.height,
-              static_cast<unsigned long long>(o.samples), homo.seconds, homo.prune_radius,
-              uni.seconds, uni.prune_radius, uni.hit_media);
-}
-
 }  // namespace
 }  // namespace translucent::reference
