@@ -318,6 +318,15 @@ bool ClosedMeshState::loadClosedMesh(const scene::Scene& s) {
   return true;
 }
 
+void requireHomogeneousMaterial(const scene::Scene& scene, const char* technique) {
+  if (scene.material.homogeneous()) return;
+  throw ParameterError(fmt::format(
+      "material.type '{}': the {} technique renders homogeneous materials only: expected "
+      "\"type\": \"homogeneous\", or the pointcloud technique (per-point profiles, Eq. 8) or "
+      "the empirical one (a per-vertex colour) for a spatially varying material",
+      scene.material.type(), technique));
+}
+
 FrameSize frameSize(const FrameRequest& request, const reference::Camera& camera) {
   const FrameSize f{request.width > 0 ? request.width : camera.width,
                     request.height > 0 ? request.height : camera.height};

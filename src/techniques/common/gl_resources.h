@@ -185,6 +185,12 @@ struct FrameSize {
 };
 FrameSize frameSize(const FrameRequest& request, const reference::Camera& camera);
 
+// For techniques that render homogeneous media only (tsis, tsm, lss): a spatially varying
+// material would otherwise render as its representative medium without a word (a silently
+// wrong image). Throws ParameterError naming the technique and the material's type, and the
+// techniques that do render it.
+void requireHomogeneousMaterial(const scene::Scene& scene, const char* technique);
+
 // Every pass the timer ended since its last collect() into frame.passes (waits for the GPU).
 void addPasses(Frame& frame, gpu::PassTimer& timer);
 

@@ -298,6 +298,7 @@ void LssTechnique::prepare(const scene::Scene& scene, gpu::Context& gl) {
   gl.makeCurrent();
   scene.camera.validate();
   scene.medium.validate();
+  techniques::requireHomogeneousMaterial(scene, "lss");
   impl_->buildPrograms();
   impl_->scene.reset();  // until this preparation succeeds
   impl_->loadMesh(scene);

@@ -541,6 +541,7 @@ void TsisTechnique::prepare(const scene::Scene& scene, gpu::Context& gl) {
   gl.makeCurrent();
   scene.camera.validate();
   scene.medium.validate();
+  techniques::requireHomogeneousMaterial(scene, "tsis");
   impl_->buildPrograms();
   impl_->scene.reset();  // until this preparation succeeds
   impl_->loadMesh(scene);

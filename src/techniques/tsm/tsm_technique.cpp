@@ -329,6 +329,7 @@ void TsmTechnique::prepare(const scene::Scene& scene, gpu::Context& gl) {
   gl.makeCurrent();
   scene.camera.validate();
   scene.medium.validate();
+  techniques::requireHomogeneousMaterial(scene, "tsm");
   impl_->buildPrograms();
   impl_->scene.reset();  // until this preparation succeeds
   impl_->loadMesh(scene);
