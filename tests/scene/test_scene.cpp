@@ -514,8 +514,8 @@ TEST(StandingSuite, EverySceneParsesAndItsMeshIsClosed) {
 
 // Every scene of data/scenes parses, round-trips through toJson, loads its mesh and builds its
 // material (the heterogeneous ones included: layers from the surface build their distance
-// structure over the placed head). The dragon comes from scripts/install-bench-data (benchmark
-// data the tests do not require): without it that scene is reported and skipped.
+// structure over the placed head). The dragon comes from npm (scripts/install-test-data, which
+// ./test runs).
 TEST(DataScenes, EverySceneParsesRoundTripsAndBuildsItsMaterial) {
   const std::filesystem::path dir = std::filesystem::path(TRANSLUCENT_DATA_DIR) / "scenes";
   int scenes = 0, heterogeneous = 0;
@@ -526,12 +526,7 @@ TEST(DataScenes, EverySceneParsesRoundTripsAndBuildsItsMaterial) {
     try {
       s = loadScene(e.path());
     } catch (const ParameterError& x) {
-      const std::string msg = x.what();
-      if (msg.find("'dragon/") != std::string::npos && msg.find("not found") != std::string::npos) {
-        std::cout << "skipped " << e.path() << " (run scripts/install-bench-data): " << msg << "\n";
-        continue;
-      }
-      ADD_FAILURE() << msg;
+      ADD_FAILURE() << x.what();
       continue;
     }
     ++scenes;
@@ -556,7 +551,7 @@ TEST(DataScenes, EverySceneParsesRoundTripsAndBuildsItsMaterial) {
     }
   }
   EXPECT_GE(scenes, 7);
-  EXPECT_GE(heterogeneous, 3);  // veins, chessboard and layered head (and the dragon when installed)
+  EXPECT_GE(heterogeneous, 4);  // veins, chessboard, layered head, wax dragon
 }
 
 }  // namespace
