@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "radial_tally.h"
 #include "geometry/icosphere.h"
 #include "geometry/mesh.h"
 #include "reference/layered_slab.h"
@@ -148,40 +149,7 @@ TEST(HeterogeneousMesh, CoreFarBelowTheSurfaceDoesNotShowUp) {
   EXPECT_EQ(cored.majorantViolations(), 0u);
 }
 
-// Annuli about the beam on the top face z = 0 and the flux leaving elsewhere, every channel
-// (the tests use three equal channels: three independent photons per emitted triple).
-class RadialTally final : public ExitTally {
- public:
-  RadialTally(int bins, double dr) : bins_(bins), dr_(dr), annuli(static_cast<size_t>(bins) + 1) {}
-  class Exits final : public Block {
-   public:
-    explicit Exits(const RadialTally& t) : t_(t) {}
-    void record(const ExitRecord& e) override {
-      const int k = e.normal.z > 0.5 ? std::min(static_cast<int>(std::hypot(e.position.x, e.position.y) / t_.dr_), t_.bins_)
-                                     : -1;
-      exits.push_back({k, e.weight});
-    }
-    std::vector<std::pair<int, double>> exits;
-
-   private:
-    const RadialTally& t_;
-  };
-  std::unique_ptr<Block> newBlock() const override { return std::make_unique<Exits>(*this); }
-  void merge(Block& b) override {
-    for (const auto& [k, w] : static_cast<Exits&>(b).exits) {
-      if (k < 0) {
-        elsewhere.add(w);
-      } else {
-        top.add(w);
-        annuli[static_cast<size_t>(k)].add(w);
-      }
-    }
-  }
-  int bins_;
-  double dr_;
-  std::vector<Moments> annuli;
-  Moments top, elsewhere;
-};
+using test_support::RadialTally;
 
 TEST(HeterogeneousMesh, LayeredFieldInAFlatBoxMatchesTheLayeredSlab) {
   // A 200 x 200 x 4 box under a pencil beam, η = 1.4: a forward-scattering top layer 1 unit

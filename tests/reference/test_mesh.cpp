@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "radial_tally.h"
 #include "analysis/image_io.h"
 #include "geometry/mesh.h"
 #include "optics/fresnel.h"
@@ -28,43 +29,7 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 namespace fs = std::filesystem;
 
-// Annuli about a point of the top face (z = 0, normal +z) and the flux leaving elsewhere.
-class RadialTally final : public ExitTally {
- public:
-  RadialTally(int bins, double dr) : bins_(bins), dr_(dr), annuli(static_cast<size_t>(bins) + 1) {}
-  class Exits final : public Block {
-   public:
-    explicit Exits(const RadialTally& t) : t_(t) {}
-    void record(const ExitRecord& e) override {
-      if (e.normal.z > 0.5) {
-        const double r = std::hypot(e.position.x, e.position.y);
-        const int k = std::min(static_cast<int>(r / t_.dr_), t_.bins_);
-        exits.push_back({k, e.weight});
-      } else {
-        exits.push_back({-1, e.weight});
-      }
-    }
-    std::vector<std::pair<int, double>> exits;
-
-   private:
-    const RadialTally& t_;
-  };
-  std::unique_ptr<Block> newBlock() const override { return std::make_unique<Exits>(*this); }
-  void merge(Block& b) override {
-    for (const auto& [k, w] : static_cast<Exits&>(b).exits) {
-      if (k < 0) {
-        elsewhere.add(w);
-      } else {
-        top.add(w);
-        annuli[static_cast<size_t>(k)].add(w);
-      }
-    }
-  }
-  int bins_;
-  double dr_;
-  std::vector<Moments> annuli;
-  Moments top, elsewhere;
-};
+using test_support::RadialTally;
 
 // |a - b| < k sqrt(σa² + σb²)
 void expectAgree(const Estimate& a, const Estimate& b, double k, const std::string& what) {
