@@ -2,6 +2,8 @@
 
 #include <QtCore/QSignalBlocker>
 #include <QtCore/QTimer>
+#include <QtGui/QImage>
+#include <QtGui/QPixmap>
 #include <QtWidgets/QCheckBox>
 #include <QtWidgets/QComboBox>
 #include <QtWidgets/QDoubleSpinBox>
@@ -80,7 +82,38 @@ MaterialDock::MaterialDock(ExplorerState& state, QWidget* parent)
   formHost_->setObjectName(QStringLiteral("material_form"));
   new QVBoxLayout(formHost_);
   layout->addWidget(formHost_);
+
+  auto* debugBox = new QGroupBox(tr("Debug view"));
+  auto* debugForm = new QFormLayout(debugBox);
+  debugQuantity_ = new QComboBox;
+  debugQuantity_->setObjectName(QStringLiteral("debug_quantity"));
+  debugQuantity_->addItem(tr("Off"));
+  for (DebugQuantity dq : {DebugQuantity::SigmaA, DebugQuantity::SigmaSPrime, DebugQuantity::Rd,
+                           DebugQuantity::Radius95})
+    debugQuantity_->addItem(QString::fromUtf8(debugQuantityName(dq)));
+  debugForm->addRow(tr("Show"), debugQuantity_);
+  debugChannel_ = new QComboBox;
+  debugChannel_->setObjectName(QStringLiteral("debug_channel"));
+  debugChannel_->addItems({tr("luminance"), tr("red"), tr("green"), tr("blue")});
+  debugForm->addRow(tr("Channel"), debugChannel_);
+  debugImage_ = new QLabel;
+  debugImage_->setObjectName(QStringLiteral("debug_image"));
+  debugImage_->setAlignment(Qt::AlignCenter);
+  debugForm->addRow(debugImage_);
+  debugRange_ = new QLabel;
+  debugRange_->setObjectName(QStringLiteral("debug_range"));
+  debugForm->addRow(debugRange_);
+  layout->addWidget(debugBox);
   layout->addStretch(1);
+  debugTimer_ = new QTimer(this);
+  debugTimer_->setSingleShot(true);
+  debugTimer_->setInterval(150);
+  connect(debugTimer_, &QTimer::timeout, this, &MaterialDock::updateDebugView);
+  connect(debugQuantity_, &QComboBox::currentIndexChanged, debugTimer_, qOverload<>(&QTimer::start));
+  connect(debugChannel_, &QComboBox::currentIndexChanged, debugTimer_, qOverload<>(&QTimer::start));
+  connect(&state_, &ExplorerState::sceneChanged, this, [this] {
+    if (debugQuantity_->currentIndex() > 0) debugTimer_->start();
+  });
   auto* scroll = new QScrollArea;
   scroll->setWidgetResizable(true);
   scroll->setWidget(body);
@@ -314,6 +347,47 @@ void MaterialDock::apply() {
     state_.error(QStringLiteral("material not changed: %1").arg(e.what()));
   }
   applying_ = false;
+}
+
+void MaterialDock::updateDebugView() {
+  const int qi = debugQuantity_->currentIndex();
+  if (qi <= 0) {
+    debug_ = {};
+    debugImage_->clear();
+    debugRange_->clear();
+    emit debugViewUpdated();
+    return;
+  }
+  const auto quantity = static_cast<DebugQuantity>(qi - 1);
+  const int channel = debugChannel_->currentIndex() - 1;  // -1: luminance
+  const scene::Scene& scene = state_.scene();
+  try {
+    const std::string key = scene::meshKey(scene);
+    if (!mesh_ || key != meshKey_) {
+      mesh_ = std::make_shared<geometry::TriangleMesh>(scene::loadSceneMesh(scene));
+      meshKey_ = key;
+    }
+    debug_ = renderDebugView(scene, *mesh_, quantity, channel);
+    debugError_.clear();
+  } catch (const std::exception& e) {
+    const QString why = QString::fromUtf8(e.what());
+    if (why != debugError_) state_.error(QStringLiteral("debug view: %1").arg(why));
+    debugError_ = why;
+    debug_ = {};
+    debugImage_->clear();
+    debugRange_->setText(tr("not available"));
+    emit debugViewUpdated();
+    return;
+  }
+  const QImage img(debug_.rgb.data(), debug_.width, debug_.height, 3 * debug_.width,
+                   QImage::Format_RGB888);
+  debugImage_->setPixmap(QPixmap::fromImage(img.copy()));
+  debugRange_->setText(QStringLiteral("%1 (%2): %3 … %4 (viridis)")
+                           .arg(QString::fromUtf8(debugQuantityName(quantity)),
+                                debugChannel_->currentText())
+                           .arg(debug_.lo, 0, 'g', 4)
+                           .arg(debug_.hi, 0, 'g', 4));
+  emit debugViewUpdated();
 }
 
 void MaterialDock::onType(int index) {

@@ -15,6 +15,11 @@
 // when not, the parser's message (it names the key) goes to the console and the scene keeps its
 // last good material while the form keeps the edit, so it can be corrected.
 //
+// The debug view below the form (material/debug_view.h): σa, σs', Rd or the 95% radius of one
+// channel or the luminance, over the mesh from the scene's camera in false colour (viridis, its
+// range printed beside it), recomputed on the CPU 150 ms after the scene or the material last
+// changed while a quantity is chosen; what it cannot show goes to the console.
+//
 // Widgets are named by their JSON path ("period", "media[1].sigma_a[0]", "layers[0].thickness"),
 // the type combo "material_type", so that tests and scripts can find them.
 #pragma once
@@ -23,9 +28,14 @@
 
 #include <nlohmann/json.hpp>
 
+#include <memory>
 #include <string>
 
+#include "geometry/mesh.h"
+#include "material/debug_view.h"
+
 class QComboBox;
+class QTimer;
 class QFormLayout;
 class QLabel;
 class QWidget;
@@ -44,6 +54,11 @@ class MaterialDock : public QDockWidget {
   const nlohmann::json& edited() const { return edited_; }
   // The default description of `type` for the current scene (see above).
   nlohmann::json defaults(const std::string& type) const;
+  // The debug view's last image (empty before the first, or when the quantity is "off").
+  const DebugImage& debugImage() const { return debug_; }
+
+ signals:
+  void debugViewUpdated();
 
  private:
   void refresh();                              // the form from the scene's material
@@ -53,6 +68,17 @@ class MaterialDock : public QDockWidget {
   void setAt(const std::string& path, nlohmann::json value);  // edits edited_ and applies
   void apply();
   void onType(int index);
+  void updateDebugView();
+
+  QComboBox* debugQuantity_;
+  QComboBox* debugChannel_;
+  QLabel* debugImage_;
+  QLabel* debugRange_;
+  QTimer* debugTimer_;
+  DebugImage debug_;
+  std::string meshKey_;
+  std::shared_ptr<geometry::TriangleMesh> mesh_;
+  QString debugError_;
 
   ExplorerState& state_;
   nlohmann::json edited_;

@@ -2,7 +2,9 @@
 // back, a number edited in the generated form changes the scene's material (toJson) and renders a
 // new frame, an invalid value names its key in the console and the last good material keeps
 // rendering, the Parameters dock's coefficients are disabled for a spatially varying material,
-// and a technique that refuses such a material says so in the console while the explorer goes on.
+// and a technique that refuses such a material says so in the console while the explorer goes on;
+// the debug view shows the two media of a checker as two values (σa), Rd and the 95% radius.
+#include <QtTest/QSignalSpy>
 #include <QtTest/QtTest>
 #include <QtWidgets/QComboBox>
 #include <QtWidgets/QDoubleSpinBox>
@@ -11,6 +13,8 @@
 #include <QtWidgets/QStackedWidget>
 
 #include <nlohmann/json.hpp>
+
+#include <cmath>
 
 #include "app/console_dock.h"
 #include "app/viewport_dock.h"
@@ -162,6 +166,72 @@ class MaterialDockTest : public QObject {
             sceneMaterial().at("type").get<std::string>() == "homogeneous");
     QVERIFY(parameters_->findChild<QComboBox*>("preset")->isEnabled());
     QVERIFY2(nextFull("pointcloud") != nullptr, qPrintable(console_->text()));
+  }
+
+ private:
+  // Waits for the debug view's next update after `change` and returns its image.
+  template <typename F>
+  const DebugImage& debugAfter(F change) {
+    QSignalSpy spy(material_, &MaterialDock::debugViewUpdated);
+    change();
+    [&] { QVERIFY2(spy.wait(kFrameTimeoutMs), qPrintable(console_->text())); }();
+    return material_->debugImage();
+  }
+
+ private slots:
+  void debugViewShowsTheTwoMediaOfAChecker() {
+    auto* quantity = material_->findChild<QComboBox*>("debug_quantity");
+    auto* channel = material_->findChild<QComboBox*>("debug_channel");
+    QVERIFY(quantity != nullptr && channel != nullptr);
+    // Homogeneous: one value over the mesh.
+    channel->setCurrentIndex(channel->findText("red"));
+    const DebugImage& flat = debugAfter([&] { quantity->setCurrentIndex(quantity->findText("σa")); });
+    QVERIFY(flat.width > 0 && flat.height > 0);
+    QCOMPARE(flat.values.size(), size_t(flat.width) * size_t(flat.height));
+    const double sa0 = state_->scene().medium.sigma_a[0];
+    QVERIFY2(std::abs(flat.lo - sa0) <= 1e-6 * sa0 && flat.hi - flat.lo <= 1e-5 * sa0,
+             qPrintable(QStringLiteral("%1 .. %2, medium %3").arg(flat.lo).arg(flat.hi).arg(sa0)));
+    // A checker of two media (σa 0.2 and 2 per medium unit in red; absorbing enough that the
+    // diffusion length the surface medium averages over is small beside the cells).
+    nlohmann::json m = material_->defaults("checker");
+    constexpr double a0 = 0.2, a1 = 2.0;
+    m["media"][0]["sigma_a"] = {a0, 0.3, 0.4};
+    m["media"][1]["sigma_a"] = {a1, a1, a1};
+    const int framesBefore = full_frames_;
+    const DebugImage& two = debugAfter([&] { state_->setMaterialJson(m.dump()); });
+    size_t covered = 0, near0 = 0, near1 = 0;
+    for (const float f : two.values) {
+      const double v = f;
+      if (!std::isfinite(v)) continue;
+      ++covered;
+      // Within 5% of the contrast of either medium (a 3D field's surface medium averages over
+      // a diffusion length below the surface: near a cell face it is a blend).
+      near0 += std::abs(v - a0) <= 0.05 * (a1 - a0);
+      near1 += std::abs(v - a1) <= 0.05 * (a1 - a0);
+    }
+    qInfo("debug view %dx%d: %zu covered, %zu at a0, %zu at a1, range %g .. %g", two.width,
+          two.height, covered, near0, near1, two.lo, two.hi);
+    QVERIFY(covered > 0.1 * two.values.size());
+    QVERIFY(near0 > 0.1 * covered);
+    QVERIFY(near1 > 0.1 * covered);
+    QVERIFY(near0 + near1 > 0.5 * covered);
+    QVERIFY(std::abs(two.lo - a0) < 1e-3 * a0 && std::abs(two.hi - a1) < 1e-3 * a1);
+    // Colours follow: the two media are drawn in different colours.
+    QVERIFY(two.rgb.size() == 3 * two.values.size());
+    // Rd and the radius differ between the media too; the luminance channel works.
+    const DebugImage& rd = debugAfter([&] { quantity->setCurrentIndex(quantity->findText("Rd")); });
+    QVERIFY2(rd.hi > 1.5 * rd.lo, qPrintable(QStringLiteral("Rd %1 .. %2").arg(rd.lo).arg(rd.hi)));
+    const DebugImage& r95 = debugAfter([&] {
+      quantity->setCurrentIndex(quantity->findText("95% radius"));
+    });
+    QVERIFY2(r95.hi > 1.5 * r95.lo, qPrintable(QStringLiteral("r95 %1 .. %2").arg(r95.lo).arg(r95.hi)));
+    const DebugImage& lum = debugAfter([&] { channel->setCurrentIndex(0); });
+    QVERIFY(lum.hi > lum.lo);
+    auto* label = material_->findChild<QLabel*>("debug_image");
+    QVERIFY(label != nullptr && !label->pixmap().isNull());
+    // The viewport rendered the checker.
+    QVERIFY2(QTest::qWaitFor([&] { return full_frames_ > framesBefore; }, kFrameTimeoutMs),
+             qPrintable(console_->text()));
   }
 };
 
