@@ -9,7 +9,9 @@
 #include "bssrdf/registry.h"
 #include "material/material.h"
 #include "material/material_worker.h"
+#include "geometry/atlas.h"
 #include "material/point_profiles.h"
+#include "material/surface_uv.h"
 #include "reference/camera.h"
 
 namespace translucent::explorer {
@@ -32,9 +34,12 @@ std::vector<double> vertexDebugValues(const scene::Scene& scene,
   if (needsModel && isBssrdfPath(mat.model))
     throw ParameterError("material debug view: " + std::string(debugQuantityName(quantity)) +
                          " needs a registered model, not the .bssrdf file '" + mat.model + "'");
-  if (mat.kind == material::Material::Kind::Surface && placed.texcoords.size() != placed.vertexCount())
-    throw ParameterError(std::string("material debug view: the '") + scene.material.type() +
-                         "' surface map needs texture coordinates on the mesh");
+  // A surface map is read at the vertices' atlas UVs: the default atlas, as the point-cloud
+  // technique reads it (cached beside its other atlases).
+  std::vector<glm::vec2> atlasUvs;
+  if (mat.kind == material::Material::Kind::Surface)
+    atlasUvs = material::vertexAtlasUvs(
+        placed, geometry::loadOrBuildAtlas(placed, geometry::AtlasOptions{}).atlas);
   const bssrdf::Model* model = needsModel ? &bssrdf::model(mat.model) : nullptr;
   const double eta = mat.medium.eta, scale = mat.medium.scale;
   // The 95% radius of a unit medium (σt' = 1) by reduced albedo, binned as point_profiles does.
@@ -62,7 +67,7 @@ std::vector<double> vertexDebugValues(const scene::Scene& scene,
   std::vector<double> out(placed.vertexCount());
   for (size_t i = 0; i < placed.vertexCount(); ++i) {
     const glm::dvec3 n = i < placed.normals.size() ? placed.normals[i] : glm::dvec3(0.0, 0.0, 1.0);
-    const glm::dvec2 uv = i < placed.texcoords.size() ? placed.texcoords[i] : glm::dvec2(0.0);
+    const glm::dvec2 uv = i < atlasUvs.size() ? glm::dvec2(atlasUvs[i]) : glm::dvec2(0.0);
     const material::LocalMedium lm = mat.surfaceMedium(placed.positions[i], n, uv);
     if (channel >= 0 && channel < 3) {
       out[i] = perChannel(lm, channel);

@@ -2,7 +2,8 @@
 // over the mesh, in false colour, seen from the scene's camera. Computed on the CPU (no GL):
 //   - per vertex of the placed mesh, the local medium Material::surfaceMedium (a 3D field: the
 //     medium below the surface that light diffusing out there has travelled through; a surface
-//     map: its texel at the vertex's UV, so the mesh needs texture coordinates);
+//     map: its texel at the vertex's UV in the default atlas, geometry::loadOrBuildAtlas, as the
+//     point-cloud technique reads it);
 //   - the quantity per channel: σa and σs' = σs (1 − g) [1/medium unit], Rd = the model's total
 //     diffuse reflectance Rd(α', η), the radius holding 95% of the model's profile energy
 //     (RadialProfile::radiusForFraction(0.95)) [scene units]; one channel or the luminance
@@ -35,7 +36,8 @@ struct DebugImage {
 };
 
 // The quantity at each vertex of `placed` (loadSceneMesh(scene)). Throws ParameterError for a
-// .bssrdf model (Rd, radius: no CPU evaluator) or a surface map on a mesh without UVs.
+// .bssrdf model (Rd, radius: no CPU evaluator); AtlasError when a surface map's atlas cannot be
+// built.
 std::vector<double> vertexDebugValues(const scene::Scene& scene,
                                       const geometry::TriangleMesh& placed, DebugQuantity quantity,
                                       int channel);

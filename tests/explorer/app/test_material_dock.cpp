@@ -95,6 +95,32 @@ class MaterialDockTest : public QObject {
       QVERIFY2(type->findText(t) >= 0, t);
   }
 
+  void everyTypeStartsFromDefaultsOrNamesWhatIsMissing() {
+    // Types whose defaults parse switch the scene; voxels and map need files: the console names
+    // the key and the scene keeps its material. Either way the form shows the type's keys.
+    for (const char* t : {"layers", "checker", "gradient", "rd_map", "surface_checker", "voxels",
+                          "map"}) {
+      const std::string before = state_->materialJson();
+      const int lines = console_->text().count('\n');
+      typeCombo()->setCurrentIndex(typeCombo()->findText(t));
+      const bool needsFile = std::string(t) == "voxels" || std::string(t) == "map";
+      if (needsFile) {
+        QCOMPARE(state_->materialJson(), before);
+        QVERIFY2(console_->text().count('\n') > lines, t);
+        QVERIFY2(console_->text().contains("material."), qPrintable(console_->text()));
+        QVERIFY2(material_->findChild<QWidget*>(std::string(t) == "voxels" ? "file.browse"
+                                                                           : "sigma_a.browse"),
+                 t);
+      } else {
+        QVERIFY2(std::string(state_->scene().material.type()) == t, qPrintable(console_->text()));
+      }
+      QCOMPARE(material_->edited().at("type").get<std::string>(), std::string(t));
+    }
+    typeCombo()->setCurrentIndex(typeCombo()->findText("homogeneous"));
+    QVERIFY2(state_->scene().material.homogeneous(), qPrintable(console_->text()));
+    QVERIFY2(nextFull("pointcloud") != nullptr, qPrintable(console_->text()));
+  }
+
   void switchToVeinsRendersIt() {
     typeCombo()->setCurrentIndex(typeCombo()->findText("veins"));
     QVERIFY2(!state_->scene().material.homogeneous(), qPrintable(console_->text()));
@@ -227,6 +253,22 @@ class MaterialDockTest : public QObject {
     QVERIFY2(r95.hi > 1.5 * r95.lo, qPrintable(QStringLiteral("r95 %1 .. %2").arg(r95.lo).arg(r95.hi)));
     const DebugImage& lum = debugAfter([&] { channel->setCurrentIndex(0); });
     QVERIFY(lum.hi > lum.lo);
+    // A surface map: the UV checker of the same two media, read at the vertices' atlas UVs.
+    nlohmann::json sc = material_->defaults("surface_checker");
+    sc["media"] = m["media"];
+    channel->setCurrentIndex(channel->findText("red"));
+    quantity->setCurrentIndex(quantity->findText("σa"));
+    const DebugImage& uv = debugAfter([&] { state_->setMaterialJson(sc.dump()); });
+    size_t uvCovered = 0, uv0 = 0, uv1 = 0;
+    for (const float f : uv.values) {
+      const double v = f;
+      if (!std::isfinite(v)) continue;
+      ++uvCovered;
+      uv0 += std::abs(v - a0) <= 0.05 * (a1 - a0);
+      uv1 += std::abs(v - a1) <= 0.05 * (a1 - a0);
+    }
+    qInfo("surface checker: %zu covered, %zu at a0, %zu at a1", uvCovered, uv0, uv1);
+    QVERIFY(uv0 > 0.1 * uvCovered && uv1 > 0.1 * uvCovered);
     auto* label = material_->findChild<QLabel*>("debug_image");
     QVERIFY(label != nullptr && !label->pixmap().isNull());
     // The viewport rendered the checker.
