@@ -10,6 +10,7 @@
 #include <QtWidgets/QDoubleSpinBox>
 #include <QtWidgets/QLabel>
 #include <QtWidgets/QMainWindow>
+#include <QtWidgets/QScrollArea>
 #include <QtWidgets/QStackedWidget>
 
 #include <nlohmann/json.hpp>
@@ -271,6 +272,9 @@ class MaterialDockTest : public QObject {
     QVERIFY(uv0 > 0.1 * uvCovered && uv1 > 0.1 * uvCovered);
     auto* label = material_->findChild<QLabel*>("debug_image");
     QVERIFY(label != nullptr && !label->pixmap().isNull());
+    // For a look at the dock: TRANSLUCENT_TEST_SNAPSHOT_DIR=dir saves it as material-dock.png.
+    if (const QString dir = qEnvironmentVariable("TRANSLUCENT_TEST_SNAPSHOT_DIR"); !dir.isEmpty())
+      QVERIFY(material_->findChild<QScrollArea*>()->widget()->grab().save(dir + "/material-dock.png"));
     // The viewport rendered the checker.
     QVERIFY2(QTest::qWaitFor([&] { return full_frames_ > framesBefore; }, kFrameTimeoutMs),
              qPrintable(console_->text()));
