@@ -11,6 +11,7 @@
 #include <QtWidgets/QLabel>
 #include <QtWidgets/QMainWindow>
 #include <QtWidgets/QScrollArea>
+#include <QtWidgets/QSpinBox>
 #include <QtWidgets/QStackedWidget>
 
 #include <nlohmann/json.hpp>
@@ -276,6 +277,36 @@ class MaterialDockTest : public QObject {
     if (const QString dir = qEnvironmentVariable("TRANSLUCENT_TEST_SNAPSHOT_DIR"); !dir.isEmpty())
       QVERIFY(material_->findChild<QScrollArea*>()->widget()->grab().save(dir + "/material-dock.png"));
     // The viewport rendered the checker.
+    QVERIFY2(QTest::qWaitFor([&] { return full_frames_ > framesBefore; }, kFrameTimeoutMs),
+             qPrintable(console_->text()));
+  }
+
+  void sceneFileMaterialFillsTheForm() {
+    // data/scenes/bunny-marble-veins.json: a preset medium as a preset combo, an integer as a
+    // spin box; the preset combo edits the scene, "Coefficients" writes the preset out.
+    const QString dir = qEnvironmentVariable("TRANSLUCENT_SOURCE_DIR");
+    QVERIFY(!dir.isEmpty());
+    scene::Scene s = scene::loadScene((dir + "/data/scenes/bunny-marble-veins.json").toStdString());
+    s.settings = {{"points", 4000.0}, {"epsilon", 1.0}, {"shadow_map_size", 512.0}};
+    s.camera.width = 128;
+    s.camera.height = 96;
+    const int framesBefore = full_frames_;
+    state_->setScene(s);
+    QCOMPARE(material_->edited(), sceneMaterial());
+    QCOMPARE(typeCombo()->currentText(), QStringLiteral("veins"));
+    auto* octaves = material_->findChild<QSpinBox*>("octaves");
+    QVERIFY(octaves != nullptr);
+    QCOMPARE(octaves->value(), 5);
+    auto* preset = material_->findChild<QComboBox*>("media[0].preset");
+    QVERIFY(preset != nullptr);
+    QCOMPARE(preset->currentText(), QStringLiteral("Marble"));
+    preset->setCurrentIndex(preset->findText("Skimmilk"));
+    QCOMPARE(sceneMaterial().at("media").at(0).at("preset").get<std::string>(), std::string("Skimmilk"));
+    preset->setCurrentIndex(preset->count() - 1);  // Coefficients
+    QVERIFY2(sceneMaterial().at("media").at(0).contains("sigma_a"), state_->materialJson().c_str());
+    QVERIFY(QTest::qWaitFor([&] {
+      return material_->findChild<QDoubleSpinBox*>("media[0].sigma_a[0]") != nullptr;
+    }));
     QVERIFY2(QTest::qWaitFor([&] { return full_frames_ > framesBefore; }, kFrameTimeoutMs),
              qPrintable(console_->text()));
   }
