@@ -1,5 +1,7 @@
 #include "material/material_dock.h"
 
+#include <QtConcurrent/QtConcurrentRun>
+#include <QtCore/QFutureWatcher>
 #include <QtCore/QSignalBlocker>
 #include <QtCore/QTimer>
 #include <QtGui/QImage>
@@ -349,7 +351,17 @@ void MaterialDock::apply() {
   applying_ = false;
 }
 
+namespace {
+struct DebugResult {
+  DebugImage image;
+  std::shared_ptr<const geometry::TriangleMesh> mesh;
+  std::string key;
+  QString error;
+};
+}  // namespace
+
 void MaterialDock::updateDebugView() {
+  const uint64_t request = ++debugRequest_;
   const int qi = debugQuantity_->currentIndex();
   if (qi <= 0) {
     debug_ = {};
@@ -360,34 +372,52 @@ void MaterialDock::updateDebugView() {
   }
   const auto quantity = static_cast<DebugQuantity>(qi - 1);
   const int channel = debugChannel_->currentIndex() - 1;  // -1: luminance
-  const scene::Scene& scene = state_.scene();
-  try {
-    const std::string key = scene::meshKey(scene);
-    if (!mesh_ || key != meshKey_) {
-      mesh_ = std::make_shared<geometry::TriangleMesh>(scene::loadSceneMesh(scene));
-      meshKey_ = key;
-    }
-    debug_ = renderDebugView(scene, *mesh_, quantity, channel);
-    debugError_.clear();
-  } catch (const std::exception& e) {
-    const QString why = QString::fromUtf8(e.what());
-    if (why != debugError_) state_.error(QStringLiteral("debug view: %1").arg(why));
-    debugError_ = why;
-    debug_ = {};
-    debugImage_->clear();
-    debugRange_->setText(tr("not available"));
-    emit debugViewUpdated();
-    return;
-  }
-  const QImage img(debug_.rgb.data(), debug_.width, debug_.height, 3 * debug_.width,
-                   QImage::Format_RGB888);
-  debugImage_->setPixmap(QPixmap::fromImage(img.copy()));
-  debugRange_->setText(QStringLiteral("%1 (%2): %3 … %4 (viridis)")
-                           .arg(QString::fromUtf8(debugQuantityName(quantity)),
-                                debugChannel_->currentText())
-                           .arg(debug_.lo, 0, 'g', 4)
-                           .arg(debug_.hi, 0, 'g', 4));
-  emit debugViewUpdated();
+  const QString channelName = debugChannel_->currentText();
+  auto* watcher = new QFutureWatcher<DebugResult>(this);
+  connect(watcher, &QFutureWatcher<DebugResult>::finished, this,
+          [this, watcher, request, quantity, channelName] {
+            watcher->deleteLater();
+            DebugResult r = watcher->result();
+            if (r.mesh) {
+              mesh_ = r.mesh;
+              meshKey_ = r.key;
+            }
+            if (request != debugRequest_) return;  // a newer request is on its way
+            if (!r.error.isEmpty()) {
+              if (r.error != debugError_) state_.error(QStringLiteral("debug view: %1").arg(r.error));
+              debugError_ = r.error;
+              debug_ = {};
+              debugImage_->clear();
+              debugRange_->setText(tr("not available"));
+              emit debugViewUpdated();
+              return;
+            }
+            debugError_.clear();
+            debug_ = std::move(r.image);
+            const QImage img(debug_.rgb.data(), debug_.width, debug_.height, 3 * debug_.width,
+                             QImage::Format_RGB888);
+            debugImage_->setPixmap(QPixmap::fromImage(img.copy()));
+            debugRange_->setText(QStringLiteral("%1 (%2): %3 … %4 (viridis)")
+                                     .arg(QString::fromUtf8(debugQuantityName(quantity)), channelName)
+                                     .arg(debug_.lo, 0, 'g', 4)
+                                     .arg(debug_.hi, 0, 'g', 4));
+            emit debugViewUpdated();
+          });
+  // The task gets copies: it never touches the dock or the state.
+  watcher->setFuture(QtConcurrent::run(
+      [scene = state_.scene(), mesh = mesh_, key = meshKey_, quantity, channel]() -> DebugResult {
+        DebugResult r;
+        try {
+          r.key = scene::meshKey(scene);
+          r.mesh = mesh && key == r.key
+                       ? mesh
+                       : std::make_shared<const geometry::TriangleMesh>(scene::loadSceneMesh(scene));
+          r.image = renderDebugView(scene, *r.mesh, quantity, channel);
+        } catch (const std::exception& e) {
+          r.error = QString::fromUtf8(e.what());
+        }
+        return r;
+      }));
 }
 
 void MaterialDock::onType(int index) {

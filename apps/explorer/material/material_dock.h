@@ -17,8 +17,9 @@
 //
 // The debug view below the form (material/debug_view.h): σa, σs', Rd or the 95% radius of one
 // channel or the luminance, over the mesh from the scene's camera in false colour (viridis, its
-// range printed beside it), recomputed on the CPU 150 ms after the scene or the material last
-// changed while a quantity is chosen; what it cannot show goes to the console.
+// range printed beside it), recomputed on the CPU (a QtConcurrent task: the GUI stays responsive;
+// an answer to an older request is dropped) 150 ms after the scene or the material last changed
+// while a quantity is chosen; what it cannot show goes to the console.
 //
 // Widgets are named by their JSON path ("period", "media[1].sigma_a[0]", "layers[0].thickness"),
 // the type combo "material_type", so that tests and scripts can find them.
@@ -28,6 +29,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cstdint>
 #include <memory>
 #include <string>
 
@@ -77,7 +79,8 @@ class MaterialDock : public QDockWidget {
   QTimer* debugTimer_;
   DebugImage debug_;
   std::string meshKey_;
-  std::shared_ptr<geometry::TriangleMesh> mesh_;
+  std::shared_ptr<const geometry::TriangleMesh> mesh_;  // placed, of meshKey_
+  uint64_t debugRequest_ = 0;
   QString debugError_;
 
   ExplorerState& state_;

@@ -309,6 +309,15 @@ class MaterialDockTest : public QObject {
     }));
     QVERIFY2(QTest::qWaitFor([&] { return full_frames_ > framesBefore; }, kFrameTimeoutMs),
              qPrintable(console_->text()));
+    // The debug view of the veins (its cost on the GUI thread, for the log).
+    auto* quantity = material_->findChild<QComboBox*>("debug_quantity");
+    quantity->setCurrentIndex(0);
+    QElapsedTimer t;
+    t.start();
+    const DebugImage& veins = debugAfter([&] { quantity->setCurrentIndex(quantity->findText("Rd")); });
+    qInfo("veins Rd debug view: %lld ms (150 ms of it the debounce), range %g .. %g", t.elapsed(),
+          veins.lo, veins.hi);
+    QVERIFY(veins.hi > veins.lo);
   }
 };
 
