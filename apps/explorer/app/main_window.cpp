@@ -22,6 +22,7 @@
 #include "app/viewport_dock.h"
 #include "core/explorer_state.h"
 
+#include "material/material_dock.h"
 #include "material/parameters_dock.h"
 #include "material/pencil_plot_dock.h"
 #include "compare/compare_dock.h"
@@ -68,6 +69,11 @@ MainWindow::MainWindow(ExplorerState& state, MainWindowOptions options, QWidget*
   addDockWidget(Qt::RightDockWidgetArea, parameters);
   addDockWidget(Qt::RightDockWidgetArea, plot);
   docks << parameters << plot;
+  // The material (type and generated form) shares a tab with the parameters.
+  auto* material = new MaterialDock(state_, this);
+  addDockWidget(Qt::RightDockWidgetArea, material);
+  tabifyDockWidget(parameters, material);
+  docks << material;
   auto* spheres = new LitSpheresDock(state_, this);
   addDockWidget(Qt::RightDockWidgetArea, spheres);
   // The plot and the spheres share a tabbed dock by default: one column of docks beside the
@@ -80,6 +86,7 @@ MainWindow::MainWindow(ExplorerState& state, MainWindowOptions options, QWidget*
   addDockWidget(Qt::RightDockWidgetArea, views);
   tabifyDockWidget(compare, views);
   plot->raise();
+  parameters->raise();
   docks << spheres << compare << views;
   resize(1600, 1000);
   default_state_ = saveState();  // dock sizes: applyDefaultSizes() once the window is shown

@@ -3,6 +3,10 @@
 #include <algorithm>
 #include <utility>
 
+#include <filesystem>
+
+#include <nlohmann/json.hpp>
+
 #include "bssrdf/registry.h"
 
 namespace translucent::explorer {
@@ -61,6 +65,32 @@ void ExplorerState::setMedium(const Medium& medium, const std::string& preset) {
 void ExplorerState::setModel(const std::string& model) {
   if (scene_.model == model) return;
   scene_.model = model;
+  emit sceneChanged();
+  emit materialChanged();
+}
+
+std::string ExplorerState::materialJson() const {
+  const nlohmann::json doc = nlohmann::json::parse(scene::toJson(scene_));
+  return doc.at("material").dump();
+}
+
+void ExplorerState::setMaterialJson(const std::string& material) {
+  nlohmann::json mat;
+  try {
+    mat = nlohmann::json::parse(material);
+  } catch (const nlohmann::json::exception& e) {
+    throw ParameterError(std::string("material: not JSON: ") + e.what());
+  }
+  nlohmann::json doc = nlohmann::json::parse(scene::toJson(scene_));
+  doc["material"] = std::move(mat);
+  const scene::Scene parsed =
+      scene::parseScene(doc.dump(), std::filesystem::current_path(), "material edit");
+  parsed.medium.validate();
+  scene_.preset = parsed.preset;
+  scene_.medium = parsed.medium;
+  scene_.model = parsed.model;
+  scene_.material = parsed.material;
+  for (const auto& [path, name] : parsed.data_names) scene_.data_names[path] = name;
   emit sceneChanged();
   emit materialChanged();
 }

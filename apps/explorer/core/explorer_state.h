@@ -47,6 +47,13 @@ class ExplorerState : public QObject {
   void setMedium(const Medium& medium, const std::string& preset = "");
   // The scene's model (what the viewport renders): a registered name or a .bssrdf path.
   void setModel(const std::string& model);
+  // The scene's "material" object as a scene file writes it (scene::toJson), and its
+  // replacement: `material` goes through scene::parseScene's material parsing (any type,
+  // homogeneous included), so an invalid one throws ParameterError naming the key
+  // ("material.period ...") and nothing changes. Relative file names are taken relative to
+  // the working directory. Emits sceneChanged() and materialChanged().
+  std::string materialJson() const;
+  void setMaterialJson(const std::string& material);
 
   // Models in the pencil plot (registered names and .bssrdf paths), in display order.
   const std::vector<std::string>& plotModels() const { return plot_models_; }

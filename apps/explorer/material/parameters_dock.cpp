@@ -96,6 +96,11 @@ ParametersDock::ParametersDock(ExplorerState& state, QWidget* parent)
   mode_->addItems({tr("σa, σs"), tr("Rd, ℓd")});
   top->addRow(tr("Coefficients"), mode_);
   layout->addLayout(top);
+  heteroNote_ = new QLabel;
+  heteroNote_->setObjectName(QStringLiteral("hetero_note"));
+  heteroNote_->setWordWrap(true);
+  heteroNote_->hide();
+  layout->addWidget(heteroNote_);
 
   // Coefficients per channel: two pages.
   pages_ = new QStackedWidget;
@@ -296,6 +301,18 @@ void ParametersDock::refresh() {
     preset_->setCurrentIndex(std::max(0, i));
   }
   refreshModels();
+  // A spatially varying material: the coefficients here are its representative medium only.
+  const bool hetero = !state_.scene().material.homogeneous();
+  for (QWidget* w : {static_cast<QWidget*>(preset_), static_cast<QWidget*>(target_),
+                     static_cast<QWidget*>(mode_), static_cast<QWidget*>(pages_),
+                     static_cast<QWidget*>(g_)})
+    w->setEnabled(!hetero);
+  heteroNote_->setVisible(hetero);
+  if (hetero)
+    heteroNote_->setText(
+        tr("The material is spatially varying (%1): edit its media in the Material dock. The "
+           "coefficients below are its representative medium; η, scale and the model apply.")
+            .arg(q(state_.scene().material.type())));
   updating_ = false;
   // A scene whose model is a .bssrdf file (loaded from JSON): load it once, so that its
   // parameters get widgets and it joins the plot.

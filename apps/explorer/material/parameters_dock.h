@@ -13,6 +13,10 @@
 //     disk), their declared parameters as generated widgets (float slider in [min, max], bool
 //     check box, colour picker). Parse and GLSL errors go to the console as `file.bssrdf:LINE:
 //     ...`; the previous good version stays in use.
+// A spatially varying material (scene().material not homogeneous) is edited in the Material
+// dock: here the preset, target and coefficients are disabled with a note (they would edit the
+// representative medium, which such a material does not render); η, scale and the model still
+// apply (the material's common keys).
 // Bad input (not a number, negative coefficient, an Rd no model reaches) is refused with a message
 // in the console; the medium stays as it was.
 #pragma once
@@ -100,6 +104,7 @@ class ParametersDock : public QDockWidget {
   ValueSlider* scale_;
   QLabel* swatchLabel_;
   QLabel* rdNote_;
+  QLabel* heteroNote_;  // shown for a spatially varying material (its coefficients are disabled)
   QVBoxLayout* filesLayout_;
   QFileSystemWatcher* watcher_;
   std::vector<std::string> files_;
