@@ -635,7 +635,10 @@ void addCompareCommand(CLI::App& app) {
   std::vector<std::string> swept;
   for (const std::string& n : techniques::names()) {
     std::vector<std::string> ps;
-    for (const auto& p : techniques::make(n)->parameters())
+    // The technique must outlive the loop: parameters() refers into it, and a temporary in a
+    // range-for's initializer dies before the loop runs (until C++23); ASan caught it.
+    const std::unique_ptr<techniques::Technique> t = techniques::make(n);
+    for (const auto& p : t->parameters())
       if (!p.sweep.empty()) ps.push_back(p.name);
     if (!ps.empty()) swept.push_back(fmt::format("{}: {}", n, fmt::join(ps, ", ")));
   }

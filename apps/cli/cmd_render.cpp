@@ -154,7 +154,8 @@ void runRender(const RenderArgs& a) {
     std::string quantity = "the technique's colour (RGB), not derived from an exitance";
     for (const auto& p : t->parameters())
       if (p.name == "radiance_convention") {
-        const std::string& c = std::get<std::string>(t->parameter(p.name));
+        // A copy: parameter() returns the value, and a reference into it would dangle.
+        const std::string c = std::get<std::string>(t->parameter(p.name));
         quantity = fmt::format("radiance {} (RGB, radiance_convention {}), per unit light flux",
                                c == "jensen" ? "Ft(eta, w_o) B / pi"
                                              : "Ft(eta, w_o) B / (pi 4 C_phi(1/eta))",
