@@ -305,9 +305,11 @@ TEST_F(CompareSuite, EveryLinkOfTheIndexResolves) {
   for (const std::string& s : kGood) EXPECT_TRUE(targets.contains(s + "/index.html")) << s;
   EXPECT_TRUE(targets.contains("leaderboard.json"));
   // Each scene's folder is a complete report, the same as a single compare writes.
-  for (const std::string& s : kGood)
-    for (const json& f : readJson(dir / s / "report.json").at("files"))
+  for (const std::string& s : kGood) {
+    const json report = readJson(dir / s / "report.json");  // outlives the loop over its files
+    for (const json& f : report.at("files"))
       EXPECT_TRUE(fs::is_regular_file(dir / s / f.get<std::string>())) << s << " " << f;
+  }
   EXPECT_FALSE(fs::exists(dir / "b-broken" / "report.json"));
 }
 
