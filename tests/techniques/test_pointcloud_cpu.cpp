@@ -7,6 +7,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "cloud_helpers.h"
 #include "../geometry/test_meshes.h"
 #include "bssrdf/profile_table.h"
 #include "bssrdf/registry.h"
@@ -25,22 +26,8 @@ using geometry::SamplingOptions;
 using geometry::TriangleMesh;
 namespace desc = geometry::descriptor;
 
-PointCloud sample(const TriangleMesh& mesh, size_t count, uint64_t seed,
-                  SamplingMethod method = SamplingMethod::Elimination) {
-  SamplingOptions o;
-  o.count = count;
-  o.seed = seed;
-  o.method = method;
-  return geometry::samplePointCloud(mesh, o);
-}
-
-// Directional light from `l` without shadows: E = max(0, n·l) · (1, 0.8, 0.6).
-void light(PointCloud& c, const glm::vec3& l) {
-  c.irradiance.resize(c.size());
-  for (size_t i = 0; i < c.size(); ++i)
-    c.irradiance[i] = std::max(0.0f, glm::dot(c.normals[i], glm::normalize(l))) *
-                      glm::vec3(1.0f, 0.8f, 0.6f);
-}
+using testing::light;
+using testing::sample;
 
 // Dipole profiles of a preset at `scale` mm per scene unit.
 struct Material {

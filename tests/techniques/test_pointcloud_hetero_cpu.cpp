@@ -10,6 +10,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "cloud_helpers.h"
 #include "bssrdf/registry.h"
 #include "geometry/icosphere.h"
 #include "geometry/octree.h"
@@ -57,21 +58,8 @@ material::Material twoMedia(double scale, const char* right = "ketchup") {
   return m;
 }
 
-PointCloud sample(const TriangleMesh& mesh, size_t count, uint64_t seed,
-                  geometry::SamplingMethod method = geometry::SamplingMethod::Elimination) {
-  geometry::SamplingOptions o;
-  o.count = count;
-  o.seed = seed;
-  o.method = method;
-  return geometry::samplePointCloud(mesh, o);
-}
-
-void light(PointCloud& c, const glm::vec3& l) {
-  c.irradiance.resize(c.size());
-  for (size_t i = 0; i < c.size(); ++i)
-    c.irradiance[i] = std::max(0.0f, glm::dot(c.normals[i], glm::normalize(l))) *
-                      glm::vec3(1.0f, 0.8f, 0.6f);
-}
+using testing::light;
+using testing::sample;
 
 struct Scenario {
   TriangleMesh mesh = geometry::makeIcosphere(4);
