@@ -347,19 +347,26 @@ TEST(ModelReference, ProgressCallbackStopsWithAPartialImage) {
   const auto mesh = geometry::makeIcosphere(3, scene.radius);
   std::vector<Light> lights{scene.light()};
   ModelReferenceOptions o;
-  o.samples = 20000;
   o.threads = 1;
+  // The callback runs every 100 ms (block_driver.h), so the stopped run must last longer than
+  // that on any machine: 256² pixels × 4 rays × 200k samples (tens of seconds if it ran to the
+  // end; it stops at the first call, after ~0.1 s).
+  const SphereScene large = litSphere(256);
+  o.samples = 200000;
+  o.subpixels = 2;
   uint64_t calls = 0, lastTotal = 0;
   const auto img = renderModelReference(mesh, medium, bssrdf::model("dipole"), lights,
-                                        scene.camera(), o, [&](const TraceProgress& p) {
+                                        large.camera(), o, [&](const TraceProgress& p) {
                                           ++calls;
                                           lastTotal = p.photons_total;
                                           return false;
                                         });
   EXPECT_TRUE(img.partial);
   EXPECT_GE(calls, 1u);
-  EXPECT_EQ(lastTotal, 32u * 32u);
-  // Without a stop the same run completes.
+  EXPECT_EQ(lastTotal, 256u * 256u);
+  // Without a stop the (small) run completes.
+  o.samples = 20000;
+  o.subpixels = 1;
   const auto full = renderModelReference(mesh, medium, bssrdf::model("dipole"), lights,
                                          scene.camera(), o, [](const TraceProgress&) { return true; });
   EXPECT_FALSE(full.partial);

@@ -361,10 +361,13 @@ TEST(ModelReferenceHetero, SurfaceMapOfOneMediumEqualsTheField) {
 // Stopping: a partial image, as the homogeneous path.
 TEST(ModelReferenceHetero, ProgressCallbackStops) {
   const auto mesh = geometry::makeIcosphere(3);
-  const Camera cam = camera(48);
+  // Large enough that the run outlasts the callback's first call (100 ms, block_driver.h) on
+  // any machine; it stops there.
+  const Camera cam = camera(256);
   const material::Material mat = volumeMaterial(std::make_shared<HalfSpaces>(mediumA(), mediumB()));
   ModelReferenceOptions o;
-  o.samples = 50000;
+  o.samples = 200000;
+  o.subpixels = 2;
   o.threads = 1;
   int calls = 0;
   const auto img = renderModelReference(mesh, mat, light(), cam, o,
