@@ -49,16 +49,6 @@ CompareImage Reference::radianceFor(bssrdf::ExitConvention convention, double et
   return radiance.scaled(bssrdf::exitConventionScale(convention, eta));
 }
 
-// ---- Heterogeneous physical reference -----------------------------------------------------------
-
-namespace {
-
-// The mesh path tracer takes a material::Material: 3D fields are delta-tracked through a
-// majorant grid (reference/majorant_grid.h), so they have a physical reference.
-constexpr bool kPathTracerTakesMaterials = true;
-
-}  // namespace
-
 // ---- Cache keys ----------------------------------------------------------------------------
 
 namespace {
@@ -165,15 +155,12 @@ MaterialReferences materialReferences(const material::Material& material) {
       break;
     case material::Material::Kind::Volume:
       r.kind = "volume";
-      r.physical = kPathTracerTakesMaterials;
+      r.physical = true;  // the mesh tracer delta-tracks the field (reference/majorant_grid.h)
       r.text = "Heterogeneous material (3D field): the physical reference is the volumetric path "
                "tracer through the field; the model reference is brute-force Eq. 8 over the "
                "surface (per-point SubEdit profiles, geometric mean of the two points' profiles), "
                "so technique vs model is the technique's own error and model vs physical that of "
                "Eq. 8 and the local profiles.";
-      if (!r.physical)
-        r.text += " The mesh path tracer does not take heterogeneous materials yet: no physical "
-                  "reference in this report.";
       break;
     case material::Material::Kind::Surface:
       r.kind = "surface";

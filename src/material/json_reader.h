@@ -32,15 +32,9 @@ struct JsonReader {
     throw ParameterError(fmt::format("{}: {}: {}", what, key, message));
   }
   void onlyKeys(const json& j, const std::string& key, std::initializer_list<const char*> valid) const {
-    if (!j.is_object())
-      fail(key.empty() ? "top level" : key, fmt::format("{}: expected an object", describe(j)));
-    const std::set<std::string> ok(valid.begin(), valid.end());
-    for (const auto& [k, v] : j.items())
-      if (!ok.count(k))
-        fail(key.empty() ? k : key + "." + k,
-             fmt::format("unknown key; valid keys here are {}", fmt::join(valid, ", ")));
+    onlyKeys(j, key, std::vector<std::string>(valid.begin(), valid.end()));
   }
-  // The same for a list built at run time (a material type's keys).
+  // Throws naming the first key of `j` not in `valid` (and `j` not an object), listing the valid ones.
   void onlyKeys(const json& j, const std::string& key, const std::vector<std::string>& valid) const {
     if (!j.is_object())
       fail(key.empty() ? "top level" : key, fmt::format("{}: expected an object", describe(j)));
