@@ -17,6 +17,7 @@
 #include <glm/vector_relational.hpp>
 #include <glm/mat3x3.hpp>
 
+#include "geometry/point_cloud.h"  // defaultCacheDirectory
 #include "geometry/ray_scene.h"
 #include "material/json_reader.h"
 #include "material/material_desc.h"
@@ -178,9 +179,32 @@ Scene parseScene(const std::string& text, const std::filesystem::path& base_dir,
   // Mesh.
   if (!doc.contains("mesh")) r.fail("mesh", "required (an object with \"file\")");
   const json& mesh = doc["mesh"];
-  r.onlyKeys(mesh, "mesh", {"file", "fill_holes", "normalize", "rotate", "scale", "translate"});
+  r.onlyKeys(mesh, "mesh", {"file", "fill_holes", "wrap", "normalize", "rotate", "scale", "translate"});
   s.mesh_file = resolveFile(r, s, r.string(mesh, "file", "mesh"), base_dir, "mesh.file");
   s.mesh_fill_holes = r.boolean(mesh, "fill_holes", "mesh", false);
+  if (mesh.contains("wrap")) {
+    const json& w = mesh["wrap"];
+    if (w.is_boolean()) {
+      if (w.get<bool>()) s.mesh_wrap = geometry::AlphaWrapOptions{};
+    } else if (w.is_object()) {
+      r.onlyKeys(w, "mesh.wrap", {"alpha", "offset"});
+      geometry::AlphaWrapOptions o;
+      o.alpha = r.number(w, "alpha", "mesh.wrap", o.alpha);
+      o.offset = r.number(w, "offset", "mesh.wrap", o.offset);
+      // Relative to the bounding-box diagonal: below 1e-4 the wrap of a unit mesh has ~10^8
+      // triangles (memory and hours), above 1 it is a blob.
+      for (const auto& [name, v] : {std::pair{"alpha", o.alpha}, std::pair{"offset", o.offset}})
+        if (!(v >= 1e-4 && v <= 1.0))
+          r.fail(fmt::format("mesh.wrap.{}", name),
+                 fmt::format("{}: expected a fraction of the bounding-box diagonal in [1e-4, 1]", v));
+      s.mesh_wrap = o;
+    } else {
+      r.fail("mesh.wrap", fmt::format("{}: expected true, false or an object with \"alpha\" and "
+                                      "\"offset\"", Reader::describe(w)));
+    }
+    if (s.mesh_wrap && s.mesh_fill_holes)
+      r.fail("mesh.wrap", "given with mesh.fill_holes: expected one of them (the wrap is closed)");
+  }
   s.mesh_normalize = r.boolean(mesh, "normalize", "mesh", true);
   s.mesh_rotate = r.vec3(mesh, "rotate", "mesh", glm::dvec3(0.0));
   s.mesh_scale = r.number(mesh, "scale", "mesh", 1.0);
@@ -362,6 +386,7 @@ std::string toJson(const Scene& s) {
                  {"normalize", s.mesh_normalize},
                  {"rotate", vec(s.mesh_rotate)}, {"scale", s.mesh_scale},
                  {"translate", vec(s.mesh_translate)}};
+  if (s.mesh_wrap) doc["mesh"]["wrap"] = {{"alpha", s.mesh_wrap->alpha}, {"offset", s.mesh_wrap->offset}};
   json mat;
   if (!s.material.homogeneous()) {
     material::writeMaterialDesc(s.material, mat,
@@ -420,8 +445,14 @@ void placeMesh(const Scene& scene, geometry::TriangleMesh& mesh) {
   for (glm::dvec3& n : mesh.normals) n = rot * n;
 }
 
-geometry::TriangleMesh loadSceneMesh(const Scene& scene, geometry::HoleFillStats* fill) {
+geometry::TriangleMesh loadSceneMesh(const Scene& scene, geometry::HoleFillStats* fill,
+                                     geometry::AlphaWrapStats* wrap) {
   geometry::TriangleMesh mesh = geometry::loadMesh(scene.mesh_file.string());
+  if (scene.mesh_wrap) {
+    const std::string what = fmt::format("mesh file '{}' (mesh.wrap)", scene.mesh_file.string());
+    mesh = geometry::loadOrAlphaWrap(mesh, *scene.mesh_wrap, what,
+                                     geometry::defaultCacheDirectory() / "wraps", wrap);
+  }
   if (scene.mesh_fill_holes) {
     const std::string what = fmt::format("mesh file '{}' (mesh.fill_holes)", scene.mesh_file.string());
     const geometry::HoleFillStats st = geometry::fillHoles(mesh, what);
@@ -558,8 +589,10 @@ material::Material sceneMaterial(const Scene& scene, const geometry::TriangleMes
 }
 
 std::string meshKey(const Scene& s) {
-  return fmt::format("{}|fill{}|{}|{},{},{}|{}|{},{},{}", s.mesh_file.string(), s.mesh_fill_holes,
-                     s.mesh_normalize,
+  const std::string wrap =
+      s.mesh_wrap ? fmt::format("wrap{},{}", s.mesh_wrap->alpha, s.mesh_wrap->offset) : "";
+  return fmt::format("{}|fill{}|{}|{}|{},{},{}|{}|{},{},{}", s.mesh_file.string(), s.mesh_fill_holes,
+                     wrap, s.mesh_normalize,
                      s.mesh_rotate.x, s.mesh_rotate.y, s.mesh_rotate.z, s.mesh_scale,
                      s.mesh_translate.x, s.mesh_translate.y, s.mesh_translate.z);
 }

@@ -9,6 +9,9 @@
 //     "mesh":     {"file": "bunny.obj",        // OBJ/PLY/OFF, relative to the scene file, else
 //                                               //   on the data search path (scene/data_path.h)
 //                  "fill_holes": false,         // close an open mesh (geometry/hole_filling.h)
+//                  "wrap": false | true | {"alpha": 1/300, "offset": 1/3000},
+//                                               // or replace a non-manifold scan by its
+//                                               //   watertight alpha wrap (geometry/alpha_wrap.h)
 //                  "normalize": true,           // centre on the bounding box, longest axis 1
 //                  "rotate": [0, 0, 0],         // degrees about x, then y, then z
 //                  "scale": 1.0,                // then p -> scale R p + translate
@@ -63,6 +66,7 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <map>
 #include <string>
 #include <variant>
@@ -70,6 +74,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "geometry/alpha_wrap.h"
 #include "geometry/hole_filling.h"
 #include "geometry/mesh.h"
 #include "material/material.h"
@@ -114,6 +119,8 @@ struct Scene {
   // Mesh and placement: normalise (optional), rotate, scale, translate.
   std::filesystem::path mesh_file;  // as resolved (absolute or relative to the working directory)
   bool mesh_fill_holes = false;     // geometry::fillHoles before the placement
+  // geometry::loadOrAlphaWrap before the placement (exclusive with mesh_fill_holes).
+  std::optional<geometry::AlphaWrapOptions> mesh_wrap;
   bool mesh_normalize = true;
   glm::dvec3 mesh_rotate{0.0};      // degrees
   double mesh_scale = 1.0;
@@ -163,8 +170,11 @@ void saveScene(const Scene& scene, const std::filesystem::path& path);
 // Loads the scene's mesh (geometry::loadMesh: MeshError for missing, empty or malformed files),
 // fills its holes when mesh_fill_holes (MeshError naming the file when one cannot be filled;
 // `fill`, when given, receives what was done) and places it: normalised (centred on its bounding
-// box, longest axis 1), rotated, scaled, translated. Vertex normals follow the rotation.
-geometry::TriangleMesh loadSceneMesh(const Scene& scene, geometry::HoleFillStats* fill = nullptr);
+// box, longest axis 1), rotated, scaled, translated. Vertex normals follow the rotation. With
+// mesh_wrap the file's triangles are replaced by their alpha wrap first (cached in
+// geometry::defaultCacheDirectory(); `wrap`, when given, receives the statistics and notes).
+geometry::TriangleMesh loadSceneMesh(const Scene& scene, geometry::HoleFillStats* fill = nullptr,
+                                     geometry::AlphaWrapStats* wrap = nullptr);
 // One line on what fillHoles did ("3 holes filled (2 faired, 1 refined without fairing), 120
 // triangles added, 0.12% of the area"), for logs and reports.
 std::string describeHoleFill(const geometry::HoleFillStats& fill);

@@ -170,6 +170,21 @@ TEST(Scene, RejectsBadInputNamingTheKey) {
   EXPECT_NE(parseError(scene(R"("mesh": {"file": "m.obj", "fill_holes": 1})", mat, light, cam))
                 .find("mesh.fill_holes: number 1: expected true or false"),
             std::string::npos);
+  // mesh.wrap (geometry/alpha_wrap.h): a bool or {alpha, offset} in [1e-4, 1], not with fill_holes.
+  EXPECT_EQ(parseError(scene(R"("mesh": {"file": "m.obj", "wrap": {"alpha": 0.01}})", mat, light, cam)),
+            "no error");
+  EXPECT_NE(parseError(scene(R"("mesh": {"file": "m.obj", "wrap": {"alpha": 0}})", mat, light, cam))
+                .find("mesh.wrap.alpha: 0: expected a fraction of the bounding-box diagonal in [1e-4, 1]"),
+            std::string::npos);
+  EXPECT_NE(parseError(scene(R"("mesh": {"file": "m.obj", "wrap": {"ofset": 0.1}})", mat, light, cam))
+                .find("ofset"),
+            std::string::npos);
+  EXPECT_NE(parseError(scene(R"("mesh": {"file": "m.obj", "wrap": "yes"})", mat, light, cam))
+                .find("mesh.wrap: string \"yes\": expected true, false or an object"),
+            std::string::npos);
+  EXPECT_NE(parseError(scene(R"("mesh": {"file": "m.obj", "wrap": true, "fill_holes": true})", mat, light, cam))
+                .find("mesh.wrap: given with mesh.fill_holes"),
+            std::string::npos);
   EXPECT_NE(parseError(scene(mesh, R"("material": {"preset": "Jelly"})", light, cam)).find("material.preset"),
             std::string::npos);
   EXPECT_NE(parseError(scene(mesh, R"("material": {"preset": "Marble", "eta": -2})", light, cam))
