@@ -255,7 +255,8 @@ SceneOutcome compareScene(const CompareArgs& a, const Parsed& parsed, const std:
   s.camera.validate();
   analysis::prepareReportDirectory(out, a.force, cacheDir, "--out");
   geometry::HoleFillStats fill;
-  const geometry::TriangleMesh mesh = scene::loadSceneMesh(s, &fill);
+  geometry::AlphaWrapStats wrap;
+  const geometry::TriangleMesh mesh = scene::loadSceneMesh(s, &fill, &wrap);
   scene::requireOutsideMesh(s, mesh);
 
   analysis::CompareReport report;
@@ -276,6 +277,12 @@ SceneOutcome compareScene(const CompareArgs& a, const Parsed& parsed, const std:
   report.command = cmd;
   if (s.mesh_fill_holes) {
     const std::string what = "mesh.fill_holes: " + scene::describeHoleFill(fill);
+    printStderr("{}\n", what);
+    report.notes.push_back(what);
+  }
+  if (s.mesh_wrap) {
+    // Every technique and reference renders the wrap, not the file's triangles: say so.
+    const std::string what = "mesh.wrap: " + scene::describeAlphaWrap(*s.mesh_wrap, wrap);
     printStderr("{}\n", what);
     report.notes.push_back(what);
   }

@@ -477,6 +477,15 @@ std::string describeHoleFill(const geometry::HoleFillStats& f) {
                      f.area_before > 0.0 ? 100.0 * f.area_added / f.area_before : 0.0);
 }
 
+std::string describeAlphaWrap(const geometry::AlphaWrapOptions& o, const geometry::AlphaWrapStats& w) {
+  return fmt::format("alpha wrap (alpha {:.3g}, offset {:.3g} of the file's bounding-box diagonal "
+                     "{:.4g}): {} -> {} triangles, area x{:.3f}, {}{}{}",
+                     o.alpha, o.offset, w.diagonal, w.triangles_in, w.triangles_out,
+                     w.area_in > 0.0 ? w.area_out / w.area_in : 0.0,
+                     w.from_cache ? "read from " : (w.cache_file.empty() ? "not cached" : "cached in "),
+                     w.cache_file.string(), w.note.empty() ? "" : " (" + w.note + ")");
+}
+
 std::vector<reference::Light> referenceLights(const Scene& scene) {
   std::vector<reference::Light> out;
   for (size_t i = 0; i < scene.lights.size(); ++i) {
