@@ -21,9 +21,8 @@ void checkRange(const Buffer& buffer, std::size_t offset, std::size_t bytes, con
 Buffer makeStorageBuffer(std::size_t bytes, const void* data) {
   Buffer b = Buffer::create();
   // Zero-sized storage is an error in GL; keep one byte so that empty batches still bind.
-  glNamedBufferStorage(b.id(), static_cast<GLsizeiptr>(std::max<std::size_t>(bytes, 1)),
-                       bytes > 0 ? data : nullptr, GL_DYNAMIC_STORAGE_BIT);
-  checkGlError(fmt::format("glNamedBufferStorage({} bytes)", bytes).c_str());
+  allocateBuffer(b, std::max<std::size_t>(bytes, 1), bytes > 0 ? data : nullptr,
+                 GL_DYNAMIC_STORAGE_BIT, "storage buffer");
   return b;
 }
 

@@ -3,7 +3,9 @@
 // their context is current; keep the Context alive longer than every object made with it.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
+#include <string>
 #include <utility>
 
 #include "gpu/gl.h"
@@ -103,5 +105,21 @@ class VertexArray : public GlObject<detail::VertexArrayTraits> {
   using GlObject::GlObject;
   static VertexArray create();
 };
+
+// Immutable storage with the failures users can cause turned into clear errors (issue 15 §3):
+// sizes beyond the implementation's limits, and GL_OUT_OF_MEMORY, which GL reports as a flag
+// that the next unrelated check would misattribute. Both throw GlError naming `what` (e.g.
+// "tsm: light-view map"), the size asked for and what was expected.
+//
+// allocateTexture2D: glTextureStorage2D(t, levels, format, width, height); width and height must
+// be in [1, GL_MAX_TEXTURE_SIZE].
+void allocateTexture2D(const Texture& t, GLsizei levels, GLenum format, GLsizei width,
+                       GLsizei height, const std::string& what);
+// allocateBuffer: glNamedBufferStorage(b, bytes, data, flags); bytes must fit GLsizeiptr.
+void allocateBuffer(const Buffer& b, std::size_t bytes, const void* data, GLbitfield flags,
+                    const std::string& what);
+// Bytes per texel of the sized internal formats the project uses (an estimate of 16 for others),
+// for the messages.
+std::size_t bytesPerTexel(GLenum format);
 
 }  // namespace translucent::gpu

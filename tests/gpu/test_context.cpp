@@ -1,5 +1,9 @@
 // Headless context creation and the RAII object wrappers.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
+
+#include <cstddef>
+#include <string>
 
 #include "gpu/objects.h"
 #include "gpu_test.h"
@@ -103,6 +107,40 @@ TEST_F(GpuTest, WrappersAreMoveOnlyAndDeleteTheirObject) {
   const GLuint pid = p.id();
   p = Program::create();  // move-assignment deletes the old program
   EXPECT_FALSE(glIsProgram(pid));
+}
+
+// Allocations users can make fail (issue 15 §3): a size beyond the GPU's limit and an
+// allocation the GPU cannot hold are errors naming what was allocated, not a GL flag that a
+// later check blames on something else.
+TEST_F(GpuTest, AllocationsBeyondTheGpuAreClearErrorsNamingWhat) {
+  GLint maxSize = 0;
+  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxSize);
+  Texture t = Texture::create(GL_TEXTURE_2D);
+  try {
+    allocateTexture2D(t, 1, GL_RGBA32F, maxSize + 1, 4, "test: light-view map");
+    FAIL() << "no error";
+  } catch (const GlError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find(fmt::format("test: light-view map: a texture of {}x4 texels: expected each "
+                                    "side in [1, {}]", maxSize + 1, maxSize)),
+              std::string::npos) << what;
+  }
+  // 1 TiB: more than this machine (or any GPU here) holds, so the driver reports
+  // GL_OUT_OF_MEMORY (llvmpipe's malloc fails; a discrete GPU's allocator too).
+  Buffer b = Buffer::create();
+  try {
+    allocateBuffer(b, std::size_t{1} << 40, nullptr, 0, "test: point SSBO");
+    FAIL() << "no error";
+  } catch (const GlError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("test: point SSBO: the GPU is out of memory allocating 1048576.0 MiB"),
+              std::string::npos) << what;
+  }
+  // The context is still usable, and a reasonable allocation succeeds.
+  Buffer ok = Buffer::create();
+  EXPECT_NO_THROW(allocateBuffer(ok, 64, nullptr, 0, "test: small"));
+  EXPECT_EQ(ok.size(), 64);
+  EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
 }
 
 }  // namespace
