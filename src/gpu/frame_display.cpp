@@ -90,7 +90,7 @@ void FrameDisplay::upload(std::span<const float> rgb, int width, int height) {
   Impl& m = *impl_;
   if (width != m.width || height != m.height || !m.texture) {
     m.texture = Texture::create(GL_TEXTURE_2D);
-    glTextureStorage2D(m.texture.id(), 1, GL_RGB32F, width, height);
+    allocateTexture2D(m.texture, 1, GL_RGB32F, width, height, "frame display");
     glTextureParameteri(m.texture.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
     glTextureParameteri(m.texture.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     glTextureParameteri(m.texture.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);

@@ -12,7 +12,7 @@ LightViewMap::LightViewMap(int size) : size_(size) {
     throw gpu::GlError(fmt::format("light-view map of {}x{} texels: expected a size in [1, 16384]", size, size));
   auto target = [&](GLenum format) {
     gpu::Texture t = gpu::Texture::create(GL_TEXTURE_2D);
-    glTextureStorage2D(t.id(), 1, format, size, size);
+    gpu::allocateTexture2D(t, 1, format, size, size, "light-view map");
     // texelFetch only: each texel is one surface sample of the filter, not a value to blend.
     glTextureParameteri(t.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glTextureParameteri(t.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);

@@ -77,7 +77,7 @@ gpu::Texture filterTexture(const std::filesystem::path& file) {
         rgba.push_back(1.0f);
       }
   }
-  glTextureStorage2D(tex.id(), 1, GL_RGBA32F, w, h);
+  gpu::allocateTexture2D(tex, 1, GL_RGBA32F, w, h, fmt::format("filter texture '{}'", file.string()));
   glTextureSubImage2D(tex.id(), 0, 0, 0, w, h, GL_RGBA, GL_FLOAT, rgba.data());
   const GLint filter = file == "checker" ? GL_NEAREST : GL_LINEAR;
   glTextureParameteri(tex.id(), GL_TEXTURE_MIN_FILTER, filter);

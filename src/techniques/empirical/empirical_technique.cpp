@@ -85,7 +85,7 @@ std::vector<ParameterInfo> parameterInfos() {
 
 gpu::Texture target(GLenum format, int width, int height) {
   gpu::Texture t = gpu::Texture::create(GL_TEXTURE_2D);
-  glTextureStorage2D(t.id(), 1, format, width, height);
+  gpu::allocateTexture2D(t, 1, format, width, height, "empirical: frame target");
   glTextureParameteri(t.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
   glTextureParameteri(t.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
   return t;
