@@ -1,0 +1,131 @@
+// Multiresolution splatting (src/techniques/splatting/, seed multiresolution-splatting) in the
+// shape of the seed's Tables 1 and 2, and against the Shah et al. 2009 baseline (`shah`).
+//
+// Table 1: frames per second with no acceleration, multiresolution splatting only, adaptive
+// sampling only, and both (the `multires` and `adaptive` switches of one technique), at 800×600
+// with a 512² irradiance buffer and 3 levels, on the glmark2 bunny, the npm Stanford dragon
+// (res2, 202k triangles: the seed's is 560k), CGAL's armadillo and elephant, each with the marble
+// veins material of data/scenes/bunny-marble-veins.json (a 3D field; per-point profiles) and its
+// key light only (the seed's scenes have one light). Table 2: the share of each pass (buffers,
+// each splatting level, accumulation) of the frame, from the passes' GPU timestamps.
+// `shah` renders the same scenes at its defaults (one level, full-size splats, no adaptive
+// selection).
+//
+// Manual time: the frame's GPU time (sum of the depth-0 passes), read-back off. The technique is
+// prepared off the clock (per-point profiles, buffers); every frame redoes the whole image-space
+// pipeline, as for a deforming mesh.
+// Run: build/release/bin/bench_splatting [--benchmark_filter=bunny]
+#include <benchmark/benchmark.h>
+#include <fmt/format.h>
+
+#include <map>
+#include <memory>
+#include <string>
+
+#include "gpu/context.h"
+#include "scene/data_path.h"
+#include "scene/scene.h"
+#include "techniques/registry.h"
+
+namespace {
+
+using namespace translucent;
+
+gpu::Context& context() {
+  static gpu::Context ctx;
+  ctx.makeCurrent();
+  return ctx;
+}
+
+struct BenchMesh {
+  const char* name;
+  const char* file;  // on the data search path (scene/data_path.h)
+  bool wrap;         // not a closed manifold: its alpha wrap (what compare's references use)
+};
+constexpr BenchMesh kMeshes[] = {
+    {"bunny", "/usr/share/glmark2/models/bunny.obj", false},
+    {"dragon", "dragon/dragon_vrip_res2.ply", true},
+    {"armadillo", "cgal/armadillo.off", false},
+    {"elephant", "cgal/elephant.off", false},
+};
+
+scene::Scene benchScene(int mesh) {
+  scene::Scene s = scene::loadScene(TRANSLUCENT_SOURCE_DIR "/data/scenes/bunny-marble-veins.json");
+  s.mesh_file = scene::resolveSceneFile(kMeshes[mesh].file, ".", "bench_splatting", "mesh.file").path;
+  if (kMeshes[mesh].wrap) s.mesh_wrap = geometry::AlphaWrapOptions{};
+  s.lights.resize(1);  // the key light
+  s.camera.width = 800;
+  s.camera.height = 600;
+  return s;
+}
+
+std::map<std::string, std::unique_ptr<techniques::Technique>>& cache() {
+  static std::map<std::string, std::unique_ptr<techniques::Technique>> c;
+  return c;
+}
+
+techniques::Technique& prepared(const std::string& technique, int mesh) {
+  // The context first: statics are destroyed in reverse order, and the techniques' GL objects
+  // must go while the context is alive.
+  gpu::Context& gl = context();
+  auto& slot = cache()[technique + "/" + kMeshes[mesh].name];
+  if (!slot) {
+    slot = techniques::make(technique);
+    slot->prepare(benchScene(mesh), gl);
+    (void)slot->render({64, 48});  // first use of every program and buffer, off the clock
+  }
+  return *slot;
+}
+
+void timeFrames(benchmark::State& state, techniques::Technique& t) {
+  std::map<std::string, double> sums;
+  double total = 0.0;
+  for (auto _ : state) {
+    techniques::FrameRequest request;
+    request.readback = false;
+    const techniques::Frame f = t.render(request);
+    for (const auto& p : f.passes)
+      if (p.depth == 0) sums[p.name] += p.ms;
+    total += f.totalMs();
+    state.SetIterationTime(f.totalMs() * 1e-3);
+  }
+  const double n = static_cast<double>(state.iterations());
+  state.counters["fps"] = total > 0.0 ? 1000.0 * n / total : 0.0;
+  // Table 2: each pass's share of the frame.
+  for (const auto& [name, ms] : sums) state.counters[name + "_%"] = total > 0.0 ? 100.0 * ms / total : 0.0;
+}
+
+// Table 1: args (mesh, adaptive, multires).
+void BM_Splatting(benchmark::State& state) {
+  const auto mesh = static_cast<int>(state.range(0));
+  const bool adaptive = state.range(1) != 0, multires = state.range(2) != 0;
+  techniques::Technique& t = prepared("splatting", mesh);
+  t.setParameter("adaptive", adaptive);
+  t.setParameter("multires", multires);
+  timeFrames(state, t);
+  state.SetLabel(fmt::format("{}, 800x600, irradiance 512², {}, {}", kMeshes[mesh].name,
+                             adaptive ? (multires ? "full accel." : "adaptive") :
+                                        (multires ? "multires" : "no accel."),
+                             context().info().renderer));
+}
+
+void BM_Shah(benchmark::State& state) {
+  const auto mesh = static_cast<int>(state.range(0));
+  techniques::Technique& t = prepared("shah", mesh);
+  timeFrames(state, t);
+  state.SetLabel(fmt::format("{}, 800x600, shah defaults, {}", kMeshes[mesh].name,
+                             context().info().renderer));
+}
+
+void table1(benchmark::internal::Benchmark* b) {
+  for (int mesh = 0; mesh < 4; ++mesh)
+    for (const auto& [adaptive, multires] : {std::pair{0, 0}, {0, 1}, {1, 0}, {1, 1}})
+      b->Args({mesh, adaptive, multires});
+}
+
+BENCHMARK(BM_Splatting)->ArgNames({"mesh", "adaptive", "multires"})->Apply(table1)->Iterations(3)
+    ->UseManualTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Shah)->ArgNames({"mesh"})->DenseRange(0, 3)->Iterations(3)->UseManualTime()
+    ->Unit(benchmark::kMillisecond);
+
+}  // namespace
