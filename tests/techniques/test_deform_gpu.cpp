@@ -18,6 +18,7 @@
 #include "gpu/compute.h"
 #include "render_helpers.h"
 #include "techniques/common/gl_resources.h"
+#include "techniques/tsis/tsis_technique.h"
 #include "techniques/tsm/tsm_technique.h"
 
 namespace translucent::techniques {
@@ -132,6 +133,61 @@ TEST_F(DeformGpu, TsmRendersTheGpuDeformedMeshAsTheCpuDeformedOne) {
   std::vector<float> again(g.rgb.size());
   for (size_t i = 0; i < again.size(); ++i) again[i] = rest1.rgb[i] - rest0.rgb[i];
   EXPECT_LT(meanAbs(again), 1e-6 * scale);
+}
+
+// The techniques with CPU-side geometry keep it from the rest pose and move it with the surface:
+// pointcloud (points at their barycentrics on the deformed triangles, areas scaled, a new octree)
+// and tsis (the rest atlas, texel points and A_S/A_T on the deformed mesh). Rendered at time T
+// after the rest pose, they must show the deformed surface: close to the same technique
+// prepared from the CPU-deformed mesh file (which samples its own points and atlas, so only
+// close: 5% of the mean radiance, or three times the technique's own frame-to-frame noise where
+// that is larger: tsis's sampling pattern turns each frame, 2.5% here), and far from the rest
+// pose's image (more than 10%).
+template <class T>
+void expectFollowsTheDeformation(const char* points_parameter, int points) {
+  TempDir dir;
+  const auto restObj = writeObj(ellipsoid(4), dir.path() / "rest.obj");
+  scene::Scene s = testScene(restObj, 40);
+  s.mesh_deform = {chain()[0], chain()[1]};
+  s.time = 0.4;
+  const auto cpuObj = writeObj(scene::loadSceneMesh(s), dir.path() / "deformed.obj");
+  scene::Scene c = testScene(cpuObj, 40);
+  scene::Scene atRest = s;
+  atRest.time = 0.0;
+  T moving, direct;
+  if (points_parameter) {
+    moving.setParameter(points_parameter, points);
+    direct.setParameter(points_parameter, points);
+  }
+  moving.prepare(atRest, gpu::testing::context());
+  const Frame rest0 = moving.render({});
+  moving.prepare(s, gpu::testing::context());
+  const Frame g = moving.render({});
+  direct.prepare(c, gpu::testing::context());
+  const Frame r = direct.render({});
+  ASSERT_EQ(g.rgb.size(), r.rgb.size());
+  const double scale = meanAbs(r.rgb);
+  ASSERT_GT(scale, 0.0);
+  std::vector<float> diff(g.rgb.size()), moved(g.rgb.size());
+  for (size_t i = 0; i < diff.size(); ++i) {
+    diff[i] = g.rgb[i] - r.rgb[i];
+    moved[i] = g.rgb[i] - rest0.rgb[i];
+  }
+  const Frame r2 = direct.render({});
+  std::vector<float> noise(g.rgb.size());
+  for (size_t i = 0; i < noise.size(); ++i) noise[i] = r2.rgb[i] - r.rgb[i];
+  EXPECT_LT(meanAbs(diff), std::max(0.05 * scale, 3.0 * meanAbs(noise)));
+  EXPECT_GT(meanAbs(moved), 0.1 * scale);
+}
+
+TEST_F(DeformGpu, PointcloudMovesItsPointsWithTheSurface) {
+  useTestCache();
+  expectFollowsTheDeformation<pointcloud::PointCloudTechnique>("points", 20000);
+}
+
+TEST_F(DeformGpu, TsisKeepsItsAtlasAndFollowsTheSurface) {
+  useTestCache();
+  expectFollowsTheDeformation<tsis::TsisTechnique>(nullptr, 0);
 }
 
 }  // namespace
