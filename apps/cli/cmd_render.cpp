@@ -291,7 +291,8 @@ void runRender(const RenderArgs& a) {
   techniques::Frame frame;
   if (animation) {
     // Frame i at time T0 + i/F; the technique is prepared again for each time (GPU techniques
-    // deform their rest mesh on the GPU, the others re-prepare: techniques/common/deform_mesh.h).
+    // deform their rest mesh on the GPU, the others re-prepare: techniques/common/gl_resources.h
+    // ClosedMeshState).
     ProgressBar bar("render", "frames");
     const auto start = std::chrono::steady_clock::now();
     for (int i = 0; i < a.frames; ++i) {
