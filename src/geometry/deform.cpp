@@ -165,6 +165,21 @@ glm::dvec3 undeformPoint(const std::vector<Deformation>& chain, double time, con
   return p;
 }
 
+glm::dvec3 undeformNormal(const std::vector<Deformation>& chain, double time, const glm::dvec3& p,
+                          const glm::dvec3& n) {
+  glm::dmat3 j(1.0);
+  glm::dvec3 x = p;
+  for (const Deformation& d : chain) {
+    const double m = d.magnitude(time);
+    if (m == 0.0) continue;
+    j = deformJacobian(d, m, x) * j;
+    x = deformPoint(d, m, x);
+  }
+  const glm::dvec3 r = glm::transpose(j) * n;
+  const double len = glm::length(r);
+  return len > 0.0 ? r / len : n;
+}
+
 bool isIdentity(const std::vector<Deformation>& chain, double time) {
   for (const Deformation& d : chain)
     if (d.magnitude(time) != 0.0) return false;

@@ -71,6 +71,11 @@ void deformPointNormal(const std::vector<Deformation>& chain, double time, glm::
 // displacement). For points the deformation reaches (a bend wrapped past half a turn has several).
 glm::dvec3 undeformPoint(const std::vector<Deformation>& chain, double time, const glm::dvec3& x);
 
+// The rest-pose normal of a deformed surface's normal n at the rest point p: the deformation
+// maps rest normals by J^{-T} (the chain's J at p), so this is J^T n, normalised.
+glm::dvec3 undeformNormal(const std::vector<Deformation>& chain, double time, const glm::dvec3& p,
+                          const glm::dvec3& n);
+
 // True when the chain is the identity at time T (empty, or every magnitude 0).
 bool isIdentity(const std::vector<Deformation>& chain, double time);
 

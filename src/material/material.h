@@ -99,6 +99,13 @@ struct MaterialFrame {
     const glm::dvec3 rest = deform.empty() ? x : geometry::undeformPoint(deform, time, x);
     return scale * (glm::transpose(rotation) * (rest - translate));
   }
+  // A unit direction at scene point x (a surface normal, a covector) in material space: through
+  // the rest pose's normal when deformed.
+  glm::dvec3 toMaterialNormal(const glm::dvec3& x, const glm::dvec3& n) const {
+    if (!deformed()) return glm::transpose(rotation) * n;
+    return glm::transpose(rotation) *
+           geometry::undeformNormal(deform, time, geometry::undeformPoint(deform, time, x), n);
+  }
   glm::dvec3 toScene(const glm::dvec3& q) const {
     const glm::dvec3 rest = rotation * (q / scale) + translate;
     return deform.empty() ? rest : geometry::deformPoint(deform, time, rest);

@@ -159,6 +159,11 @@ TEST(Deform, JacobianMatchesFiniteDifferencesAndTheInverseUndoes) {
       // The inverse of the chain (twist and wave exactly, bend by Newton).
       const glm::dvec3 x = deformPoint(chain, 0.0, p);
       EXPECT_NEAR(glm::length(undeformPoint(chain, 0.0, x) - p), 0.0, 1e-11);
+      // Normals: deformed by J^{-T}, back by J^T (undeformNormal).
+      glm::dvec3 q = p, n = glm::normalize(glm::dvec3(0.3, -0.5, 0.8));
+      const glm::dvec3 n0 = n;
+      deformPointNormal(chain, 0.0, q, n);
+      EXPECT_NEAR(glm::length(undeformNormal(chain, 0.0, p, n) - n0), 0.0, 1e-12);
     }
   }
 }
