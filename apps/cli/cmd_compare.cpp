@@ -55,6 +55,7 @@ struct CompareArgs {
   int threads = 0;
   std::optional<int> width, height;
   int frames = 5, warmup = 2;
+  std::optional<double> time;  // of the mesh's deformations (the scene's when not given)
 };
 
 double median(std::vector<double> v) {
@@ -221,6 +222,8 @@ Parsed parseOptions(const CompareArgs& a) {
   if (a.frames < 1) throw ParameterError(fmt::format("--frames {}: expected at least 1", a.frames));
   if (a.warmup < 0) throw ParameterError(fmt::format("--warmup {}: expected 0 or more", a.warmup));
   if (a.threads < 0) throw ParameterError(fmt::format("--threads {}: expected >= 0", a.threads));
+  if (a.time && !std::isfinite(*a.time))
+    throw ParameterError(fmt::format("--time {}: expected a finite time", *a.time));
   if (!a.cache.empty() && a.no_cache)
     throw ParameterError("--cache and --no-cache: expected one of them");
   p.cacheDir = a.no_cache ? fs::path()
@@ -252,6 +255,9 @@ SceneOutcome compareScene(const CompareArgs& a, const Parsed& parsed, const std:
   scene::Scene s = sceneFile.empty() ? scene::defaultScene() : scene::loadScene(sceneFile);
   if (a.width) s.camera.width = *a.width;
   if (a.height) s.camera.height = *a.height;
+  // The references and the techniques all see the mesh deformed at this time (loadSceneMesh,
+  // Technique::prepare), and the references' cache key holds it (the scene's JSON).
+  if (a.time) s.time = *a.time;
   s.camera.validate();
   analysis::prepareReportDirectory(out, a.force, cacheDir, "--out");
   geometry::HoleFillStats fill;
@@ -272,6 +278,7 @@ SceneOutcome compareScene(const CompareArgs& a, const Parsed& parsed, const std:
                      fmt::join(names, ","), quoted(a.references), photons, samples, a.subpixels,
                      a.seed, s.camera.width, s.camera.height, a.frames, a.warmup,
                      a.sweep ? " --sweep" : "", quoted(out.string()));
+  if (a.time) cmd += fmt::format(" --time {}", *a.time);
   if (a.no_cache) cmd += " --no-cache";
   else if (!a.cache.empty()) cmd += " --cache " + quoted(cacheDir.string());
   report.command = cmd;
@@ -531,6 +538,7 @@ void runSuite(const CompareArgs& a, const Parsed& o) {
       a.width ? fmt::format(" --width {}", *a.width) : "",
       a.height ? fmt::format(" --height {}", *a.height) : "", a.frames, a.warmup,
       a.sweep ? " --sweep" : "", quoted(out.string()));
+  if (a.time) cmd += fmt::format(" --time {}", *a.time);
   if (a.no_cache) cmd += " --no-cache";
   else if (!a.cache.empty()) cmd += " --cache " + quoted(o.cacheDir.string());
   info.command = cmd;
@@ -667,6 +675,8 @@ void addCompareCommand(CLI::App& app) {
                                      "thread count)")->capture_default_str();
   cmd->add_option("--threads", a->threads, "Reference worker threads (0: all cores)")
       ->capture_default_str();
+  cmd->add_option("--time", a->time,
+                  "Time of the mesh's deformations (mesh.deform; default: each scene's \"time\", 0)");
   cmd->add_option("--width", a->width, "Image width [pixels] (default: the scene camera's)");
   cmd->add_option("--height", a->height, "Image height [pixels] (default: the scene camera's)");
   cmd->add_option("--frames", a->frames, "Timed frames per technique (the median is reported)")

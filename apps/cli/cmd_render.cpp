@@ -7,11 +7,26 @@
 // --shadow-map-size, ...; `--help` lists them with their ranges); options override the scene's
 // "technique" settings. Progressive work (occluded environment lighting) is finished in each
 // frame (FrameRequest::converge).
+//
+// Animation (mesh.deform, scene.h): --time T renders the scene at time T (default: the scene's
+// "time"); --frames N renders N frames at T + i/F (--fps F, default 24) into numbered files
+// (--out frame_%04d.png: one printf conversion %d or %0Nd, the frame index from 0), with a
+// progress bar and ETA; --video out.mp4 also encodes them with ffmpeg (Debian's, found on PATH;
+// a clear error before any rendering when it is missing). Every file goes through a temporary
+// file and a rename (output_guard.h) and is checked against the inputs first.
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -21,6 +36,7 @@
 #include "analysis/image_io.h"
 #include "commands.h"
 #include "output_guard.h"
+#include "progress.h"
 #include "gpu/context.h"
 #include "scene/scene.h"
 #include "techniques/registry.h"
@@ -38,6 +54,9 @@ struct RenderArgs {
                           // every view as view-<name>.exr/.png
   std::optional<double> exposure, gamma;
   int frames = 1;
+  std::optional<double> time;  // of the first frame (default: the scene's)
+  double fps = 24.0;
+  std::string video;  // encoded from the PNG frames by ffmpeg
   std::map<std::string, std::string> settings;  // technique parameter -> value as typed
 };
 
@@ -60,12 +79,124 @@ std::string describe(const techniques::ParameterInfo& p) {
   return fmt::format("{}{}, default {}", p.help, range, techniques::toString(p.value));
 }
 
+// A frame-file pattern: the position and width of its one %d / %0Nd conversion ("%%" is a
+// literal %). Throws ParameterError naming the option for anything else.
+struct FramePattern {
+  std::string text;
+  size_t at = std::string::npos, length = 0;  // the conversion (npos: none)
+  int width = 0;
+
+  static FramePattern parse(const std::string& option, const std::string& text) {
+    FramePattern p{text};
+    for (size_t i = 0; i < text.size(); ++i) {
+      if (text[i] != '%') continue;
+      if (i + 1 < text.size() && text[i + 1] == '%') {
+        ++i;
+        continue;
+      }
+      size_t j = i + 1;
+      int width = 0;
+      while (j < text.size() && std::isdigit(static_cast<unsigned char>(text[j])) && j - i < 4)
+        width = width * 10 + (text[j++] - '0');
+      if (j >= text.size() || text[j] != 'd' || p.at != std::string::npos)
+        throw ParameterError(fmt::format(
+            "{} '{}': expected at most one frame-number conversion %d or %0Nd (N < 1000; %% for "
+            "a literal %)", option, text));
+      p.at = i;
+      p.length = j + 1 - i;
+      p.width = width;
+      i = j;
+    }
+    return p;
+  }
+  bool numbered() const { return at != std::string::npos; }
+  // The file of frame i (the pattern with %% as %).
+  std::string file(int i) const {
+    std::string out;
+    for (size_t k = 0; k < text.size(); ++k) {
+      if (numbered() && k == at) {
+        out += fmt::format("{:0{}d}", i, width);
+        k += length - 1;
+      } else if (text[k] == '%' && k + 1 < text.size() && text[k + 1] == '%') {
+        out += '%';
+        ++k;
+      } else {
+        out += text[k];
+      }
+    }
+    return out;
+  }
+};
+
+// The executable `name` in a folder of $PATH, or "" when there is none.
+std::string findOnPath(const std::string& name) {
+  const char* path = std::getenv("PATH");
+  if (!path) return {};
+  std::string dirs = path;
+  size_t start = 0;
+  while (start <= dirs.size()) {
+    const size_t end = std::min(dirs.find(':', start), dirs.size());
+    const std::filesystem::path candidate =
+        std::filesystem::path(end > start ? dirs.substr(start, end - start) : ".") / name;
+    if (access(candidate.c_str(), X_OK) == 0 && std::filesystem::is_regular_file(candidate))
+      return candidate.string();
+    start = end + 1;
+  }
+  return {};
+}
+
+// Runs argv[0] (an absolute path) with its arguments, no shell; its exit status (-1: not started).
+int runProgram(const std::vector<std::string>& argv) {
+  std::vector<char*> args;
+  for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+  args.push_back(nullptr);
+  pid_t pid = 0;
+  if (posix_spawn(&pid, args[0], nullptr, nullptr, args.data(), environ) != 0) return -1;
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0)
+    if (errno != EINTR) return -1;
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
 void runRender(const RenderArgs& a) {
   if (a.frames < 1) throw ParameterError(fmt::format("--frames {}: expected at least 1", a.frames));
+  if (!(std::isfinite(a.fps) && a.fps > 0.0))
+    throw ParameterError(fmt::format("--fps {}: expected a finite number of frames per second > 0",
+                                     a.fps));
+  if (a.time && !std::isfinite(*a.time))
+    throw ParameterError(fmt::format("--time {}: expected a finite time", *a.time));
   if (!a.out.empty()) {
     auto ext = std::filesystem::path(a.out).extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
     if (ext != ".png") throw ParameterError(fmt::format("--out '{}': expected a .png file", a.out));
+  }
+  const bool animation = a.frames > 1 || !a.video.empty();
+  const FramePattern outPattern = FramePattern::parse("--out", a.out);
+  const FramePattern exrPattern = FramePattern::parse("--exr", a.exr);
+  for (const FramePattern* p : {&outPattern, &exrPattern})
+    if (a.frames > 1 && !p->text.empty() && !p->numbered())
+      throw ParameterError(fmt::format(
+          "{} '{}' with --frames {}: expected a pattern with the frame number, e.g. "
+          "frame_%04d{}", p == &outPattern ? "--out" : "--exr", p->text, a.frames,
+          p == &outPattern ? ".png" : ".exr"));
+  if (animation && !a.debug_dir.empty())
+    throw ParameterError("--debug-dir: for one frame only (without --frames > 1 and --video)");
+  // --video: ffmpeg first (a missing encoder is an error before minutes of rendering).
+  std::string ffmpeg;
+  if (!a.video.empty()) {
+    ffmpeg = findOnPath("ffmpeg");
+    if (ffmpeg.empty())
+      throw ParameterError(fmt::format(
+          "--video '{}': ffmpeg is not on PATH: expected Debian's ffmpeg (apt-get install "
+          "ffmpeg), or --out frame_%04d.png for the frames alone", a.video));
+  }
+  // --video without --out: the PNG frames go to a temporary folder beside the video.
+  std::filesystem::path frameDir;
+  FramePattern framePattern = outPattern;
+  if (!a.video.empty() && a.out.empty()) {
+    const std::filesystem::path v(a.video);
+    frameDir = v.parent_path() / fmt::format(".{}.frames-{}", v.filename().string(), getpid());
+    framePattern = FramePattern::parse("--out", (frameDir / "frame_%06d.png").string());
   }
 
   // Scene, with the command line's overrides.
@@ -76,6 +207,9 @@ void runRender(const RenderArgs& a) {
   if (a.model) s.model = *a.model;
   if (a.exposure) s.exposure = *a.exposure;
   if (a.gamma) s.gamma = *a.gamma;
+  if (a.time) s.time = *a.time;
+  const double time0 = s.time;
+  auto frameTime = [&](int i) { return time0 + i / a.fps; };
   s.camera.validate();
   if (!(s.gamma > 0.0) || !std::isfinite(s.gamma) || !std::isfinite(s.exposure))
     throw ParameterError(fmt::format("--gamma {} / --exposure {}: expected a finite gamma > 0 and a "
@@ -83,12 +217,16 @@ void runRender(const RenderArgs& a) {
   // The outputs against each other and against every file the run reads, before the GPU work;
   // nothing is created until a file is complete (written via a temporary file and renamed).
   OutputSet outputs;
-  outputs.output("--exr", a.exr);
-  outputs.output("--out", a.out);
+  for (int i = 0; i < a.frames; ++i) {
+    if (!exrPattern.text.empty()) outputs.output("--exr", exrPattern.file(i));
+    if (!a.out.empty()) outputs.output("--out", outPattern.file(i));
+  }
+  outputs.output("--video", a.video);
   outputs.sceneInputs(a.scene, s);
   outputs.check();
   // A camera or light inside the object renders nothing meaningful: refuse it (the mesh is
-  // loaded once more for this, about 0.1 s for the bunny).
+  // loaded once more for this, about 0.1 s for the bunny; for an animation at every frame's
+  // time, since a deformation may move the surface over the camera).
   scene::requireOutsideMesh(s, scene::loadSceneMesh(s));
 
   // The context first: the technique's GL objects must be deleted while it is alive.
@@ -103,26 +241,106 @@ void runRender(const RenderArgs& a) {
     }
   }
 
-  fmt::print("render: {} on {} ({}), {}x{}, scene: {}\n", s.technique, gl.info().renderer,
+  fmt::print("render: {} on {} ({}), {}x{}, scene: {}{}\n", s.technique, gl.info().renderer,
              gl.info().version, s.camera.width, s.camera.height,
-             a.scene.empty() ? "built-in bunny" : a.scene);
-  t->prepare(s, gl);
-
-  // Frames: the last one is kept; each one finishes the progressive work (converge).
-  techniques::Frame frame;
-  int rendered = 0;
-  for (;;) {
-    techniques::FrameRequest request;
-    request.converge = true;
-    request.views = !a.debug_dir.empty();
-    frame = t->render(request);
-    ++rendered;
-    for (const auto& note : frame.notes) fmt::print("  {}\n", note);
-    if (rendered >= a.frames && frame.converged) break;
-    if (rendered >= 100000) break;
+             a.scene.empty() ? "built-in bunny" : a.scene,
+             animation ? fmt::format(", {} frames at {} fps from time {}", a.frames, a.fps, time0)
+                       : s.time != 0.0 ? fmt::format(", time {}", s.time) : std::string());
+  if (!frameDir.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directory(frameDir, ec);
+    if (ec)
+      throw ParameterError(fmt::format("--video '{}': cannot create the frame folder '{}': {}",
+                                       a.video, frameDir.string(), ec.message()));
   }
+  // The temporary frame folder goes whatever happens.
+  struct RemoveFolder {
+    std::filesystem::path dir;
+    ~RemoveFolder() {
+      std::error_code ec;
+      if (!dir.empty()) std::filesystem::remove_all(dir, ec);
+    }
+  } removeFrames{frameDir};
 
-  fmt::print("GPU times of frame {}{}:\n", rendered, frame.converged ? "" : " (not converged)");
+  // One frame at the scene's time: render until converged (each render finishes the progressive
+  // work, FrameRequest::converge).
+  auto renderFrame = [&]() {
+    techniques::Frame f;
+    for (int tries = 0; tries < 100000; ++tries) {
+      techniques::FrameRequest request;
+      request.converge = true;
+      request.views = !a.debug_dir.empty();
+      f = t->render(request);
+      if (f.converged) break;
+    }
+    return f;
+  };
+  auto writeFrame = [&](const techniques::Frame& f, int i) {
+    if (!framePattern.text.empty())
+      analysis::writePng(framePattern.file(i), f.width, f.height, f.rgb, {s.exposure, s.gamma});
+    if (!exrPattern.text.empty()) {
+      std::vector<analysis::ExrLayer> layers;
+      for (const auto& [name, data] : f.layers) layers.push_back({name, data});
+      const std::pair<std::string, std::string> attrs[] = {
+          {"translucent:technique", s.technique},
+          {"translucent:time", fmt::format("{}", s.time)}};
+      analysis::writeExr(exrPattern.file(i), f.width, f.height, f.rgb, layers, attrs);
+    }
+  };
+
+  techniques::Frame frame;
+  if (animation) {
+    // Frame i at time T0 + i/F; the technique is prepared again for each time (GPU techniques
+    // deform their rest mesh on the GPU, the others re-prepare: techniques/common/gl_resources.h
+    // ClosedMeshState).
+    ProgressBar bar("render", "frames");
+    const auto start = std::chrono::steady_clock::now();
+    for (int i = 0; i < a.frames; ++i) {
+      s.time = frameTime(i);
+      if (i > 0 && !s.mesh_deform.empty()) scene::requireOutsideMesh(s, scene::loadSceneMesh(s));
+      t->prepare(s, gl);
+      frame = renderFrame();
+      writeFrame(frame, i);
+      const double seconds =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      if (!bar.update(uint64_t(i + 1), uint64_t(a.frames), seconds) && i + 1 < a.frames) {
+        bar.end();
+        throw ParameterError(fmt::format("render: interrupted after {} of {} frames", i + 1,
+                                         a.frames));
+      }
+    }
+    bar.end();
+    if (!a.out.empty())
+      fmt::print("wrote {} frames {} .. {}\n", a.frames, outPattern.file(0),
+                 outPattern.file(a.frames - 1));
+    if (!exrPattern.text.empty())
+      fmt::print("wrote {} frames {} .. {}\n", a.frames, exrPattern.file(0),
+                 exrPattern.file(a.frames - 1));
+    if (!a.video.empty()) {
+      writeOutput(a.video, [&](const std::string& tmp) {
+        const std::vector<std::string> argv = {
+            ffmpeg, "-nostdin", "-loglevel", "error", "-y", "-framerate", fmt::format("{}", a.fps),
+            "-i", framePattern.text, "-pix_fmt", "yuv420p",
+            // yuv420p needs even sizes: pad by one pixel where odd.
+            "-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2", tmp};
+        const int rc = runProgram(argv);
+        if (rc != 0)
+          throw ParameterError(fmt::format("--video '{}': ffmpeg ({}) failed{}", a.video, ffmpeg,
+                                           rc < 0 ? " to start" : fmt::format(" with status {}", rc)));
+      });
+      fmt::print("wrote {} ({} frames at {} fps, ffmpeg)\n", a.video, a.frames, a.fps);
+    }
+    fmt::print("GPU times of the last frame (time {}):\n", s.time);
+    for (const auto& p : frame.passes)
+      fmt::print("  {:<{}}{:<22} {:9.3f} ms\n", "", 2 * p.depth, p.name, p.ms);
+    fmt::print("  {:<22} {:9.3f} ms\n", "total", frame.totalMs());
+    return;
+  }
+  t->prepare(s, gl);
+  frame = renderFrame();
+  for (const auto& note : frame.notes) fmt::print("  {}\n", note);
+
+  fmt::print("GPU times{}:\n", frame.converged ? "" : " (not converged)");
   for (const auto& p : frame.passes)
     fmt::print("  {:<{}}{:<22} {:9.3f} ms\n", "", 2 * p.depth, p.name, p.ms);
   fmt::print("  {:<22} {:9.3f} ms\n", "total", frame.totalMs());
@@ -147,6 +365,8 @@ void runRender(const RenderArgs& a) {
   }
 
   const std::string what = fmt::format("translucent render{}", a.scene.empty() ? "" : " " + a.scene);
+  // A pattern names frame 0 (--frames 1 --out frame_%04d.png writes frame_0000.png).
+  const std::string exrFile = exrPattern.file(0), outFile = outPattern.file(0);
   if (!a.exr.empty()) {
     std::vector<analysis::ExrLayer> layers;
     for (const auto& [name, data] : frame.layers) layers.push_back({name, data});
@@ -166,12 +386,12 @@ void runRender(const RenderArgs& a) {
         {"translucent:layers", "exitance: radiant exitance B (RGB)"},
         {"translucent:technique", s.technique},
         {"translucent:source", what}};
-    analysis::writeExr(a.exr, frame.width, frame.height, frame.rgb, layers, attrs);
-    fmt::print("wrote {}: {}\n", a.exr, quantity);
+    analysis::writeExr(exrFile, frame.width, frame.height, frame.rgb, layers, attrs);
+    fmt::print("wrote {}: {}\n", exrFile, quantity);
   }
   if (!a.out.empty()) {
-    analysis::writePng(a.out, frame.width, frame.height, frame.rgb, {s.exposure, s.gamma});
-    fmt::print("wrote {}\n", a.out);
+    analysis::writePng(outFile, frame.width, frame.height, frame.rgb, {s.exposure, s.gamma});
+    fmt::print("wrote {}\n", outFile);
   }
   if (!a.debug_dir.empty()) {
     if (frame.layers.empty() && frame.views.empty())
@@ -222,8 +442,17 @@ void addRenderCommand(CLI::App& app) {
                   "thickness, ao): <layer>.exr linear, <layer>.png scaled to the layer's maximum");
   cmd->add_option("--exposure", a->exposure, "PNG exposure in stops (default: the scene's, 0)");
   cmd->add_option("--gamma", a->gamma, "PNG display gamma (default: the scene's, 2.2)");
-  cmd->add_option("--frames", a->frames, "Frames to render (times are the last frame's; every frame is converged)")
+  cmd->add_option("--frames", a->frames,
+                  "Frames of an animation, frame i at time --time + i/--fps (--out and --exr then "
+                  "take a pattern such as frame_%04d.png)")
       ->capture_default_str();
+  cmd->add_option("--time", a->time,
+                  "Time of the (first) frame, for the mesh's deformations (mesh.deform; default: "
+                  "the scene's \"time\", 0)");
+  cmd->add_option("--fps", a->fps, "Frames per unit of time of an animation (--frames)")
+      ->capture_default_str();
+  outputOption(cmd->add_option("--video", a->video,
+                               "Also encode the frames as a video (ffmpeg on PATH; e.g. out.mp4)"));
   // One option per technique parameter (the union over the registered techniques).
   std::map<std::string, std::string> seen;
   for (const std::string& name : techniques::names()) {
@@ -241,7 +470,10 @@ void addRenderCommand(CLI::App& app) {
     RenderArgs args = *a;
     // The default output is a convenience for a first try, so it never replaces a file the user
     // did not name: an existing translucent.png is replaced only by an explicit --out.
-    if (args.out.empty() && args.exr.empty()) {
+    if (args.out.empty() && args.exr.empty() && args.video.empty()) {
+      if (args.frames > 1)
+        throw ParameterError(fmt::format("--frames {}: expected --out frame_%04d.png, --exr "
+                                         "frame_%04d.exr or --video FILE", args.frames));
       std::error_code ec;
       if (std::filesystem::exists("translucent.png", ec))
         throw ParameterError(

@@ -349,8 +349,19 @@ void runIntegrateSphere(const SphereArgs& s, const RunArgs& a, const std::string
 
 // ---------------------------------------------------------------------------------------------
 
-void runPathtraceMesh(const std::string& sceneFile, const RunArgs& a) {
-  const reference::MeshScene scene = reference::loadMeshScene(sceneFile);
+// The scene file with --time (the deformations' time, scene.h "time") applied when given.
+reference::MeshScene loadTimedScene(const std::string& sceneFile, std::optional<double> time) {
+  reference::MeshScene scene = reference::loadMeshScene(sceneFile);
+  if (time) {
+    if (!std::isfinite(*time))
+      throw ParameterError(fmt::format("--time {}: expected a finite time", *time));
+    scene.time = *time;
+  }
+  return scene;
+}
+
+void runPathtraceMesh(const std::string& sceneFile, std::optional<double> time, const RunArgs& a) {
+  const reference::MeshScene scene = loadTimedScene(sceneFile, time);
   OutputSet inputs;
   inputs.sceneInputs(sceneFile, scene);
   a.validate(inputs);
@@ -395,6 +406,7 @@ struct ModelReferenceArgs {
   reference::ModelReferenceOptions options;
   std::string convention = "jensen";
   bool jitter = false;
+  std::optional<double> time;  // --time: the deformations' time (the scene's when not given)
 };
 
 // Per channel, the median over fully covered pixels of exitance_se / exitance: the noise level.
@@ -419,7 +431,7 @@ void runIntegrateMesh(const ModelReferenceArgs& m, const RunArgs& a) {
   if (a.passes != 1)
     throw ParameterError(fmt::format("--passes is {}: `integrate mesh` renders in one pass (more "
                                      "--samples give less noise)", a.passes));
-  const reference::MeshScene scene = reference::loadMeshScene(m.scene);
+  const reference::MeshScene scene = loadTimedScene(m.scene, m.time);
   OutputSet inputs;
   inputs.sceneInputs(m.scene, scene);
   a.validate(inputs);
@@ -507,9 +519,12 @@ void addRenderReferenceCommands(CLI::App& app) {
     auto* cmd = pt->add_subcommand(
         "mesh", "Closed triangle mesh from a JSON scene (mesh, material, lights, camera; see "
                 "README): per-pixel exitance or radiance by photon tracing, as EXR/PNG");
+    auto time = std::make_shared<std::optional<double>>();
     cmd->add_option("--scene", *scene, "Scene file (JSON)")->required();
+    cmd->add_option("--time", *time,
+                    "Time of the mesh's deformations (mesh.deform; default: the scene's \"time\", 0)");
     a->add(*cmd, "--photons", "Photons per channel per pass (e.g. 1e6)", tracerQuantities);
-    cmd->callback([scene, a] { runPathtraceMesh(*scene, *a); });
+    cmd->callback([scene, time, a] { runPathtraceMesh(*scene, *time, *a); });
   }
   auto* in = subcommand(app, "integrate", "Monte Carlo integration of BSSRDF models on geometry");
   {
@@ -548,6 +563,8 @@ void addRenderReferenceCommands(CLI::App& app) {
                 "(dense area-uniform samples, no hierarchy): the \"model\" reference of "
                 "`compare`; same scene file and pixels as `pathtrace mesh`");
     cmd->add_option("--scene", m->scene, "Scene file (JSON)")->required();
+    cmd->add_option("--time", m->time,
+                    "Time of the mesh's deformations (mesh.deform; default: the scene's \"time\", 0)");
     cmd->add_option("--subpixels", m->options.subpixels,
                     "Camera rays per pixel per axis (stratified)")->capture_default_str();
     cmd->add_option("--convention", m->convention,

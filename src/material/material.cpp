@@ -23,7 +23,7 @@ LocalMedium Material::surfaceMedium(const glm::dvec3& x, const glm::dvec3& n,
   // on thin parts (ears), media of the other side; averaging only ℓ' (one reduced mean free
   // path, the dipole's source depth) would make a layer thinner than ℓd invisible below a coat.
   const glm::dvec3 q = frame.toMaterial(x);
-  const glm::dvec3 inward = -(glm::transpose(frame.rotation) * n);
+  const glm::dvec3 inward = -frame.toMaterialNormal(x, n);
   constexpr int kSamples = 16;
   const double tail = 1.0 - std::exp(-1.0);  // the weights' mass on [0, D]
   LocalMedium sum;

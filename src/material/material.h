@@ -21,11 +21,13 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <glm/mat3x3.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
+#include "geometry/deform.h"
 #include "optics/medium.h"
 
 namespace translucent::material {
@@ -80,15 +82,34 @@ class SurfaceMap {
 
 // Scene → material space: q = scale · Rᵀ (x − translate), from the scene's placement (the mesh's
 // rotation R, its translation, and material.scale).
+//
+// A deformed mesh (mesh.deform, geometry/deform.h) carries its material with it: materials are
+// defined in the rest pose (the placed, undeformed mesh), so toMaterial first maps a point of the
+// deformed object back to its rest position (geometry::undeformPoint at `time`), and toScene
+// deforms a rest-pose point. Without a deformation both are the rigid maps above.
 struct MaterialFrame {
   glm::dmat3 rotation{1.0};      // R: the mesh's rotation
   glm::dvec3 translate{0.0};     // the mesh's translation [scene units]
   double scale = 1.0;            // material.scale: medium units per scene unit
+  std::vector<geometry::Deformation> deform;  // the scene's mesh.deform (applied after placement)
+  double time = 0.0;                          // the scene's time
 
+  bool deformed() const { return !geometry::isIdentity(deform, time); }
   glm::dvec3 toMaterial(const glm::dvec3& x) const {
-    return scale * (glm::transpose(rotation) * (x - translate));
+    const glm::dvec3 rest = deform.empty() ? x : geometry::undeformPoint(deform, time, x);
+    return scale * (glm::transpose(rotation) * (rest - translate));
   }
-  glm::dvec3 toScene(const glm::dvec3& q) const { return rotation * (q / scale) + translate; }
+  // A unit direction at scene point x (a surface normal, a covector) in material space: through
+  // the rest pose's normal when deformed.
+  glm::dvec3 toMaterialNormal(const glm::dvec3& x, const glm::dvec3& n) const {
+    if (!deformed()) return glm::transpose(rotation) * n;
+    return glm::transpose(rotation) *
+           geometry::undeformNormal(deform, time, geometry::undeformPoint(deform, time, x), n);
+  }
+  glm::dvec3 toScene(const glm::dvec3& q) const {
+    const glm::dvec3 rest = rotation * (q / scale) + translate;
+    return deform.empty() ? rest : geometry::deformPoint(deform, time, rest);
+  }
 };
 
 // The built material that renderers and tracers read (made from the scene's material

@@ -49,7 +49,14 @@ MajorantGrid::MajorantGrid(const material::VolumeField& field, const material::M
         const glm::dvec3 lo = lower + glm::dvec3(ii - 0.01, j - 0.01, k - 0.01) * cell_;
         const glm::dvec3 hi = lower + glm::dvec3(ii + 1.01, j + 1.01, k + 1.01) * cell_;
         glm::dvec3 qlo(std::numeric_limits<double>::infinity()), qhi(-qlo);
-        for (int corner = 0; corner < 8; ++corner) {
+        // A deformed frame (mesh.deform) maps a cell to a curved region whose corners do not
+        // bound it: the field's bound over all of material space instead (a global majorant:
+        // unbiased, with more null collisions).
+        if (frame.deformed()) {
+          qlo = glm::dvec3(-1e12);
+          qhi = glm::dvec3(1e12);
+        }
+        for (int corner = 0; corner < 8 && !frame.deformed(); ++corner) {
           const glm::dvec3 x{(corner & 1) ? hi.x : lo.x, (corner & 2) ? hi.y : lo.y,
                              (corner & 4) ? hi.z : lo.z};
           const glm::dvec3 q = frame.toMaterial(x);

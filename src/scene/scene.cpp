@@ -70,6 +70,57 @@ void requirePositive(const Reader& r, double v, const std::string& key) {
   if (!std::isfinite(v) || !(v > 0.0)) r.fail(key, fmt::format("is {}: expected a finite value > 0", v));
 }
 
+// One entry of mesh.deform (scene.h lists the keys).
+geometry::Deformation parseDeformation(const Reader& r, const json& j, const std::string& key) {
+  using Type = geometry::Deformation::Type;
+  if (!j.is_object()) r.fail(key, fmt::format("{}: expected an object", Reader::describe(j)));
+  const std::string type = r.string(j, "type", key);
+  geometry::Deformation d;
+  if (type == "twist") {
+    d.type = Type::Twist;
+    r.onlyKeys(j, key, {"type", "amount", "period", "origin", "axis"});
+  } else if (type == "bend") {
+    d.type = Type::Bend;
+    r.onlyKeys(j, key, {"type", "amount", "period", "origin", "axis", "direction"});
+  } else if (type == "wave") {
+    d.type = Type::Wave;
+    r.onlyKeys(j, key, {"type", "amount", "period", "origin", "axis", "direction", "wavelength"});
+  } else {
+    r.fail(key + ".type", fmt::format("'{}': expected twist, bend or wave", type));
+  }
+  d.amount = r.number(j, "amount", key, 0.0);
+  d.period = r.number(j, "period", key, 0.0);
+  if (d.period < 0.0)
+    r.fail(key + ".period", fmt::format("is {}: expected 0 (constant) or a period > 0", d.period));
+  d.origin = r.vec3(j, "origin", key, d.origin);
+  d.axis = r.vec3(j, "axis", key, d.axis);
+  requireDirection(r, d.axis, key + ".axis");
+  if (d.type != Type::Twist) {
+    d.direction = r.vec3(j, "direction", key, d.direction);
+    requireDirection(r, d.direction, key + ".direction");
+    // The frame (axis, direction, axis × direction) must be orthonormal: the formulas (and the
+    // GPU's) rely on it, and a slanted direction has no obvious meaning.
+    if (std::abs(glm::dot(d.axis, d.direction)) > 1e-9)
+      r.fail(key + ".direction",
+             fmt::format("[{}, {}, {}] is not perpendicular to axis [{}, {}, {}]: expected a "
+                         "direction perpendicular to the axis", d.direction.x, d.direction.y,
+                         d.direction.z, d.axis.x, d.axis.y, d.axis.z));
+  }
+  if (d.type == Type::Wave) {
+    d.wavelength = r.number(j, "wavelength", key, 1.0);
+    requirePositive(r, d.wavelength, key + ".wavelength");
+  }
+  return d;
+}
+
+json deformationJson(const geometry::Deformation& d) {
+  json j = {{"type", geometry::toString(d.type)}, {"amount", d.amount}, {"period", d.period},
+            {"origin", vec(d.origin)}, {"axis", vec(d.axis)}};
+  if (d.type != geometry::Deformation::Type::Twist) j["direction"] = vec(d.direction);
+  if (d.type == geometry::Deformation::Type::Wave) j["wavelength"] = d.wavelength;
+  return j;
+}
+
 Light parseLight(const Reader& r, Scene& s, const json& l, const std::string& key,
                  const std::filesystem::path& base_dir) {
   if (!l.is_object()) r.fail(key, fmt::format("{}: expected an object", Reader::describe(l)));
@@ -173,13 +224,15 @@ Scene parseScene(const std::string& text, const std::filesystem::path& base_dir,
   } catch (const json::exception& e) {  // syntax errors, numbers out of range
     throw ParameterError(fmt::format("{}: not valid JSON: {}", what, e.what()));
   }
-  r.onlyKeys(doc, "", {"mesh", "material", "lights", "camera", "technique", "display", "cone_angle"});
+  r.onlyKeys(doc, "", {"mesh", "material", "lights", "camera", "technique", "display", "cone_angle",
+                       "time"});
   Scene s;
 
   // Mesh.
   if (!doc.contains("mesh")) r.fail("mesh", "required (an object with \"file\")");
   const json& mesh = doc["mesh"];
-  r.onlyKeys(mesh, "mesh", {"file", "fill_holes", "wrap", "normalize", "rotate", "scale", "translate"});
+  r.onlyKeys(mesh, "mesh", {"file", "fill_holes", "wrap", "normalize", "rotate", "scale", "translate",
+                            "deform"});
   s.mesh_file = resolveFile(r, s, r.string(mesh, "file", "mesh"), base_dir, "mesh.file");
   s.mesh_fill_holes = r.boolean(mesh, "fill_holes", "mesh", false);
   if (mesh.contains("wrap")) {
@@ -210,6 +263,22 @@ Scene parseScene(const std::string& text, const std::filesystem::path& base_dir,
   s.mesh_scale = r.number(mesh, "scale", "mesh", 1.0);
   requirePositive(r, s.mesh_scale, "mesh.scale");
   s.mesh_translate = r.vec3(mesh, "translate", "mesh", glm::dvec3(0.0));
+  if (mesh.contains("deform")) {
+    const json& d = mesh["deform"];
+    if (d.is_object()) {
+      s.mesh_deform.push_back(parseDeformation(r, d, "mesh.deform"));
+    } else if (d.is_array()) {
+      if (d.size() > geometry::kMaxDeformations)
+        r.fail("mesh.deform", fmt::format("{} deformations: expected at most {}", d.size(),
+                                          geometry::kMaxDeformations));
+      for (size_t i = 0; i < d.size(); ++i)
+        s.mesh_deform.push_back(parseDeformation(r, d[i], fmt::format("mesh.deform[{}]", i)));
+    } else {
+      r.fail("mesh.deform", fmt::format("{}: expected a deformation object or an array of them",
+                                        Reader::describe(d)));
+    }
+  }
+  s.time = doc.contains("time") ? r.number(doc["time"], "time") : 0.0;
 
   // Material: a preset or explicit coefficients (the homogeneous form), or a spatially varying
   // type (material/material_desc.h), and the BSSRDF model.
@@ -387,6 +456,12 @@ std::string toJson(const Scene& s) {
                  {"rotate", vec(s.mesh_rotate)}, {"scale", s.mesh_scale},
                  {"translate", vec(s.mesh_translate)}};
   if (s.mesh_wrap) doc["mesh"]["wrap"] = {{"alpha", s.mesh_wrap->alpha}, {"offset", s.mesh_wrap->offset}};
+  if (!s.mesh_deform.empty()) {
+    json d = json::array();
+    for (const geometry::Deformation& x : s.mesh_deform) d.push_back(deformationJson(x));
+    doc["mesh"]["deform"] = d;
+  }
+  if (s.time != 0.0) doc["time"] = s.time;
   json mat;
   if (!s.material.homogeneous()) {
     material::writeMaterialDesc(s.material, mat,
@@ -447,6 +522,17 @@ void placeMesh(const Scene& scene, geometry::TriangleMesh& mesh) {
 
 geometry::TriangleMesh loadSceneMesh(const Scene& scene, geometry::HoleFillStats* fill,
                                      geometry::AlphaWrapStats* wrap) {
+  geometry::TriangleMesh mesh = loadRestMesh(scene, fill, wrap);
+  if (!geometry::isIdentity(scene.mesh_deform, scene.time)) {
+    geometry::deformMesh(scene.mesh_deform, scene.time, mesh);
+    mesh.validate(fmt::format("{} (deformed by mesh.deform at time {})", scene.mesh_file.string(),
+                              scene.time));
+  }
+  return mesh;
+}
+
+geometry::TriangleMesh loadRestMesh(const Scene& scene, geometry::HoleFillStats* fill,
+                                    geometry::AlphaWrapStats* wrap) {
   geometry::TriangleMesh mesh = geometry::loadMesh(scene.mesh_file.string());
   if (scene.mesh_wrap) {
     const std::string what = fmt::format("mesh file '{}' (mesh.wrap)", scene.mesh_file.string());
@@ -587,6 +673,9 @@ material::Material sceneMaterial(const Scene& scene, const geometry::TriangleMes
   b.frame.rotation = rotation(scene.mesh_rotate);
   b.frame.translate = scene.mesh_translate;
   b.frame.scale = scene.medium.scale;
+  // Materials live in the rest pose: the frame maps the deformed surface back to it.
+  b.frame.deform = scene.mesh_deform;
+  b.frame.time = scene.time;
   if (scene.material.homogeneous()) {  // the mesh is not needed
     material::Material m;
     m.medium = scene.medium;
@@ -598,6 +687,13 @@ material::Material sceneMaterial(const Scene& scene, const geometry::TriangleMes
 }
 
 std::string meshKey(const Scene& s) {
+  // The deformation at this time: a periodic chain at 0 and at a whole period is the same mesh,
+  // but the key need not know that (a cache miss, never a wrong hit).
+  if (geometry::isIdentity(s.mesh_deform, s.time)) return restMeshKey(s);
+  return fmt::format("{}|deform {}|t{}", restMeshKey(s), geometry::deformKey(s.mesh_deform), s.time);
+}
+
+std::string restMeshKey(const Scene& s) {
   const std::string wrap =
       s.mesh_wrap ? fmt::format("wrap{},{}", s.mesh_wrap->alpha, s.mesh_wrap->offset) : "";
   return fmt::format("{}|fill{}|{}|{}|{},{},{}|{}|{},{},{}", s.mesh_file.string(), s.mesh_fill_holes,

@@ -15,7 +15,9 @@
 //                  "normalize": true,           // centre on the bounding box, longest axis 1
 //                  "rotate": [0, 0, 0],         // degrees about x, then y, then z
 //                  "scale": 1.0,                // then p -> scale R p + translate
-//                  "translate": [0, 0, 0]},
+//                  "translate": [0, 0, 0],
+//                  "deform": [{"type": "twist", "amount": 90, "period": 2}]},  // see below
+//     "time":     0.0,                          // of the deformations (`render --time` sets it)
 //     "material": {"preset": "Marble",         // Jensen et al. 2001 (1/mm), or
 //                  "sigma_a": [r, g, b] | v,    //   coefficients [1/medium unit]
 //                  "sigma_s": [r, g, b] | v,
@@ -62,6 +64,22 @@
 // (CGAL's cgal/head.off) are open at the neck. It is part of meshKey, so techniques and the
 // reference cache see a filled mesh as another mesh.
 //
+// "deform": time-dependent procedural deformations (geometry/deform.h), one object or an array
+// applied in order, after the placement: their origin and axes are in scene coordinates, where the
+// normalised mesh is centred on the origin with its longest side 1, and the placed, undeformed
+// mesh is the rest pose in which the material is defined (MaterialFrame maps a deformed point
+// back to it, so 3D fields and atlas maps follow the surface). Keys:
+//   {"type": "twist" | "bend" | "wave",
+//    "amount": 0.0,          // twist, bend: degrees per scene unit along the axis; wave: scene units
+//    "period": 0.0,          // > 0: the magnitude at time T is amount sin(2π T/period); 0: amount
+//    "origin": [0, 0, 0],    // a point of the twist axis, the bend's neutral line, the wave's node
+//    "axis": [0, 1, 0],      // twist: the axis; bend: the neutral line; wave: the displacement
+//    "direction": [1, 0, 0], // bend: towards the centre of curvature; wave: along which it
+//                            //   varies; perpendicular to axis (a twist takes no direction)
+//    "wavelength": 1.0}      // wave only [scene units]
+// amount 0 (or time 0 with a period) is the identity. The deformation and the time are part of
+// meshKey; restMeshKey leaves them out (GPU techniques deform the rest mesh per frame).
+//
 // Colour: RGB throughout, linear, in the order red, green, blue.
 #pragma once
 
@@ -75,6 +93,7 @@
 #include <glm/vec3.hpp>
 
 #include "geometry/alpha_wrap.h"
+#include "geometry/deform.h"
 #include "geometry/hole_filling.h"
 #include "geometry/mesh.h"
 #include "material/material.h"
@@ -125,6 +144,9 @@ struct Scene {
   glm::dvec3 mesh_rotate{0.0};      // degrees
   double mesh_scale = 1.0;
   glm::dvec3 mesh_translate{0.0};
+  // Deformations after the placement, in order (geometry/deform.h), at `time`.
+  std::vector<geometry::Deformation> mesh_deform;
+  double time = 0.0;
 
   // Material.
   std::string preset;  // material preset name, empty for explicit coefficients
@@ -170,11 +192,16 @@ void saveScene(const Scene& scene, const std::filesystem::path& path);
 // Loads the scene's mesh (geometry::loadMesh: MeshError for missing, empty or malformed files),
 // fills its holes when mesh_fill_holes (MeshError naming the file when one cannot be filled;
 // `fill`, when given, receives what was done) and places it: normalised (centred on its bounding
-// box, longest axis 1), rotated, scaled, translated. Vertex normals follow the rotation. With
-// mesh_wrap the file's triangles are replaced by their alpha wrap first (cached in
-// geometry::defaultCacheDirectory(); `wrap`, when given, receives the statistics and notes).
+// box, longest axis 1), rotated, scaled, translated, then deformed by mesh_deform at `time`
+// (geometry::deformMesh: a deformed mesh always has vertex normals, the rest pose's smooth ones
+// transformed by the deformation). Vertex normals follow the rotation. With mesh_wrap the file's
+// triangles are replaced by their alpha wrap first (cached in geometry::defaultCacheDirectory();
+// `wrap`, when given, receives the statistics and notes).
 geometry::TriangleMesh loadSceneMesh(const Scene& scene, geometry::HoleFillStats* fill = nullptr,
                                      geometry::AlphaWrapStats* wrap = nullptr);
+// The same without the deformation: the rest pose (what GPU deformation starts from).
+geometry::TriangleMesh loadRestMesh(const Scene& scene, geometry::HoleFillStats* fill = nullptr,
+                                    geometry::AlphaWrapStats* wrap = nullptr);
 // One line on what fillHoles did ("3 holes filled (2 faired, 1 refined without fairing), 120
 // triangles added, 0.12% of the area"), for logs and reports.
 std::string describeHoleFill(const geometry::HoleFillStats& fill);
@@ -187,6 +214,8 @@ void placeMesh(const Scene& scene, geometry::TriangleMesh& mesh);
 // A text that changes exactly when loadSceneMesh's result would (file and placement): techniques
 // keep their meshes, point clouds and AO while it stays the same.
 std::string meshKey(const Scene& scene);
+// The same without the deformation and time: changes exactly when loadRestMesh's result would.
+std::string restMeshKey(const Scene& scene);
 
 // The scene's material as renderers and tracers read it (material/material.h): its medium, model,
 // the scene → material-space frame of the placement, and (for a heterogeneous material) its field

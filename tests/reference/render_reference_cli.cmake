@@ -29,6 +29,10 @@ if(TARGET translucent_cli)
   render_test(mesh_json ARGS pathtrace mesh --scene ${PROJECT_SOURCE_DIR}/data/scenes/cube.json
               --photons 2000 --threads 2 --quantity radiance --exr ${OUT}/rm.exr
               --json ${OUT}/rm.json FILE ${OUT}/rm.json MATCH "\"triangles\": 12")
+  # --time: the deformed mesh at that time (mesh.deform; the JSON's scene records the time).
+  render_test(mesh_time ARGS pathtrace mesh --scene ${PROJECT_SOURCE_DIR}/data/scenes/bunny-bend.json
+              --time 0.5 --photons 2000 --threads 2 --exr ${OUT}/rm_time.exr
+              --json ${OUT}/rm_time.json FILE ${OUT}/rm_time.json MATCH "\"time\": 0.5")
   # A convex mesh: no photon re-enters, so none scores into two pixels.
   render_test(mesh_convex_json ARGS pathtrace mesh --scene ${PROJECT_SOURCE_DIR}/data/scenes/cube.json
               --photons 2000 --threads 2 --exr ${OUT}/rm2.exr --json ${OUT}/rm2.json

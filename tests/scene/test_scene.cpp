@@ -639,3 +639,133 @@ TEST(Scene, InsideClosedMeshMatchesTheSphere) {
 
 }  // namespace
 }  // namespace translucent::scene
+
+namespace translucent::scene {
+namespace {
+
+// mesh.deform (geometry/deform.h): parsed as one object or an array, every key checked, written
+// back, applied by loadSceneMesh after the placement at the scene's time, part of meshKey (not of
+// restMeshKey), and carried by the material frame so that materials follow the surface.
+const char* kDeformed = R"({
+  "mesh": {"file": "/usr/share/glmark2/models/bunny.obj", "rotate": [0, 30, 0], "scale": 1.5,
+           "deform": [{"type": "twist", "amount": 90, "period": 2},
+                      {"type": "bend", "amount": 40, "origin": [0, -0.2, 0], "axis": [0, 1, 0],
+                       "direction": [0, 0, 1]},
+                      {"type": "wave", "amount": 0.02, "period": 0.5, "wavelength": 0.25,
+                       "axis": [1, 0, 0], "direction": [0, 1, 0]}]},
+  "time": 0.3,
+  "material": {"preset": "Marble"},
+  "lights": [{"type": "directional", "direction": [0, 0, 1]}],
+  "camera": {"position": [0, 0, 5]}
+})";
+
+TEST(SceneDeform, ParsesRoundTripsAndEntersTheMeshKey) {
+  const Scene s = parseScene(kDeformed, "", "deformed");
+  ASSERT_EQ(s.mesh_deform.size(), 3u);
+  EXPECT_EQ(s.mesh_deform[0].type, geometry::Deformation::Type::Twist);
+  EXPECT_EQ(s.mesh_deform[1].direction, glm::dvec3(0, 0, 1));
+  EXPECT_EQ(s.mesh_deform[2].wavelength, 0.25);
+  EXPECT_EQ(s.time, 0.3);
+  const std::string once = toJson(s);
+  const Scene again = parseScene(once, "", "round trip");
+  EXPECT_EQ(toJson(again), once);
+  EXPECT_EQ(again.mesh_deform, s.mesh_deform);
+  EXPECT_EQ(again.time, s.time);
+  // One object is a chain of one.
+  const Scene one = parseScene(R"({"mesh": {"file": "/usr/share/glmark2/models/bunny.obj",
+      "deform": {"type": "twist", "amount": 10}}, "material": {"preset": "Marble"},
+      "lights": [{"type": "directional", "direction": [0, 0, 1]}], "camera": {"position": [0, 0, 5]}})",
+                               "", "one");
+  ASSERT_EQ(one.mesh_deform.size(), 1u);
+  EXPECT_EQ(one.mesh_deform[0].amount, 10.0);
+  // Keys: the time and the deformation enter meshKey, not restMeshKey.
+  Scene later = s;
+  later.time = 0.4;
+  EXPECT_NE(meshKey(later), meshKey(s));
+  EXPECT_EQ(restMeshKey(later), restMeshKey(s));
+  Scene plain = s;
+  plain.mesh_deform.clear();
+  EXPECT_EQ(meshKey(plain), restMeshKey(s));
+  // At time 0 every periodic deformation is the identity, but the bend (period 0) is not.
+  Scene atZero = s;
+  atZero.time = 0.0;
+  EXPECT_NE(meshKey(atZero), restMeshKey(s));
+  atZero.mesh_deform.erase(atZero.mesh_deform.begin() + 1);
+  EXPECT_EQ(meshKey(atZero), restMeshKey(s));
+}
+
+TEST(SceneDeform, BadDeformationsNameTheKey) {
+  auto scene = [](const std::string& deform) {
+    return R"({"mesh": {"file": "m.obj", "deform": )" + deform +
+           R"(}, "material": {"preset": "Marble"}, "lights": [{"type": "directional", "direction": [0, 0, 1]}], "camera": {"position": [0, 0, 5]}})";
+  };
+  auto has = [](const std::string& error, const std::string& text) {
+    return error.find(text) != std::string::npos;
+  };
+  EXPECT_EQ(parseError(scene(R"([{"type": "wave", "amount": 0.1}])")), "no error");
+  EXPECT_PRED2(has, parseError(scene(R"({"type": "squash"})")),
+               "mesh.deform.type: 'squash': expected twist, bend or wave");
+  EXPECT_PRED2(has, parseError(scene(R"([{"amount": 1}])")), "mesh.deform[0].type: required");
+  EXPECT_PRED2(has, parseError(scene(R"([{"type": "twist"}, {"type": "twist", "wavelength": 1}])")),
+               "mesh.deform[1].wavelength: unknown key");
+  EXPECT_PRED2(has, parseError(scene(R"({"type": "twist", "direction": [1, 0, 0]})")),
+               "mesh.deform.direction: unknown key");
+  EXPECT_PRED2(has, parseError(scene(R"({"type": "bend", "period": -1})")),
+               "mesh.deform.period: is -1: expected 0 (constant) or a period > 0");
+  EXPECT_PRED2(has, parseError(scene(R"({"type": "bend", "axis": [0, 0, 0]})")),
+               "mesh.deform.axis");
+  EXPECT_PRED2(has, parseError(scene(R"({"type": "bend", "axis": [1, 1, 0]})")),
+               "mesh.deform.direction: [1, 0, 0] is not perpendicular");
+  EXPECT_PRED2(has, parseError(scene(R"({"type": "wave", "wavelength": 0})")),
+               "mesh.deform.wavelength: is 0: expected a finite value > 0");
+  EXPECT_PRED2(has, parseError(scene(R"({"type": "wave", "amount": "big"})")),
+               "mesh.deform.amount: string \"big\": expected a number");
+  EXPECT_PRED2(has, parseError(scene("3")), "mesh.deform: number 3: expected a deformation object");
+  EXPECT_PRED2(has, parseError(scene(R"([{"type": "twist"}, {"type": "twist"}, {"type": "twist"},
+      {"type": "twist"}, {"type": "twist"}, {"type": "twist"}, {"type": "twist"}, {"type": "twist"},
+      {"type": "twist"}])")), "mesh.deform: 9 deformations: expected at most 8");
+}
+
+TEST(SceneDeform, TheLoadedMeshIsThePlacedMeshDeformedAtTheScenesTime) {
+  // What the references (pathtrace mesh, integrate mesh, compare) load: loadSceneMesh.
+  Scene s = parseScene(kDeformed, "", "deformed");
+  const geometry::TriangleMesh rest = loadRestMesh(s);
+  Scene undeformed = s;
+  undeformed.mesh_deform.clear();
+  EXPECT_EQ(rest.positions, loadSceneMesh(undeformed).positions);  // the placement alone
+  geometry::TriangleMesh expected = rest;
+  geometry::deformMesh(s.mesh_deform, s.time, expected);
+  const geometry::TriangleMesh mesh = loadSceneMesh(s);
+  EXPECT_EQ(mesh.positions, expected.positions);
+  EXPECT_EQ(mesh.normals, expected.normals);
+  EXPECT_EQ(mesh.triangles, rest.triangles);
+  // It moved (the bend alone moves the ears by several hundredths).
+  double moved = 0.0;
+  for (size_t i = 0; i < mesh.positions.size(); ++i)
+    moved = std::max(moved, glm::length(mesh.positions[i] - rest.positions[i]));
+  EXPECT_GT(moved, 0.02);
+  // Another time, another mesh.
+  s.time = 0.8;
+  EXPECT_NE(loadSceneMesh(s).positions, mesh.positions);
+}
+
+TEST(SceneDeform, TheMaterialFrameMapsTheDeformedSurfaceToTheRestPose) {
+  const Scene s = parseScene(kDeformed, "", "deformed");
+  const geometry::TriangleMesh rest = loadRestMesh(s);
+  const geometry::TriangleMesh mesh = loadSceneMesh(s);
+  const material::Material m = sceneMaterial(s, mesh);
+  Scene undeformed = s;
+  undeformed.mesh_deform.clear();
+  const material::Material r = sceneMaterial(undeformed, rest);
+  EXPECT_TRUE(m.frame.deformed());
+  EXPECT_FALSE(r.frame.deformed());
+  for (size_t i = 0; i < mesh.positions.size(); i += 997) {
+    EXPECT_NEAR(glm::length(m.frame.toMaterial(mesh.positions[i]) - r.frame.toMaterial(rest.positions[i])),
+                0.0, 1e-9);
+    EXPECT_NEAR(glm::length(m.frame.toScene(r.frame.toMaterial(rest.positions[i])) - mesh.positions[i]),
+                0.0, 1e-9);
+  }
+}
+
+}  // namespace
+}  // namespace translucent::scene

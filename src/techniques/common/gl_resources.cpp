@@ -15,33 +15,22 @@
 
 namespace translucent::techniques {
 
+// The same normals as geometry::deformMesh transforms, so that a mesh deformed on the CPU and
+// one deformed on the GPU shade alike.
 std::vector<glm::dvec3> vertexNormals(const geometry::TriangleMesh& mesh) {
-  if (mesh.normals.size() == mesh.positions.size()) return mesh.normals;
-  std::vector<glm::dvec3> n(mesh.positions.size(), glm::dvec3(0.0));
-  for (const glm::uvec3& t : mesh.triangles) {
-    // The cross product's length is twice the area: area-weighted sum.
-    const glm::dvec3 f = glm::cross(mesh.positions[t.y] - mesh.positions[t.x],
-                                    mesh.positions[t.z] - mesh.positions[t.x]);
-    n[t.x] += f;
-    n[t.y] += f;
-    n[t.z] += f;
-  }
-  for (glm::dvec3& v : n) {
-    const double len = glm::length(v);
-    v = len > 0.0 ? v / len : glm::dvec3(0.0, 0.0, 1.0);
-  }
-  return n;
+  return geometry::smoothVertexNormals(mesh);
 }
 
 GpuMesh::GpuMesh(const geometry::TriangleMesh& mesh) : GpuMesh(mesh, vertexNormals(mesh)) {}
 
 GpuMesh::GpuMesh(const geometry::TriangleMesh& mesh, const std::vector<glm::dvec3>& normals,
                  const std::vector<float>& scalar)
-    : triangles_(mesh.triangleCount()) {
+    : triangles_(mesh.triangleCount()), vertexCount_(mesh.vertexCount()) {
   if (normals.size() != mesh.vertexCount() || (!scalar.empty() && scalar.size() != mesh.vertexCount()))
     throw gpu::GlError(fmt::format("uploading the mesh: {} normals and {} scalars for {} vertices",
                                    normals.size(), scalar.size(), mesh.vertexCount()));
   const GLuint stride = scalar.empty() ? 6 : 7;
+  stride_ = stride;
   std::vector<float> v;
   v.reserve(mesh.vertexCount() * stride);
   for (size_t i = 0; i < mesh.vertexCount(); ++i) {
@@ -66,6 +55,49 @@ GpuMesh::GpuMesh(const geometry::TriangleMesh& mesh, const std::vector<glm::dvec
     glVertexArrayAttribBinding(vao_.id(), a, 0);
   }
   gpu::checkGlError("uploading the mesh");
+}
+
+void GpuMesh::deform(const std::vector<geometry::Deformation>& chain, double time) {
+  if (chain.size() > geometry::kMaxDeformations)
+    throw gpu::GlError(fmt::format("deforming the mesh: {} deformations, at most {}", chain.size(),
+                                   geometry::kMaxDeformations));
+  const bool identity = geometry::isIdentity(chain, time);
+  const std::string state = identity ? "" : fmt::format("{}|t{}", geometry::deformKey(chain), time);
+  if (state == deformState_) return;
+  const GLsizeiptr bytes = GLsizeiptr(vertexCount_ * stride_ * sizeof(float));
+  if (!rest_.id()) {
+    // The vertex buffer still holds the rest pose (nothing else writes it): keep a copy.
+    rest_ = gpu::makeStorageBuffer(size_t(bytes));
+    glCopyNamedBufferSubData(vertices_.id(), rest_.id(), 0, 0, bytes);
+  }
+  if (identity) {
+    glCopyNamedBufferSubData(rest_.id(), vertices_.id(), 0, 0, bytes);
+  } else {
+    if (!deformProgram_)
+      deformProgram_ = std::make_shared<gpu::ShaderProgram>(gpu::ShaderProgram::compute("common/deform.comp"));
+    const gpu::ShaderProgram& p = *deformProgram_;
+    std::vector<glm::vec4> a, b, c;
+    for (const geometry::Deformation& d : chain) {
+      a.emplace_back(glm::vec3(d.origin), float(static_cast<int>(d.type)));
+      b.emplace_back(glm::vec3(d.axis), float(d.magnitude(time)));
+      c.emplace_back(glm::vec3(d.direction), float(d.wavelength));
+    }
+    p.set("VertexCount", unsigned(vertexCount_));
+    p.set("Stride", stride_);
+    p.set("DeformCount", int(chain.size()));
+    const GLsizei n = GLsizei(chain.size());
+    glProgramUniform4fv(p.id(), p.uniformLocation("DeformA"), n, glm::value_ptr(a[0]));
+    glProgramUniform4fv(p.id(), p.uniformLocation("DeformB"), n, glm::value_ptr(b[0]));
+    glProgramUniform4fv(p.id(), p.uniformLocation("DeformC"), n, glm::value_ptr(c[0]));
+    gpu::bindStorage(0, rest_);
+    gpu::bindStorage(1, vertices_);
+    // The vertex fetch of later draws reads what the shader wrote.
+    gpu::dispatch1D(p, vertexCount_,
+                    GL_VERTEX_ATTRIB_ARRAY_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT |
+                        GL_BUFFER_UPDATE_BARRIER_BIT);
+  }
+  gpu::checkGlError("deforming the mesh");
+  deformState_ = state;
 }
 
 void GpuMesh::draw() const {
@@ -303,19 +335,36 @@ void setShadowUniforms(const gpu::ShaderProgram& p, const ShadowMap* map,
   glProgramUniform2fv(p.id(), p.uniformLocation("ShadowJitter"), samples, glm::value_ptr(jitter[0]));
 }
 
-bool ClosedMeshState::loadClosedMesh(const scene::Scene& s) {
-  const std::string key = scene::meshKey(s);
-  if (key == meshKey && gpuMesh) return false;
-  geometry::TriangleMesh m = scene::loadSceneMesh(s);
-  m.requireClosed(fmt::format("mesh file '{}'", s.mesh_file.string()));
-  m.orientOutwards();
-  mesh = std::move(m);
+bool ClosedMeshState::loadClosedMesh(const scene::Scene& s, bool gpuDeform) {
+  const std::string key = gpuDeform ? scene::restMeshKey(s) : scene::meshKey(s);
+  const std::string state = gpuDeform && !geometry::isIdentity(s.mesh_deform, s.time)
+                                ? fmt::format("{}|t{}", geometry::deformKey(s.mesh_deform), s.time)
+                                : "";
+  if (key == meshKey && gpuMesh && state == deformState) return false;
+  bool loaded = false;
+  if (key != meshKey || !gpuMesh) {
+    geometry::TriangleMesh m = gpuDeform ? scene::loadRestMesh(s) : scene::loadSceneMesh(s);
+    m.requireClosed(fmt::format("mesh file '{}'", s.mesh_file.string()));
+    m.orientOutwards();
+    mesh = std::move(m);
+    gpuMesh.emplace(mesh);
+    meshKey = key;
+    deformState.clear();
+    loaded = true;
+  }
+  if (gpuDeform) {
+    if (rest.positions.empty() || loaded) rest = mesh;
+    gpuMesh->deform(s.mesh_deform, s.time);
+    // The CPU copy for the bounding sphere (what the maps and clip distances cover) and for
+    // anything else read from `mesh`.
+    mesh = rest;
+    geometry::deformMesh(s.mesh_deform, s.time, mesh);
+    deformState = state;
+  }
   const BoundingSphereOf bs = boundingSphere(mesh);
   center = bs.center;
   radius = bs.radius;
-  gpuMesh.emplace(mesh);
-  meshKey = key;
-  return true;
+  return loaded;
 }
 
 void requireHomogeneousMaterial(const scene::Scene& scene, const char* technique) {

@@ -4,12 +4,14 @@
 // All need a current OpenGL 4.5 core context (gpu/context.h).
 #pragma once
 
+#include <memory>
 #include <optional>
 #include <string>
 
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 
+#include "geometry/deform.h"
 #include "geometry/mesh.h"
 #include "gpu/objects.h"
 #include "gpu/pass_timer.h"
@@ -38,11 +40,27 @@ class GpuMesh {
   // 2: the scalar).
   void draw() const;
   size_t triangleCount() const { return triangles_; }
+  size_t vertexCount() const { return vertexCount_; }
+
+  // The mesh as uploaded is the rest pose; this writes it deformed by `chain` at `time` into the
+  // vertex buffer, on the GPU (shaders/common/deform.comp: positions, and the normals by the
+  // Jacobian's inverse transpose, as geometry::deformMesh does on the CPU). The first call keeps
+  // a copy of the rest pose on the GPU; a call with the same chain and time does nothing, and
+  // an identity at `time` restores the rest pose. Every technique that draws through GpuMesh
+  // (shadow and light-view maps, G-buffers, layers) then sees the deformed surface.
+  void deform(const std::vector<geometry::Deformation>& chain, double time);
+  // The interleaved vertex buffer (floats: position, normal[, scalar]; floatsPerVertex() each).
+  const gpu::Buffer& vertexBuffer() const { return vertices_; }
+  unsigned floatsPerVertex() const { return stride_; }
 
  private:
   gpu::VertexArray vao_;
   gpu::Buffer vertices_, indices_;
-  size_t triangles_ = 0;
+  gpu::Buffer rest_;  // the rest pose's vertex buffer (after the first deform())
+  std::shared_ptr<gpu::ShaderProgram> deformProgram_;
+  std::string deformState_;  // deformKey and time of the vertex buffer's contents ("": rest)
+  size_t triangles_ = 0, vertexCount_ = 0;
+  unsigned stride_ = 6;
 };
 
 // The view of a light that covers the sphere (center, radius), shared by the depth maps
@@ -167,15 +185,25 @@ class GBuffer {
 // derives from it): closed (the maps draw one side of the surface only, gl_resources.h and
 // light_view_map.h), oriented outwards, its bounding sphere (the maps and the camera's automatic
 // clip distances cover it) and its copy on the GPU.
+//
+// Deformed meshes (scene mesh.deform at scene.time): with gpuDeform, the rest mesh is loaded and
+// uploaded once (scene::restMeshKey) and every change of the time deforms it on the GPU
+// (GpuMesh::deform); `mesh` is then the CPU-deformed copy, for the bounding sphere. Without it
+// (techniques that keep CPU-side geometry derived from the mesh: point clouds, atlases), a new
+// time is a new mesh (scene::meshKey) and the technique prepares again from the CPU-deformed
+// mesh.
 struct ClosedMeshState {
-  std::string meshKey;  // scene::meshKey of the loaded mesh ("" before the first)
+  std::string meshKey;  // scene::meshKey (restMeshKey with gpuDeform) of the loaded mesh
+  std::string deformState;  // gpuDeform: the deformation and time of gpuMesh
   geometry::TriangleMesh mesh;
+  geometry::TriangleMesh rest;  // gpuDeform: the rest pose (oriented outwards)
   std::optional<GpuMesh> gpuMesh;
   glm::dvec3 center{0.0};
   double radius = 1.0;
-  // Loads the scene's mesh unless it is the one loaded (same scene::meshKey); true when it did.
-  // Throws geometry::MeshError naming the file for an open mesh.
-  bool loadClosedMesh(const scene::Scene& s);
+  // Loads the scene's mesh unless it is the one loaded (same key); true when it did (a GPU
+  // deformation to a new time alone returns false). Throws geometry::MeshError naming the file
+  // for an open mesh.
+  bool loadClosedMesh(const scene::Scene& s, bool gpuDeform = false);
 };
 
 // The image size a request asks for (the scene camera's where the request says 0); ParameterError

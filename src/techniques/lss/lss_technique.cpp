@@ -109,7 +109,8 @@ struct LssTechnique::Impl : techniques::ClosedMeshState {
     gpu::checkGlError("building the lss programs");
   }
 
-  void loadMesh(const scene::Scene& s) { (void)loadClosedMesh(s); }
+  // A deformed mesh: the rest pose uploaded once, deformed on the GPU at each new time.
+  void loadMesh(const scene::Scene& s) { (void)loadClosedMesh(s, /*gpuDeform=*/true); }
 
   void prepareLights(const scene::Scene& s) {
     lighting.prepareLights(s, center, radius, params.getInt("shadow_map_size"), "lss");

@@ -107,8 +107,14 @@ struct PointCloudTechnique::Impl : techniques::ClosedMeshState {
   std::optional<scene::Scene> scene;
 
   // Point cloud and octree.
-  bool geometryDirty = true;
+  bool geometryDirty = true;  // sample again (points, sampling, seed or the rest mesh changed)
+  bool motionDirty = false;   // the deformation moved the surface: move the points, new octree
   geometry::PointCloud cloud;
+  // A deformed mesh (mesh.deform): the cloud is sampled once on the rest pose, and each point
+  // keeps its triangle and barycentrics there; at a new time it moves with that triangle of the
+  // deformed mesh (no resampling, so the points and their noise stay put on the surface).
+  geometry::PointCloud restCloud;
+  std::vector<glm::dvec3> restBarycentrics;
   geometry::Octree octree;
   std::vector<std::pair<uint32_t, uint32_t>> levels;  // (offset, count) deepest first
   uint32_t stackSize = 1;
@@ -160,8 +166,31 @@ struct PointCloudTechnique::Impl : techniques::ClosedMeshState {
   }
 
   void loadMesh(const scene::Scene& s) {
-    if (!loadClosedMesh(s)) return;
-    geometryDirty = true;
+    // The rest mesh once (GpuMesh deforms it on the GPU for the G-buffer and shadow maps);
+    // `mesh` is the CPU-deformed copy at the scene's time.
+    const std::string before = deformState;
+    if (loadClosedMesh(s, /*gpuDeform=*/true)) geometryDirty = true;
+    else if (deformState != before) motionDirty = true;
+  }
+
+  // The rest cloud moved onto the deformed mesh: position and normal interpolated from the
+  // deformed triangle's vertices at the point's barycentrics, the area scaled by the triangle's.
+  geometry::PointCloud movedCloud() const {
+    geometry::PointCloud c = restCloud;
+    for (size_t i = 0; i < c.size(); ++i) {
+      const glm::uvec3 t = mesh.triangles[c.faces[i]];
+      const glm::dvec3 b = restBarycentrics[i];
+      const glm::dvec3 &a0 = mesh.positions[t.x], &a1 = mesh.positions[t.y], &a2 = mesh.positions[t.z];
+      c.positions[i] = glm::vec3(b.x * a0 + b.y * a1 + b.z * a2);
+      const glm::dvec3 n = b.x * mesh.normals[t.x] + b.y * mesh.normals[t.y] + b.z * mesh.normals[t.z];
+      const glm::dvec3 f = glm::cross(a1 - a0, a2 - a0);
+      const double len = glm::length(n);
+      c.normals[i] = glm::vec3(len > 0.0 ? n / len : glm::normalize(f));
+      const glm::dvec3 &r0 = rest.positions[t.x], &r1 = rest.positions[t.y], &r2 = rest.positions[t.z];
+      const double restArea = glm::length(glm::cross(r1 - r0, r2 - r0));
+      c.areas[i] = float(double(c.areas[i]) * (restArea > 0.0 ? glm::length(f) / restArea : 1.0));
+    }
+    return c;
   }
 
   void prepareMaterial(const scene::Scene& s) {
@@ -178,13 +207,14 @@ struct PointCloudTechnique::Impl : techniques::ClosedMeshState {
     if (cloud.faces.size() != cloud.size())
       throw ParameterError("pointcloud: a surface-map material needs the triangle of every point: "
                            "the point cloud has none");
-    const geometry::CachedAtlas cached = geometry::loadOrBuildAtlas(mesh, geometry::AtlasOptions{});
+    // The rest pose's atlas, at the points' rest positions: a map follows a deformed surface.
+    const geometry::CachedAtlas cached = geometry::loadOrBuildAtlas(rest, geometry::AtlasOptions{});
     const geometry::Atlas& atlas = cached.atlas;
     notes.push_back(fmt::format("pointcloud: surface-map material over the {}² {} atlas ({} {})",
                                 atlas.size, geometry::toString(atlas.method),
                                 cached.fromCache ? "read from" : "cached in", cached.file.string()));
-    cloudUvs = material::atlasUvs(mesh, atlas, cloud.faces, cloud.positions);
-    vertexUvs = material::vertexAtlasUvs(mesh, atlas);
+    cloudUvs = material::atlasUvs(rest, atlas, restCloud.faces, restCloud.positions);
+    vertexUvs = material::vertexAtlasUvs(rest, atlas);
   }
 
   // The profiles of the cloud's points, of the mesh's vertices (the shading points' profiles are
@@ -240,18 +270,44 @@ struct PointCloudTechnique::Impl : techniques::ClosedMeshState {
   }
 
   void buildGeometry() {
-    if (!geometryDirty) return;
-    geometry::SamplingOptions opt;
-    opt.count = static_cast<size_t>(params.getInt("points"));
-    opt.seed = static_cast<uint64_t>(params.getInt("seed"));
-    opt.method = geometry::parseSamplingMethod(params.getEnum("sampling"));
-    geometry::CachedPointCloud cached = geometry::loadOrSamplePointCloud(mesh, opt);
-    notes.push_back(fmt::format("point cloud: {} points {} {}", opt.count,
-                                cached.fromCache ? "read from" : "sampled, cached in",
-                                cached.file.string()));
-    if (!cached.note.empty()) notes.push_back("point cloud cache: " + cached.note);
-    cloud = std::move(cached.cloud);
-    cloud.irradiance.clear();
+    if (!geometryDirty && !motionDirty) return;
+    if (geometryDirty) {
+      geometry::SamplingOptions opt;
+      opt.count = static_cast<size_t>(params.getInt("points"));
+      opt.seed = static_cast<uint64_t>(params.getInt("seed"));
+      opt.method = geometry::parseSamplingMethod(params.getEnum("sampling"));
+      geometry::CachedPointCloud cached = geometry::loadOrSamplePointCloud(rest, opt);
+      notes.push_back(fmt::format("point cloud: {} points {} {}", opt.count,
+                                  cached.fromCache ? "read from" : "sampled, cached in",
+                                  cached.file.string()));
+      if (!cached.note.empty()) notes.push_back("point cloud cache: " + cached.note);
+      restCloud = std::move(cached.cloud);
+      restCloud.irradiance.clear();
+      restBarycentrics.clear();
+    }
+    if (mesh.positions == rest.positions) {
+      cloud = restCloud;  // not deformed at this time
+    } else {
+      if (restCloud.faces.size() != restCloud.size())
+        throw ParameterError("pointcloud: a deformed mesh needs the triangle of every point: the "
+                             "point cloud has none");
+      if (restBarycentrics.empty()) {
+        restBarycentrics.resize(restCloud.size());
+        for (size_t i = 0; i < restCloud.size(); ++i) {
+          const glm::uvec3 t = rest.triangles[restCloud.faces[i]];
+          const glm::dvec3 a = rest.positions[t.x], e1 = rest.positions[t.y] - a,
+                           e2 = rest.positions[t.z] - a, q = glm::dvec3(restCloud.positions[i]) - a;
+          // Least squares in the triangle's plane (the point is on it up to float rounding).
+          const double d11 = glm::dot(e1, e1), d12 = glm::dot(e1, e2), d22 = glm::dot(e2, e2);
+          const double q1 = glm::dot(q, e1), q2 = glm::dot(q, e2), det = d11 * d22 - d12 * d12;
+          const double v = det > 0.0 ? (d22 * q1 - d12 * q2) / det : 1.0 / 3.0;
+          const double w = det > 0.0 ? (d11 * q2 - d12 * q1) / det : 1.0 / 3.0;
+          restBarycentrics[i] = {1.0 - v - w, v, w};
+        }
+      }
+      cloud = movedCloud();
+    }
+    motionDirty = false;
     octree = geometry::Octree(cloud);
 
     // Levels, deepest first (a child's index is always larger than its parent's).

@@ -125,6 +125,11 @@ struct TsisTechnique::Impl : techniques::ClosedMeshState {
 
   // Atlas texels.
   bool atlasDirty = true;
+  // A deformed mesh (mesh.deform) keeps the rest pose's atlas and coverage; at a new time only
+  // the texels' surface points, normals and A_S/A_T (Eq. 3.3) are recomputed on the deformed mesh.
+  bool motionDirty = false;
+  std::optional<geometry::Atlas> atlas;
+  geometry::AtlasCoverage coverage;
   uint32_t atlasSize = 0;
   int levelCount = 0;  // log2(atlasSize)
   std::array<uint32_t, kMaxLevels + 1> levelOffset{};
@@ -171,8 +176,11 @@ struct TsisTechnique::Impl : techniques::ClosedMeshState {
   }
 
   void loadMesh(const scene::Scene& s) {
-    if (!loadClosedMesh(s)) return;
-    atlasDirty = true;
+    // The rest mesh once, deformed on the GPU for the G-buffer and shadow maps; `mesh` is the
+    // CPU-deformed copy at the scene's time.
+    const std::string before = deformState;
+    if (loadClosedMesh(s, /*gpuDeform=*/true)) atlasDirty = true;
+    else if (deformState != before) motionDirty = true;
   }
 
   void prepareLights(const scene::Scene& s) {
@@ -182,37 +190,56 @@ struct TsisTechnique::Impl : techniques::ClosedMeshState {
 
   // The atlas's covered texels, their surface points and areas, and the sum mipmap's storage.
   void buildAtlas() {
-    if (!atlasDirty) return;
-    geometry::AtlasOptions opt;
-    opt.size = static_cast<uint32_t>(params.getInt("atlas_size"));
-    opt.method = geometry::parseAtlasMethod(params.getEnum("atlas_method"));
-    if (!std::has_single_bit(opt.size))
-      throw ParameterError(fmt::format("tsis: atlas_size {}: expected a power of two (the sum mipmap "
-                                       "halves it down to 1×1)", opt.size));
-    geometry::CachedAtlas cached = geometry::loadOrBuildAtlas(mesh, opt);
-    notes.push_back(fmt::format("atlas: {}² {} {} {}", opt.size, geometry::toString(cached.atlas.method),
-                                cached.fromCache ? "read from" : "built, cached in", cached.file.string()));
-    if (!cached.note.empty()) notes.push_back("atlas cache: " + cached.note);
-    const geometry::Atlas& atlas = cached.atlas;
-    const geometry::AtlasCoverage coverage = geometry::rasterizeCoverage(atlas);
-    if (coverage.uncovered > 0)
-      throw ParameterError(fmt::format("tsis: atlas_size {}: {} triangles own no texel (their "
-                                       "irradiance would be lost): use a larger atlas",
-                                       opt.size, coverage.uncovered));
-    atlasSize = opt.size;
+    if (!atlasDirty && !motionDirty) return;
+    if (atlasDirty) {
+      geometry::AtlasOptions opt;
+      opt.size = static_cast<uint32_t>(params.getInt("atlas_size"));
+      opt.method = geometry::parseAtlasMethod(params.getEnum("atlas_method"));
+      if (!std::has_single_bit(opt.size))
+        throw ParameterError(fmt::format("tsis: atlas_size {}: expected a power of two (the sum mipmap "
+                                         "halves it down to 1×1)", opt.size));
+      geometry::CachedAtlas cached = geometry::loadOrBuildAtlas(rest, opt);
+      notes.push_back(fmt::format("atlas: {}² {} {} {}", opt.size, geometry::toString(cached.atlas.method),
+                                  cached.fromCache ? "read from" : "built, cached in", cached.file.string()));
+      if (!cached.note.empty()) notes.push_back("atlas cache: " + cached.note);
+      atlas = std::move(cached.atlas);
+      coverage = geometry::rasterizeCoverage(*atlas);
+      if (coverage.uncovered > 0)
+        throw ParameterError(fmt::format("tsis: atlas_size {}: {} triangles own no texel (their "
+                                         "irradiance would be lost): use a larger atlas",
+                                         opt.size, coverage.uncovered));
+      atlasSize = opt.size;
+    }
+    motionDirty = false;
+    // The surface the texels lie on: the rest mesh, or the deformed one with the rest pose's kind
+    // of normals (texelSurfacePoint takes face normals where the mesh has none) and its own
+    // triangle areas A_S.
+    const bool deformed = mesh.positions != rest.positions;
+    geometry::TriangleMesh deformedSurface;
+    if (deformed) {
+      deformedSurface = mesh;
+      if (rest.normals.empty()) deformedSurface.normals.clear();
+    }
+    const geometry::TriangleMesh& surface = deformed ? deformedSurface : rest;
+    auto surfaceArea = [&](uint32_t t) {
+      if (!deformed) return atlas->surfaceArea[t];
+      const glm::uvec3 tri = surface.triangles[t];
+      return 0.5 * glm::length(glm::cross(surface.positions[tri.y] - surface.positions[tri.x],
+                                          surface.positions[tri.z] - surface.positions[tri.x]));
+    };
     levelCount = std::countr_zero(atlasSize);
     texels.clear();
     texels.reserve(coverage.ownedTexels);
     std::vector<uint32_t> texelToPoint(size_t(atlasSize) * atlasSize, ~0u);
     for (uint32_t y = 0; y < atlasSize; ++y)
       for (uint32_t x = 0; x < atlasSize; ++x) {
-        const auto sp = geometry::texelSurfacePoint(mesh, atlas, coverage, x, y);
+        const auto sp = geometry::texelSurfacePoint(surface, *atlas, coverage, x, y);
         if (!sp) continue;
         TexelPoint t;
         t.position = glm::vec3(sp->position);
         t.normal = glm::vec3(sp->normal);
         // Eq. 3.3's A_S/A_T per texel, A_T counted in the texels the triangle owns.
-        t.area = static_cast<float>(atlas.surfaceArea[sp->triangle] /
+        t.area = static_cast<float>(surfaceArea(sp->triangle) /
                                     double(coverage.texels[sp->triangle]));
         t.texel = y * atlasSize + x;
         texelToPoint[t.texel] = static_cast<uint32_t>(texels.size());
@@ -237,7 +264,7 @@ struct TsisTechnique::Impl : techniques::ClosedMeshState {
     const std::vector<float> zeros(offset, 0.0f);
     levels = gpu::makeStorageBuffer(std::span<const float>(zeros));
     notes.push_back(fmt::format("atlas: {} covered texels ({} charts, {} triangles)", texels.size(),
-                                atlas.chartCount, atlas.triangleCount()));
+                                atlas->chartCount, atlas->triangleCount()));
     atlasDirty = false;
     accumulationDirty = true;
   }

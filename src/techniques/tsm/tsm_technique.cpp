@@ -141,7 +141,8 @@ struct TsmTechnique::Impl : techniques::ClosedMeshState {
     gpu::checkGlError("building the tsm programs");
   }
 
-  void loadMesh(const scene::Scene& s) { (void)loadClosedMesh(s); }
+  // A deformed mesh: the rest pose uploaded once, deformed on the GPU at each new time.
+  void loadMesh(const scene::Scene& s) { (void)loadClosedMesh(s, /*gpuDeform=*/true); }
 
   void prepareLights(const scene::Scene& s) {
     lights.clear();

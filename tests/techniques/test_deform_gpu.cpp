@@ -1,0 +1,194 @@
+// Mesh deformation on the GPU (techniques::GpuMesh::deform, shaders/common/deform.comp) against
+// the CPU's (geometry::deformMesh, scene::loadSceneMesh), on Mesa llvmpipe here:
+//   - the vertex buffer after deform() holds the CPU-deformed positions and normals (float
+//     rounding: 1e-5 of the mesh's size, normals within 0.05 degrees);
+//   - a technique that draws through GpuMesh (tsm) renders the scene at time T, deformed on the
+//     GPU, as it renders the CPU-deformed mesh written to a file (no deformation): the same image
+//     up to float rounding of the positions (a few silhouette pixels may flip);
+//   - preparing again at a time where the deformation is the identity restores the rest pose.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/geometric.hpp>
+
+#include "geometry/deform.h"
+#include "geometry/icosphere.h"
+#include "gpu/compute.h"
+#include "render_helpers.h"
+#include "techniques/common/gl_resources.h"
+#include "techniques/tsis/tsis_technique.h"
+#include "techniques/tsm/tsm_technique.h"
+
+namespace translucent::techniques {
+namespace {
+
+using namespace translucent::pointcloud::testing;
+using Type = geometry::Deformation::Type;
+
+class DeformGpu : public gpu::testing::GpuTest {};
+
+// An ellipsoid (semi-axes 0.45, 0.9, 0.3) about the origin: not symmetric under the twist.
+geometry::TriangleMesh ellipsoid(unsigned subdivisions) {
+  geometry::TriangleMesh m = geometry::makeIcosphere(subdivisions, 1.0);
+  for (glm::dvec3& p : m.positions) p *= glm::dvec3(0.45, 0.9, 0.3);
+  m.normals.clear();
+  return m;
+}
+
+std::vector<geometry::Deformation> chain() {
+  geometry::Deformation twist;
+  twist.type = Type::Twist;
+  twist.amount = 60.0;
+  twist.period = 2.0;
+  geometry::Deformation bend;
+  bend.type = Type::Bend;
+  bend.amount = 50.0;
+  bend.period = 3.0;
+  bend.origin = {0.0, -0.3, 0.0};
+  geometry::Deformation wave;
+  wave.type = Type::Wave;
+  wave.amount = 0.03;
+  wave.axis = {0.0, 0.0, 1.0};
+  wave.direction = {0.0, 1.0, 0.0};
+  wave.wavelength = 0.6;
+  return {twist, bend, wave};
+}
+
+TEST_F(DeformGpu, TheVertexBufferHoldsTheCpuDeformedMesh) {
+  const geometry::TriangleMesh rest = ellipsoid(3);
+  GpuMesh gpu(rest);
+  const double time = 0.4;
+  gpu.deform(chain(), time);
+  geometry::TriangleMesh cpu = rest;
+  geometry::deformMesh(chain(), time, cpu);
+  const unsigned stride = gpu.floatsPerVertex();
+  const std::vector<float> v = gpu::download<float>(gpu.vertexBuffer(), rest.vertexCount() * stride);
+  double worstP = 0.0, worstN = 1.0, moved = 0.0;
+  for (size_t i = 0; i < rest.vertexCount(); ++i) {
+    const glm::dvec3 p(v[i * stride], v[i * stride + 1], v[i * stride + 2]);
+    const glm::dvec3 n(v[i * stride + 3], v[i * stride + 4], v[i * stride + 5]);
+    worstP = std::max(worstP, glm::length(p - cpu.positions[i]));
+    worstN = std::min(worstN, glm::dot(glm::normalize(n), cpu.normals[i]));
+    moved = std::max(moved, glm::length(cpu.positions[i] - rest.positions[i]));
+  }
+  EXPECT_GT(moved, 0.05);  // the deformation is not a no-op at this time
+  EXPECT_LT(worstP, 1e-5);
+  EXPECT_GT(worstN, std::cos(0.05 * std::numbers::pi / 180.0));
+  // The identity (time 0: every periodic magnitude is 0; the wave's is constant) restores the
+  // rest pose apart from the wave, then without the wave exactly the rest pose.
+  gpu.deform({chain()[0], chain()[1]}, 0.0);
+  const std::vector<float> back = gpu::download<float>(gpu.vertexBuffer(), rest.vertexCount() * stride);
+  for (size_t i = 0; i < rest.vertexCount(); ++i)
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(back[i * stride + size_t(c)], float(rest.positions[i][c]));
+}
+
+double meanAbs(const std::vector<float>& a) {
+  double s = 0.0;
+  for (float x : a) s += double(std::abs(x));
+  return s / double(a.size());
+}
+
+TEST_F(DeformGpu, TsmRendersTheGpuDeformedMeshAsTheCpuDeformedOne) {
+  TempDir dir;
+  const auto restObj = writeObj(ellipsoid(4), dir.path() / "rest.obj");
+  scene::Scene s = testScene(restObj, 48);
+  s.mesh_deform = chain();
+  s.time = 0.4;
+  // The CPU-deformed mesh (what the references load) as a file of its own, not deformed again.
+  geometry::TriangleMesh cpuMesh = scene::loadSceneMesh(s);
+  const auto cpuObj = writeObj(cpuMesh, dir.path() / "deformed.obj");
+  scene::Scene c = testScene(cpuObj, 48);
+
+  tsm::TsmTechnique gpuT, cpuT, restT;
+  // The GPU technique sees the rest pose first, then the time changes (the per-frame path).
+  scene::Scene atRest = s;
+  atRest.time = 0.0;
+  atRest.mesh_deform.pop_back();  // the wave is constant; without it time 0 is the rest pose
+  gpuT.prepare(atRest, gpu::testing::context());
+  const Frame rest0 = gpuT.render({});
+  gpuT.prepare(s, gpu::testing::context());
+  const Frame g = gpuT.render({});
+  cpuT.prepare(c, gpu::testing::context());
+  const Frame r = cpuT.render({});
+  ASSERT_EQ(g.rgb.size(), r.rgb.size());
+  std::vector<float> diff(g.rgb.size());
+  size_t far = 0;
+  const double scale = meanAbs(r.rgb);
+  ASSERT_GT(scale, 0.0);
+  for (size_t i = 0; i < diff.size(); ++i) {
+    diff[i] = g.rgb[i] - r.rgb[i];
+    if (double(std::abs(diff[i])) > 0.05 * scale) ++far;
+  }
+  EXPECT_LT(meanAbs(diff), 0.01 * scale);
+  EXPECT_LE(far, diff.size() / 100);  // silhouette pixels at most
+  // And it differs from the rest pose's image (the deformation is visible).
+  std::vector<float> moved(g.rgb.size());
+  for (size_t i = 0; i < moved.size(); ++i) moved[i] = g.rgb[i] - rest0.rgb[i];
+  EXPECT_GT(meanAbs(moved), 0.1 * scale);
+  // Back at the rest pose: the rest image again.
+  gpuT.prepare(atRest, gpu::testing::context());
+  const Frame rest1 = gpuT.render({});
+  std::vector<float> again(g.rgb.size());
+  for (size_t i = 0; i < again.size(); ++i) again[i] = rest1.rgb[i] - rest0.rgb[i];
+  EXPECT_LT(meanAbs(again), 1e-6 * scale);
+}
+
+// The techniques with CPU-side geometry keep it from the rest pose and move it with the surface:
+// pointcloud (points at their barycentrics on the deformed triangles, areas scaled, a new octree)
+// and tsis (the rest atlas, texel points and A_S/A_T on the deformed mesh). Rendered at time T
+// after the rest pose, they must show the deformed surface: close to the same technique
+// prepared from the CPU-deformed mesh file (which samples its own points and atlas, so only
+// close: 5% of the mean radiance, or three times the technique's own frame-to-frame noise where
+// that is larger: tsis's sampling pattern turns each frame, 2.5% here), and far from the rest
+// pose's image (more than 10%).
+template <class T>
+void expectFollowsTheDeformation(const char* points_parameter, int points) {
+  TempDir dir;
+  const auto restObj = writeObj(ellipsoid(4), dir.path() / "rest.obj");
+  scene::Scene s = testScene(restObj, 40);
+  s.mesh_deform = {chain()[0], chain()[1]};
+  s.time = 0.4;
+  const auto cpuObj = writeObj(scene::loadSceneMesh(s), dir.path() / "deformed.obj");
+  scene::Scene c = testScene(cpuObj, 40);
+  scene::Scene atRest = s;
+  atRest.time = 0.0;
+  T moving, direct;
+  if (points_parameter) {
+    moving.setParameter(points_parameter, points);
+    direct.setParameter(points_parameter, points);
+  }
+  moving.prepare(atRest, gpu::testing::context());
+  const Frame rest0 = moving.render({});
+  moving.prepare(s, gpu::testing::context());
+  const Frame g = moving.render({});
+  direct.prepare(c, gpu::testing::context());
+  const Frame r = direct.render({});
+  ASSERT_EQ(g.rgb.size(), r.rgb.size());
+  const double scale = meanAbs(r.rgb);
+  ASSERT_GT(scale, 0.0);
+  std::vector<float> diff(g.rgb.size()), moved(g.rgb.size());
+  for (size_t i = 0; i < diff.size(); ++i) {
+    diff[i] = g.rgb[i] - r.rgb[i];
+    moved[i] = g.rgb[i] - rest0.rgb[i];
+  }
+  const Frame r2 = direct.render({});
+  std::vector<float> noise(g.rgb.size());
+  for (size_t i = 0; i < noise.size(); ++i) noise[i] = r2.rgb[i] - r.rgb[i];
+  EXPECT_LT(meanAbs(diff), std::max(0.05 * scale, 3.0 * meanAbs(noise)));
+  EXPECT_GT(meanAbs(moved), 0.1 * scale);
+}
+
+TEST_F(DeformGpu, PointcloudMovesItsPointsWithTheSurface) {
+  useTestCache();
+  expectFollowsTheDeformation<pointcloud::PointCloudTechnique>("points", 20000);
+}
+
+TEST_F(DeformGpu, TsisKeepsItsAtlasAndFollowsTheSurface) {
+  useTestCache();
+  expectFollowsTheDeformation<tsis::TsisTechnique>(nullptr, 0);
+}
+
+}  // namespace
+}  // namespace translucent::techniques
