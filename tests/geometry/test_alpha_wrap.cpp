@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <numbers>
 #include <random>
 
 #include <unistd.h>
@@ -13,6 +14,7 @@
 #include <glm/geometric.hpp>
 
 #include "geometry/alpha_wrap.h"
+#include "geometry/icosphere.h"
 #include "geometry/ray_scene.h"
 
 namespace translucent::geometry {
@@ -35,47 +37,60 @@ double volume(const TriangleMesh& m) {
   return v;
 }
 
-// The cube broken the way scans are: one face missing (a hole), one triangle duplicated, and a
-// fin (a triangle hanging off an edge, so that the edge has three triangles).
-TriangleMesh brokenCube() {
-  TriangleMesh m = cube();
-  m.triangles.erase(m.triangles.begin() + 2, m.triangles.begin() + 4);  // the z = 1 face
+// A sphere of radius 0.5 (icosphere, 1280 triangles of edge ~0.066) broken the way scans are:
+// one triangle missing (a hole smaller than alpha: alpha wrapping closes holes narrower than
+// alpha and, by design, wraps the walls of wider ones from inside), one triangle duplicated, and
+// a fin hanging off an edge (so that this edge has three triangles).
+TriangleMesh brokenSphere() {
+  TriangleMesh m = makeIcosphere(3, 0.5);
+  const glm::uvec3 gone = m.triangles[7];
+  m.triangles.erase(m.triangles.begin() + 7);
   m.triangles.push_back(m.triangles[0]);
-  m.positions.emplace_back(0.5, -0.4, 0.0);
-  m.triangles.emplace_back(0, 1, static_cast<unsigned>(m.positions.size() - 1));
+  const glm::dvec3 a = m.positions[gone.x], b = m.positions[gone.y];
+  m.positions.push_back(0.5 * (a + b) * 1.3);  // a fin sticking out by 0.15
+  m.triangles.emplace_back(gone.x, gone.y, static_cast<unsigned>(m.positions.size() - 1));
   return m;
 }
 
 TEST(AlphaWrap, ABrokenSoupBecomesAClosedOrientedSurfaceAroundIt) {
-  const TriangleMesh in = brokenCube();
+  const TriangleMesh in = brokenSphere();
   ASSERT_GT(in.openEdgeCount(), 0u);  // the premise: not closed
-  const AlphaWrapOptions opt{0.05, 0.005};
+  const AlphaWrapOptions opt{0.1, 0.005};
   AlphaWrapStats st;
-  const TriangleMesh w = alphaWrap(in, opt, "broken cube", &st);
+  const TriangleMesh w = alphaWrap(in, opt, "broken sphere", &st);
   EXPECT_EQ(w.openEdgeCount(), 0u);
   EXPECT_NO_THROW(w.validate("wrap"));
   EXPECT_EQ(st.triangles_in, in.triangles.size());
   EXPECT_EQ(st.triangles_out, w.triangles.size());
   const double d = st.diagonal * opt.offset;  // the offset in scene units
-  // Outward and about the size of the input: the cube grown by the offset (the fin adds a thin
-  // wedge; rounded corners and edges remove a little of the (1 + 2d)³ box). 5% covers both.
-  const double v = volume(w);
-  EXPECT_GT(v, 0.95);
-  EXPECT_LT(v, 1.05 * std::pow(1.0 + 2.0 * d, 3.0) + 0.2 * 0.4 * 0.5);
-  // It encloses the input: every input point (and the centre) lies inside the wrap, and every
-  // point of the wrap within the bounding box of the input grown by the offset and a tolerance
-  // of half an alpha (the wrap's facets are about alpha wide).
+  // Outward (positive) and the volume of the input grown by the offset: at least the
+  // icosphere's (the wrap lies outside it), at most the sphere of radius 0.5 + d plus the fin's
+  // thickened wedge (alpha wide: < 0.15 × 0.066 × alpha) and 3% for the wrap's facets.
+  const TriangleMesh closed = makeIcosphere(3, 0.5);
+  const double v = volume(w), v0 = volume(closed);
+  const double ball = 4.0 / 3.0 * std::numbers::pi * std::pow(0.5 + d, 3.0);
+  EXPECT_GT(v, v0);
+  EXPECT_LT(v, 1.03 * ball + 0.15 * 0.066 * opt.alpha * st.diagonal);
+  // It encloses the input: points inside the sphere lie inside the wrap, and the wrap stays
+  // within the offset plus half an alpha (its facets are about alpha wide) of the sphere,
+  // except near the fin.
   const RayScene rays(w, "wrap");
-  EXPECT_TRUE(insideClosedMesh(rays, glm::dvec3(0.5)));
   std::mt19937 rng(1);
-  std::uniform_real_distribution<double> u(0.02, 0.98);
-  for (int i = 0; i < 200; ++i) EXPECT_TRUE(insideClosedMesh(rays, {u(rng), u(rng), u(rng)}));
+  std::uniform_real_distribution<double> u(-0.45, 0.45);
+  int inside = 0, tried = 0;
+  while (tried < 200) {
+    const glm::dvec3 p(u(rng), u(rng), u(rng));
+    if (glm::length(p) > 0.45) continue;
+    ++tried;
+    inside += insideClosedMesh(rays, p);
+  }
+  EXPECT_EQ(inside, tried);
+  const glm::dvec3 fin = in.positions.back();
   const double tol = d + 0.5 * opt.alpha * st.diagonal;
   for (const glm::dvec3& p : w.positions) {
-    EXPECT_GT(p.x, -tol);
-    EXPECT_LT(p.x, 1.0 + tol);
-    EXPECT_GT(p.y, -0.4 - tol);
-    EXPECT_LT(p.z, 1.0 + tol);
+    if (glm::length(p - fin) < 0.2) continue;
+    EXPECT_GT(glm::length(p), 0.5 * std::cos(std::numbers::pi / 20.0) - 1e-9);  // icosphere's inradius bound
+    EXPECT_LT(glm::length(p), 0.5 + tol);
   }
 }
 
@@ -95,7 +110,7 @@ TEST(AlphaWrap, TheCacheReturnsTheSameWrapAndRecomputesATamperedFile) {
   const std::filesystem::path dir =
       std::filesystem::temp_directory_path() / ("translucent-wrap-test-" + std::to_string(::getpid()));
   std::filesystem::remove_all(dir);
-  const TriangleMesh in = brokenCube();
+  const TriangleMesh in = brokenSphere();
   const AlphaWrapOptions opt{0.1, 0.01};
   AlphaWrapStats first, second, third;
   const TriangleMesh a = loadOrAlphaWrap(in, opt, "cube", dir, &first);

@@ -145,6 +145,15 @@ ViewportDock::ViewportDock(ExplorerState& state, QWidget* parent)
                                         -off.x * std::sin(a) + off.z * std::cos(a));
     state_.setCamera(c);
   });
+  play_timer_.setInterval(40);
+  connect(&play_timer_, &QTimer::timeout, this, [this] {
+    // Scene time advances with the wall clock (one unit per second), so a deformation's period
+    // plays at its own speed whatever the frame rate; frames that cannot keep up are skipped by
+    // the worker, which renders the newest request.
+    scene::Scene s = state_.scene();
+    s.time += play_clock_.restart() / 1000.0;
+    state_.setScene(std::move(s));
+  });
 
   worker_ = new RenderWorker(this);
   connect(worker_, &RenderWorker::contextReady, this, [this](const QString& d) {
@@ -266,6 +275,32 @@ void ViewportDock::buildControls(QWidget* panel) {
     }
   });
 
+  auto* def = new QGroupBox(QStringLiteral("Deformation"));
+  def->setToolTip(QStringLiteral("The scene's mesh.deform: its time (the magnitude is "
+                                 "amount · sin(2π time / period)); play advances it in real time"));
+  auto* tf = new QFormLayout(def);
+  time_ = spin(-1e6, 1e6, 0.0, 3, 0.05);
+  time_->setObjectName(QStringLiteral("deform_time"));
+  play_ = new QCheckBox(QStringLiteral("play"));
+  play_->setObjectName(QStringLiteral("deform_play"));
+  tf->addRow(QStringLiteral("Time"), time_);
+  tf->addRow(QString(), play_);
+  v->addWidget(def);
+  connect(time_, &QDoubleSpinBox::valueChanged, this, [this](double t) {
+    if (state_.scene().time == t) return;
+    scene::Scene s = state_.scene();
+    s.time = t;
+    state_.setScene(std::move(s));
+  });
+  connect(play_, &QCheckBox::toggled, this, [this](bool on) {
+    if (on) {
+      play_clock_.start();
+      play_timer_.start();
+    } else {
+      play_timer_.stop();
+    }
+  });
+
   auto* disp = new QGroupBox(QStringLiteral("Display"));
   auto* df = new QFormLayout(disp);
   scale_ = new QComboBox;
@@ -336,10 +371,15 @@ void ViewportDock::syncControls() {
   }
   for (auto [box, value] : {std::pair{fov_, s.camera.fov}, std::pair{near_, s.clip_near},
                             std::pair{far_, s.clip_far}, std::pair{exposure_, s.exposure},
-                            std::pair{gamma_, s.gamma}}) {
+                            std::pair{gamma_, s.gamma}, std::pair{time_, s.time}}) {
     QSignalBlocker b(box);
     box->setValue(value);
   }
+  // Only a deforming mesh has a time to change; a scene without one stops playing.
+  const bool deforms = !s.mesh_deform.empty();
+  time_->setEnabled(deforms);
+  play_->setEnabled(deforms);
+  if (!deforms && play_->isChecked()) play_->setChecked(false);
 }
 
 int ViewportDock::lightingMode() const {

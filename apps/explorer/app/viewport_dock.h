@@ -1,7 +1,8 @@
 // The viewport dock (seed 3.6.4, the point cloud widget): the picture (ViewportWidget), and beside
 // it the technique selector with the technique's own settings as generated widgets, mesh
 // loading (dialog and drag and drop), the lighting mode, camera (field of view, clip planes,
-// auto-rotate), render scale, exposure and gamma, and the GPU time of every pass.
+// auto-rotate), the deformation's time (mesh.deform: a time field and play, which advances it in
+// real time), render scale, exposure and gamma, and the GPU time of every pass.
 //
 // Rendering runs on a RenderWorker thread. While the view changes (mouse, material, settings)
 // frames are requested at half resolution; 300 ms after the last change one frame is requested at
@@ -95,8 +96,8 @@ class ViewportDock : public QDockWidget {
   ExplorerState& state_;
   ViewportWidget* view_ = nullptr;
   RenderWorker* worker_ = nullptr;
-  QTimer rest_timer_, rotate_timer_;
-  QElapsedTimer rotate_clock_;
+  QTimer rest_timer_, rotate_timer_, play_timer_;
+  QElapsedTimer rotate_clock_, play_clock_;
   double render_scale_ = 1.0;
   bool scale_fixed_ = false;
   bool continuous_ = false;
@@ -118,6 +119,8 @@ class ViewportDock : public QDockWidget {
   QDoubleSpinBox* near_ = nullptr;
   QDoubleSpinBox* far_ = nullptr;
   QCheckBox* rotate_ = nullptr;
+  QDoubleSpinBox* time_ = nullptr;
+  QCheckBox* play_ = nullptr;
   QComboBox* scale_ = nullptr;
   QDoubleSpinBox* exposure_ = nullptr;
   QDoubleSpinBox* gamma_ = nullptr;
