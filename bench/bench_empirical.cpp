@@ -28,6 +28,7 @@
 
 #include "geometry/ambient_occlusion.h"
 #include "geometry/mesh.h"
+#include "bench_context.h"
 #include "gpu/context.h"
 #include "scene/scene.h"
 #include "techniques/empirical/empirical_technique.h"
@@ -90,11 +91,7 @@ BENCHMARK_CAPTURE(BM_AmbientOcclusion, armadillo, std::string("armadillo"))
 BENCHMARK_CAPTURE(BM_AmbientOcclusion, dragon_res2, std::string("dragon"))
     ->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime();
 
-gpu::Context& context() {
-  static gpu::Context ctx;
-  ctx.makeCurrent();
-  return ctx;
-}
+using bench::context;  // bench_context.h
 
 void BM_EmpiricalFrame(benchmark::State& state, const std::string& which) {
   const fs::path path = meshPath(which);

@@ -19,6 +19,7 @@
 #include <memory>
 #include <string>
 
+#include "bench_context.h"
 #include "gpu/context.h"
 #include "scene/scene.h"
 #include "techniques/pointcloud/pointcloud_technique.h"
@@ -27,11 +28,7 @@ namespace {
 
 using namespace translucent;
 
-gpu::Context& context() {
-  static gpu::Context ctx;
-  ctx.makeCurrent();
-  return ctx;
-}
+using bench::context;  // bench_context.h
 
 void BM_PointCloudFrame(benchmark::State& state) {
   const int width = static_cast<int>(state.range(0)), height = static_cast<int>(state.range(1));

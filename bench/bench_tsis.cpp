@@ -18,6 +18,7 @@
 #include <memory>
 #include <string>
 
+#include "bench_context.h"
 #include "gpu/context.h"
 #include "scene/data_path.h"
 #include "scene/scene.h"
@@ -28,11 +29,7 @@ namespace {
 
 using namespace translucent;
 
-gpu::Context& context() {
-  static gpu::Context ctx;
-  ctx.makeCurrent();
-  return ctx;
-}
+using bench::context;  // bench_context.h
 
 const char* const kMeshes[] = {"bunny", "armadillo", "cow"};
 
