@@ -42,10 +42,9 @@ GpuMesh::GpuMesh(const geometry::TriangleMesh& mesh, const std::vector<glm::dvec
   idx.reserve(triangles_ * 3);
   for (const glm::uvec3& t : mesh.triangles) idx.insert(idx.end(), {t.x, t.y, t.z});
   vertices_ = gpu::Buffer::create();
-  glNamedBufferStorage(vertices_.id(), static_cast<GLsizeiptr>(v.size() * sizeof(float)), v.data(), 0);
+  gpu::allocateBuffer(vertices_, v.size() * sizeof(float), v.data(), 0, "mesh vertices");
   indices_ = gpu::Buffer::create();
-  glNamedBufferStorage(indices_.id(), static_cast<GLsizeiptr>(idx.size() * sizeof(uint32_t)),
-                       idx.data(), 0);
+  gpu::allocateBuffer(indices_, idx.size() * sizeof(uint32_t), idx.data(), 0, "mesh indices");
   vao_ = gpu::VertexArray::create();
   glVertexArrayVertexBuffer(vao_.id(), 0, vertices_.id(), 0, GLsizei(stride * sizeof(float)));
   glVertexArrayElementBuffer(vao_.id(), indices_.id());
@@ -113,7 +112,7 @@ ShadowMap::ShadowMap(int size) : size_(size) {
   // the light 1% outside the bounding sphere: far below the normal and depth offsets (about a
   // texel, 1e-3 r). On the H100 two 2048² maps take 1.04 ms instead of 1.23 with 32-bit float
   // depth (BENCHMARKS.md).
-  glTextureStorage2D(depth_.id(), 1, GL_DEPTH_COMPONENT24, size, size);
+  gpu::allocateTexture2D(depth_, 1, GL_DEPTH_COMPONENT24, size, size, "shadow map");
   glTextureParameteri(depth_.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
   glTextureParameteri(depth_.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
   glTextureParameteri(depth_.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
@@ -268,7 +267,7 @@ void GBuffer::resize(int width, int height) {
   height_ = height;
   auto target = [&](GLenum format) {
     gpu::Texture t = gpu::Texture::create(GL_TEXTURE_2D);
-    glTextureStorage2D(t.id(), 1, format, width, height);
+    gpu::allocateTexture2D(t, 1, format, width, height, "G-buffer");
     glTextureParameteri(t.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glTextureParameteri(t.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     return t;
