@@ -1,0 +1,80 @@
+// Multiresolution splatting on the GPU (Chen, Peers, Zhang & Tong 2012, "Real-time rendering of
+// deformable heterogeneous translucent objects using multiresolution splatting"; seed
+// multiresolution-splatting §3-4), and the Shah, Kontinen & Pattanaik 2009 baseline it
+// accelerates (image-space splatting of every irradiance texel with full-size splats).
+//
+// The exitance at a visible surface point x_o (Eq. 5) is the sum over the irradiance samples x_i
+// of the light's view,
+//     B(x_o) = Σ_i sqrt(P_xo(d) P_xi(d)) E(x_i) ΔA(x_i),   d = |x_o − x_i|  (Eq. 8: Rd),
+// and the radiance L = s Ft(η, n·ω_o) B / π (Eq. 7; s the radiance_convention scale, as tsm).
+//   irradiance buffer  a LightViewMap per light (techniques/common/light_view_map.h): x_i, its
+//                      normal, E (Ft and cos θ included) and ΔA (lvmSurfaceArea), plus the
+//                      triangle index of x_i in the position's w (LVM_PRIMITIVE_ID);
+//   splatting buffer   the camera's G-buffer (world position, w = 1 + triangle; normal);
+//   splat              one instanced draw of screen-space squares, one instance per irradiance
+//                      texel, bounding the sphere of radius R_max about x_i; the fragment adds the
+//                      term above for d in [R_min, R_max) into an RGBA32F target (GL_ONE, GL_ONE);
+//   radiance           Eq. 7 per pixel (shaders/splatting/radiance.comp).
+//
+// Profiles (heterogeneous and homogeneous materials alike): per-vertex SubEdit profiles
+// (material/point_profiles.h: n segments of ln P on [0, r_s], r_s the largest 95% radius, the tail
+// up to r_cut = 3 r_s) computed once in prepare() on the CPU at the rest-pose vertices; the
+// profile of any surface point (x_i or x_o) is the barycentric interpolation of its triangle's
+// vertex nodes (pointcloud/hetero.glsl's arithmetic, shaders/splatting/profile.glsl), the
+// barycentrics taken on the deformed mesh. A homogeneous material gives every vertex the same
+// profile (the model's R(r) on the node grid).
+//
+// State of this branch: only the non-accelerated configuration is implemented — one level, every
+// irradiance texel splatted, full-range splats (R_min = 0, R_max = r_cut): adaptive = false,
+// multires = false (levels is then unused). `shah` is that configuration. adaptive = true or
+// multires = true throw ParameterError ("not implemented"). The parameters z0, alpha, epsilon,
+// lambda_z, lambda_m are declared with the paper's defaults for the accelerated passes.
+//
+// Lights: directional and point (outside the bounding sphere); environment, beam and filtered
+// directional lights are refused with a ParameterError naming lights[i] and the supported types.
+// Materials: homogeneous and volume (3D) materials; surface-map materials are refused.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "geometry/mesh.h"
+#include "material/point_profiles.h"
+#include "techniques/common/gl_resources.h"
+#include "techniques/common/light_view_map.h"
+#include "techniques/technique.h"
+
+namespace translucent::splatting {
+
+class SplattingTechnique final : public techniques::Technique {
+ public:
+  // shah: the Shah et al. 2009 baseline (no acceleration parameters).
+  explicit SplattingTechnique(bool shah = false);
+  ~SplattingTechnique() override;
+  SplattingTechnique(const SplattingTechnique&) = delete;
+  SplattingTechnique& operator=(const SplattingTechnique&) = delete;
+
+  std::string_view name() const override;
+  std::string_view description() const override;
+  const std::vector<techniques::ParameterInfo>& parameters() const override;
+  void setParameter(std::string_view name, const techniques::ParameterValue& value) override;
+  techniques::ParameterValue parameter(std::string_view name) const override;
+  void prepare(const scene::Scene& scene, gpu::Context& gl) override;
+  techniques::Frame render(const techniques::FrameRequest& request) override;
+
+  // ---- Inspection (tests; valid after prepare / render) ---------------------------------------
+  const material::PointProfiles& vertexProfiles() const;
+  const geometry::TriangleMesh& mesh() const;  // the (CPU-deformed) mesh as drawn
+  size_t lightCount() const;
+  const techniques::LightViewMap& lightMap(size_t i) const;  // after render
+  const techniques::GBuffer& gbuffer() const;                // after render
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+std::unique_ptr<techniques::Technique> makeSplattingTechnique();
+std::unique_ptr<techniques::Technique> makeShahTechnique();
+
+}  // namespace translucent::splatting
