@@ -6,20 +6,20 @@
 #include "splatting/profile.glsl"
 
 layout(binding = 0) uniform sampler2D GPosition;  // xyz world position, w = 1 + triangle (0: none)
-uniform float RMin;
-uniform float RMax;
 
 flat in vec3 vXi;
 flat in vec3 vPower;
 flat in uint vTri;
 flat in vec3 vBary;
+flat in float vRMin;
+flat in float vRMax;
 layout(location = 0) out vec4 outB;
 
 void main() {
   vec4 g = texelFetch(GPosition, ivec2(gl_FragCoord.xy), 0);
   if (g.w == 0.0) discard;
   float d = distance(g.xyz, vXi);
-  if (d < RMin || d >= RMax) discard;
+  if (d < vRMin || d >= vRMax) discard;
   uint to = uint(g.w - 1.0 + 0.5);
   PcSegment s = pcSegmentAt(d);
   vec3 ln = spLnProfile(vTri, vBary, s) + spLnProfile(to, spBarycentric(g.xyz, to), s);

@@ -3,6 +3,7 @@
 //   - without acceleration (one level, every irradiance texel, full-range splats) the GPU's B
 //     equals the brute-force CPU gather of Eq. 5 over every irradiance texel read back, with the
 //     profiles of Eq. 8 from the vertex profiles interpolated in double;
+//   - with multiresolution splatting (3 levels) B stays within 3% (relative L1) of it;
 //   - shah renders the same image as splatting without acceleration;
 //   - unsupported lights and unimplemented options are refused with a clear ParameterError.
 #include <gtest/gtest.h>
@@ -99,9 +100,15 @@ std::vector<Sample> irradianceSamples(const SplattingTechnique& t) {
   return out;
 }
 
-// The largest relative per-pixel difference of the GPU's B from the CPU's brute-force Eq. 5 over
-// every pixel with B > 1e-3 max B (and the count of such pixels in `lit`).
-double maxRelativeErrorVsBruteForce(const SplattingTechnique& t, const techniques::Frame& f, int* lit) {
+struct Errors {
+  double maxRel = 0.0;  // largest |B_gpu − B_cpu| / B_cpu over pixel-channels with B_cpu > 1e-3 max B
+  double l1 = 0.0;      // Σ |B_gpu − B_cpu| / Σ B_cpu over every covered pixel-channel
+  double dim = 0.0;     // largest |B_gpu − B_cpu| / max B over the others
+  int lit = 0;          // pixel-channels in maxRel
+};
+
+// The GPU's B against the CPU's brute-force Eq. 5 over every irradiance texel.
+Errors compareWithBruteForce(const SplattingTechnique& t, const techniques::Frame& f) {
   const material::PointProfiles& prof = t.vertexProfiles();
   const std::vector<Sample> samples = irradianceSamples(t);
   EXPECT_GT(samples.size(), 50u);
@@ -129,22 +136,27 @@ double maxRelativeErrorVsBruteForce(const SplattingTechnique& t, const technique
       maxB = std::max({maxB, sum.x, sum.y, sum.z});
     }
   EXPECT_GT(maxB, 0.0);
-  double worst = 0.0;
-  *lit = 0;
+  Errors e;
+  double sumDiff = 0.0, sumB = 0.0;
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
+      if (gpos[size_t(y) * size_t(w) + size_t(x)].w == 0.0f) continue;
       const glm::dvec3 c = cpu[size_t(y) * size_t(w) + size_t(x)];
       const size_t o = (size_t(h - 1 - y) * size_t(w) + size_t(x)) * 3;
       for (int ch = 0; ch < 3; ++ch) {
+        const double diff = std::abs(double(b[o + size_t(ch)]) - c[ch]);
+        sumDiff += diff;
+        sumB += c[ch];
         if (c[ch] <= 1e-3 * maxB) {
-          EXPECT_NEAR(b[o + size_t(ch)], c[ch], 1e-4 * maxB) << "pixel " << x << "," << y;
+          e.dim = std::max(e.dim, diff / maxB);
           continue;
         }
-        ++*lit;
-        worst = std::max(worst, std::abs(double(b[o + size_t(ch)]) - c[ch]) / c[ch]);
+        ++e.lit;
+        e.maxRel = std::max(e.maxRel, diff / c[ch]);
       }
     }
-  return worst;
+  e.l1 = sumDiff / sumB;
+  return e;
 }
 
 void configureUnaccelerated(techniques::Technique& t, int irradiance) {
@@ -164,12 +176,34 @@ TEST_F(SplattingGpu, UnacceleratedEqualsBruteForceEq5) {
   configureUnaccelerated(*t, 32);
   t->prepare(veinsScene(), gpu::testing::context());
   const techniques::Frame f = t->render({64, 48});
-  int lit = 0;
-  const double err = maxRelativeErrorVsBruteForce(dynamic_cast<SplattingTechnique&>(*t), f, &lit);
+  const Errors e = compareWithBruteForce(dynamic_cast<SplattingTechnique&>(*t), f);
   std::printf("splatting (no acceleration) vs brute-force Eq. 5: max relative error %.3g over %d "
-              "pixel-channels\n", err, lit);
-  EXPECT_GT(lit, 1000);
-  EXPECT_LT(err, 1e-4);
+              "pixel-channels, relative L1 %.3g, dim pixels %.3g of max B\n", e.maxRel, e.lit, e.l1, e.dim);
+  EXPECT_GT(e.lit, 1000);
+  EXPECT_LT(e.maxRel, 1e-4);
+  EXPECT_LT(e.dim, 1e-6);
+}
+
+// Multiresolution splatting (3 levels, per-sample ranges of Eq. 13, bilateral upsampling of
+// Eq. 17; no adaptive selection) against the same brute force on the veins bunny: the error is
+// the approximation of the coarse levels (B of the far ranges computed at 1/2 and 1/4 resolution
+// and upsampled), measured as the relative L1 error of B over the covered pixels.
+TEST_F(SplattingGpu, MultiresolutionNearBruteForceEq5) {
+  auto t = techniques::make("splatting");
+  t->setParameter("irradiance_size", 32);
+  t->setParameter("adaptive", false);
+  t->setParameter("multires", true);
+  t->setParameter("levels", 3);
+  t->prepare(veinsScene(), gpu::testing::context());
+  const techniques::Frame f = t->render({64, 48});
+  const Errors e = compareWithBruteForce(dynamic_cast<SplattingTechnique&>(*t), f);
+  std::printf("splatting (multires, 3 levels) vs brute-force Eq. 5: relative L1 %.3g, max relative "
+              "%.3g over %d pixel-channels\n", e.l1, e.maxRel, e.lit);
+  EXPECT_GT(e.lit, 1000);
+  // Measured 0.0228 (llvmpipe): below 3%, and far from the unaccelerated 5e-7 (the coarse levels
+  // do carry the far ranges).
+  EXPECT_LT(e.l1, 0.03);
+  EXPECT_GT(e.l1, 1e-4);
 }
 
 // The shah baseline is splatting without acceleration: the same image.

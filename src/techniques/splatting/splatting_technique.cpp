@@ -2,6 +2,9 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <array>
+#include <cmath>
 #include <optional>
 #include <string>
 
@@ -15,6 +18,7 @@
 #include <fmt/ranges.h>
 #include "scene/scene.h"
 #include "techniques/common/profile_kernel.h"
+#include "techniques/splatting/splatting_math.h"
 
 namespace translucent::splatting {
 namespace {
@@ -28,8 +32,12 @@ enum Binding : GLuint {
   kExitanceOut = 8,
   kVertexProfiles = 11,
   kTriangles = 13,
-  kMeshFloats = 14
+  kMeshFloats = 14,
+  kVertexRp = 15
 };
+
+constexpr int kRpSteps = 128;        // midpoint steps over [0, r_cut] for the 95% radius
+constexpr size_t kMeanProfiles = 512;  // vertex profiles averaged into P̄ (Eq. 15), at most
 
 std::vector<ParameterInfo> parameterInfos(bool shah) {
   std::vector<ParameterInfo> out = {
@@ -41,12 +49,12 @@ std::vector<ParameterInfo> parameterInfos(bool shah) {
     out.push_back(ParameterInfo::integer("levels", 3, 1, 6,
                                          "splatting levels of the multiresolution hierarchy "
                                          "(used with multires)", "levels"));
-    out.push_back(ParameterInfo::boolean("adaptive", false,
-                                         "adaptive sample selection (Eqs. 10-11, Algorithm 1); "
-                                         "not implemented on this branch yet"));
-    out.push_back(ParameterInfo::boolean("multires", false,
-                                         "multiresolution splatting (Eqs. 12-17); not implemented "
-                                         "on this branch yet"));
+    out.push_back(ParameterInfo::boolean("adaptive", true,
+                                         "adaptive sample selection from the hierarchical "
+                                         "irradiance buffer (Eqs. 10-11, Algorithm 1)"));
+    out.push_back(ParameterInfo::boolean("multires", true,
+                                         "multiresolution splatting: per-sample ranges over the "
+                                         "levels (Eqs. 13-16), bilateral upsampling (Eq. 17)"));
     out.push_back(ParameterInfo::floating("z0", 0.03, 0.0, 1.0,
                                           "depth threshold of Eq. 10 as a fraction of the bounding "
                                           "sphere's radius", "radius"));
@@ -80,14 +88,23 @@ struct SplattingTechnique::Impl : techniques::ClosedMeshState {
   std::string profileKey;  // mesh, model and medium of the vertex profiles
   std::optional<material::MaterialDesc> profileDesc;  // and their material
   material::PointProfiles profiles;
-  gpu::Buffer vertexProfileBuffer, triangleBuffer;
+  gpu::Buffer vertexProfileBuffer, triangleBuffer, vertexRpBuffer;
+  std::vector<float> vertexRp;  // R_P per vertex: the 95% radius of its widest channel
+  MeanProfile meanProfile{1024};
+  std::optional<RbarTable> rbar;
+  double rbarEpsilon = -1.0;
   int programNodes = 0;
 
-  std::optional<gpu::ShaderProgram> mapProgram, gbufferProgram, splatProgram, radianceProgram;
+  std::optional<gpu::ShaderProgram> mapProgram, gbufferProgram, splatProgram, radianceProgram,
+      downsampleProgram, upsampleProgram, irradianceMipProgram;
 
   struct LightState {
     scene::Light light;
     std::unique_ptr<techniques::LightViewMap> map;
+    // Adaptive selection: the hierarchical irradiance buffer (irradiance_mip.comp), `hierLevels`
+    // mip levels each.
+    gpu::Texture hierA, hierB, hierC;
+    int hierLevels = 0;
   };
   std::vector<LightState> lights;
 
@@ -96,6 +113,14 @@ struct SplattingTechnique::Impl : techniques::ClosedMeshState {
   gpu::Framebuffer accumFbo;
   gpu::VertexArray emptyVao;
   int accumW = 0, accumH = 0;
+  // Levels k >= 1 of the multiresolution splatting: the median-depth splatting buffer and the
+  // level's accumulation target.
+  struct Level {
+    int w = 0, h = 0;
+    gpu::Texture position, normal, accum;
+    gpu::Framebuffer fbo;
+  };
+  std::vector<Level> levelTargets;
   gpu::Buffer radianceOut, exitanceOut;
   size_t outPixels = 0;
   std::optional<gpu::PassTimer> timer;
@@ -110,6 +135,9 @@ struct SplattingTechnique::Impl : techniques::ClosedMeshState {
         gpu::ShaderProgram::graphics("pointcloud/gbuffer.vert", "pointcloud/gbuffer.frag", d));
     splatProgram.emplace(gpu::ShaderProgram::graphics("splatting/splat.vert", "splatting/splat.frag", d));
     radianceProgram.emplace(gpu::ShaderProgram::compute("splatting/radiance.comp"));
+    downsampleProgram.emplace(gpu::ShaderProgram::compute("splatting/downsample.comp"));
+    upsampleProgram.emplace(gpu::ShaderProgram::compute("splatting/upsample.comp", d));
+    irradianceMipProgram.emplace(gpu::ShaderProgram::compute("splatting/irradiance_mip.comp", d));
     programNodes = nodes;
     gpu::checkGlError("building the splatting programs");
   }
@@ -172,19 +200,44 @@ struct SplattingTechnique::Impl : techniques::ClosedMeshState {
     std::vector<glm::uvec4> tris(restMesh.triangleCount());
     for (size_t i = 0; i < tris.size(); ++i) tris[i] = glm::uvec4(restMesh.triangles[i], 0u);
     triangleBuffer = gpu::makeStorageBuffer(std::span<const glm::uvec4>(tris));
+    // R_P per vertex (the 95% radius of the widest channel, midpoint rule on [0, r_cut]) and the
+    // mean normalised profile P̄ (Eqs. 15-16) over at most kMeanProfiles vertices.
+    vertexRp.assign(profiles.size(), 0.0f);
+    const double rc = profiles.cutRadius(), dr = rc / kRpSteps;
+    meanProfile = MeanProfile(1024);
+    const size_t stride = std::max<size_t>(1, profiles.size() / kMeanProfiles);
+    for (size_t v = 0; v < profiles.size(); ++v) {
+      std::array<std::vector<double>, 3> cum;
+      for (auto& c : cum) c.assign(kRpSteps + 1, 0.0);
+      for (int i = 0; i < kRpSteps; ++i) {
+        const double r = (i + 0.5) * dr;
+        const glm::dvec3 pv = profiles.at(v, r);
+        for (int c = 0; c < 3; ++c) cum[size_t(c)][size_t(i) + 1] = cum[size_t(c)][size_t(i)] + pv[c] * r * dr;
+      }
+      double rp = 0.0;
+      int widest = 0;
+      for (int c = 0; c < 3; ++c) {
+        const auto& e = cum[size_t(c)];
+        int i = 0;
+        while (i < kRpSteps && e[size_t(i) + 1] < 0.95 * e.back()) ++i;
+        const double r = (i + 1) * dr;
+        if (r > rp) {
+          rp = r;
+          widest = c;
+        }
+      }
+      vertexRp[v] = float(rp);
+      if (v % stride == 0)
+        meanProfile.add([&, v, widest](double r) { return profiles.at(v, r)[widest]; }, rp);
+    }
+    vertexRpBuffer = gpu::makeStorageBuffer(std::span<const float>(vertexRp));
+    rbarEpsilon = -1.0;
     buildPrograms(m);
     profileKey = key;
     profileDesc = s.material;
   }
 
   void requireImplemented() const {
-    if (shah) return;
-    if (params.getBool("adaptive"))
-      throw ParameterError("splatting: adaptive = true (Eqs. 10-11) is not implemented on this "
-                           "branch yet: expected adaptive = false");
-    if (params.getBool("multires"))
-      throw ParameterError("splatting: multires = true (Eqs. 12-17) is not implemented on this "
-                           "branch yet: expected multires = false");
   }
 
   void renderMap(LightState& st) {
@@ -197,6 +250,77 @@ struct SplattingTechnique::Impl : techniques::ClosedMeshState {
     else if (const auto* p = std::get_if<reference::PointLight>(&e))
       st.map->renderPoint(*gpuMesh, *mapProgram, p->position, color * float(p->intensity),
                           s.medium.eta, center, radius);
+  }
+
+  static gpu::Texture levelTexture(int w, int h) {
+    gpu::Texture t = gpu::Texture::create(GL_TEXTURE_2D);
+    gpu::allocateTexture2D(t, 1, GL_RGBA32F, w, h, "splatting level");
+    glTextureParameteri(t.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(t.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    return t;
+  }
+
+  void resizeLevels(int width, int height, int levels) {
+    if (int(levelTargets.size()) == levels - 1 &&
+        (levels == 1 || (levelTargets[0].w == (width + 1) / 2 && levelTargets[0].h == (height + 1) / 2)))
+      return;
+    levelTargets.clear();
+    int w = width, h = height;
+    for (int k = 1; k < levels; ++k) {
+      w = (w + 1) / 2;
+      h = (h + 1) / 2;
+      Level l;
+      l.w = w;
+      l.h = h;
+      l.position = levelTexture(w, h);
+      l.normal = levelTexture(w, h);
+      l.accum = levelTexture(w, h);
+      l.fbo = gpu::Framebuffer::create();
+      glNamedFramebufferTexture(l.fbo.id(), GL_COLOR_ATTACHMENT0, l.accum.id(), 0);
+      if (glCheckNamedFramebufferStatus(l.fbo.id(), GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+        throw gpu::GlError("splatting: a level's framebuffer is incomplete");
+      levelTargets.push_back(std::move(l));
+    }
+  }
+
+  // The hierarchical irradiance buffer of one light (levels mip levels).
+  void buildHierarchy(LightState& st, int levels) {
+    const int size = st.map->size();
+    if (st.hierLevels != levels) {
+      auto make = [&] {
+        gpu::Texture t = gpu::Texture::create(GL_TEXTURE_2D);
+        gpu::allocateTexture2D(t, levels, GL_RGBA32F, size, size, "hierarchical irradiance buffer");
+        glTextureParameteri(t.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST_MIPMAP_NEAREST);
+        glTextureParameteri(t.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        return t;
+      };
+      st.hierA = make();
+      st.hierB = make();
+      st.hierC = make();
+      st.hierLevels = levels;
+    }
+    const gpu::ShaderProgram& p = *irradianceMipProgram;
+    gpu::bindStorage(kTriangles, triangleBuffer);
+    gpu::bindStorage(kMeshFloats, gpuMesh->vertexBuffer());
+    gpu::bindStorage(kVertexRp, vertexRpBuffer);
+    gpu::bindStorage(kVertexProfiles, vertexProfileBuffer);
+    p.set("SpFloatsPerVertex", gpuMesh->floatsPerVertex());
+    st.map->bind(p, 1);
+    glBindTextureUnit(4, st.hierA.id());
+    glBindTextureUnit(5, st.hierB.id());
+    glBindTextureUnit(6, st.hierC.id());
+    int w = size;
+    for (int j = 0; j < levels; ++j) {
+      if (j > 0) w = (w + 1) / 2;
+      glBindImageTexture(0, st.hierA.id(), j, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+      glBindImageTexture(1, st.hierB.id(), j, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+      glBindImageTexture(2, st.hierC.id(), j, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+      p.set("Level", j);
+      glProgramUniform2ui(p.id(), p.uniformLocation("DstSize"), unsigned(w), unsigned(w));
+      gpu::dispatch(p, {(unsigned(w) + 7u) / 8u, (unsigned(w) + 7u) / 8u, 1u});
+      glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    }
+    gpu::checkGlError("building the hierarchical irradiance buffer");
   }
 
   void resizeAccum(int w, int h) {
@@ -238,13 +362,52 @@ struct SplattingTechnique::Impl : techniques::ClosedMeshState {
       auto t = timer->scope("irradiance");
       for (auto& st : lights) renderMap(st);
     }
+    const bool adaptive = !shah && params.getBool("adaptive");
+    // Irradiance-buffer levels: as many as splatting levels (the paper's three for both),
+    // limited by the buffer's size.
+    int irrLevels = 1;
+    if (adaptive) {
+      irrLevels = params.getInt("levels");
+      const int size = params.getInt("irradiance_size");
+      while (irrLevels > 1 && (size >> (irrLevels - 1)) < 1) --irrLevels;
+      auto t = timer->scope("irradiance hierarchy");
+      for (auto& st : lights) buildHierarchy(st, irrLevels);
+    }
     resizeAccum(width, height);
-    {
-      auto t = timer->scope("splat");
+    const int levels = (!shah && params.getBool("multires")) ? params.getInt("levels") : 1;
+    resizeLevels(width, height, levels);
+    const double eps = shah ? 0.001 : params.getFloat("epsilon");
+    if (levels > 1 && (!rbar || rbarEpsilon != eps)) {
+      rbar = RbarTable::build(meanProfile, eps);
+      rbarEpsilon = eps;
+    }
+    const glm::vec3 camPos = toVec3(s.camera.position);
+    const glm::vec3 camFwd = toVec3(glm::normalize(s.camera.look_at - s.camera.position));
+    if (levels > 1) {
+      auto t = timer->scope("splatting buffer mipmap");
+      const gpu::ShaderProgram& p = *downsampleProgram;
+      p.set("CameraPosition", camPos);
+      p.set("CameraForward", camFwd);
+      for (int k = 1; k < levels; ++k) {
+        const Level& l = levelTargets[size_t(k - 1)];
+        glBindTextureUnit(0, k == 1 ? gbuffer.position().id() : levelTargets[size_t(k - 2)].position.id());
+        glBindTextureUnit(1, k == 1 ? gbuffer.normal().id() : levelTargets[size_t(k - 2)].normal.id());
+        glBindImageTexture(0, l.position.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+        glBindImageTexture(1, l.normal.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+        glProgramUniform2ui(p.id(), p.uniformLocation("CoarseSize"), unsigned(l.w), unsigned(l.h));
+        gpu::dispatch(p, {(unsigned(l.w) + 7u) / 8u, (unsigned(l.h) + 7u) / 8u, 1u});
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+      }
+    }
+    for (int k = 0; k < levels; ++k) {
+      auto t = timer->scope(levels > 1 ? fmt::format("splat level {}", k) : std::string("splat"));
+      const int lw = k == 0 ? width : levelTargets[size_t(k - 1)].w;
+      const int lh = k == 0 ? height : levelTargets[size_t(k - 1)].h;
+      const GLuint fbo = k == 0 ? accumFbo.id() : levelTargets[size_t(k - 1)].fbo.id();
       const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
-      glClearNamedFramebufferfv(accumFbo.id(), GL_COLOR, 0, zero);
-      glBindFramebuffer(GL_FRAMEBUFFER, accumFbo.id());
-      glViewport(0, 0, width, height);
+      glClearNamedFramebufferfv(fbo, GL_COLOR, 0, zero);
+      glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+      glViewport(0, 0, lw, lh);
       glDisable(GL_DEPTH_TEST);
       glDisable(GL_CULL_FACE);
       glEnable(GL_BLEND);
@@ -255,24 +418,84 @@ struct SplattingTechnique::Impl : techniques::ClosedMeshState {
       gpu::bindStorage(kVertexProfiles, vertexProfileBuffer);
       gpu::bindStorage(kTriangles, triangleBuffer);
       gpu::bindStorage(kMeshFloats, gpuMesh->vertexBuffer());
-      glBindTextureUnit(0, gbuffer.position().id());
+      gpu::bindStorage(kVertexRp, vertexRpBuffer);
+      glBindTextureUnit(0, k == 0 ? gbuffer.position().id() : levelTargets[size_t(k - 1)].position.id());
       p.set("ViewProjection", vp);
       p.set("SpFloatsPerVertex", gpuMesh->floatsPerVertex());
       p.set("HeteroRadius", static_cast<float>(profiles.radius()));
-      p.set("SplatRadius", static_cast<float>(profiles.cutRadius()));
-      p.set("RMin", 0.0f);
-      p.set("RMax", static_cast<float>(profiles.cutRadius()));
-      p.set("PixelSize", glm::vec2(2.0f / float(width), 2.0f / float(height)));
+      p.set("CutRadius", static_cast<float>(profiles.cutRadius()));
+      p.set("PixelSize", glm::vec2(2.0f / float(lw), 2.0f / float(lh)));
+      p.set("Multires", levels > 1);
+      p.set("Level", k);
+      p.set("Levels", levels);
+      p.set("LevelResolution", static_cast<float>(height));
+      p.set("Orthographic", s.camera.projection == reference::Camera::Projection::Orthographic);
+      p.set("TanHalfFov", static_cast<float>(std::tan(0.5 * s.camera.fov * 3.14159265358979323846 / 180.0)));
+      p.set("ViewHeight", static_cast<float>(s.camera.view_height));
+      p.set("CameraPosition", camPos);
+      p.set("CameraForward", camFwd);
+      if (levels > 1) {
+        std::vector<float> table(rbar->rbar.begin(), rbar->rbar.end());
+        table.resize(64, 1.0f);
+        glProgramUniform1fv(p.id(), p.uniformLocation("Rbar"), 64, table.data());
+        p.set("RbarCount", static_cast<int>(std::min<size_t>(64, rbar->rbar.size())));
+        p.set("RbarTMin", static_cast<float>(rbar->tMin));
+        p.set("RbarTMax", static_cast<float>(rbar->tMax));
+      }
+      p.set("Adaptive", adaptive);
+      p.set("IrrLevels", irrLevels);
+      p.set("Z0", static_cast<float>(shah ? 0.0 : params.getFloat("z0") * radius));
+      p.set("Alpha", static_cast<float>(shah ? 15.0 : params.getFloat("alpha")));
+      p.set("Rw", static_cast<float>(2.0 * radius));
       glBindVertexArray(emptyVao.id());
       for (auto& st : lights) {
         st.map->bind(p, 1);  // units 1, 2, 3
         p.set("MapSize", st.map->size());
-        glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, st.map->size() * st.map->size());
+        if (!adaptive) {
+          glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, st.map->size() * st.map->size());
+          continue;
+        }
+        glBindTextureUnit(4, st.hierA.id());
+        glBindTextureUnit(5, st.hierB.id());
+        glBindTextureUnit(6, st.hierC.id());
+        int w = st.map->size();
+        for (int j = 0; j < irrLevels; ++j) {
+          if (j > 0) w = (w + 1) / 2;
+          p.set("IrrLevel", j);
+          glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, w * w);
+        }
       }
       glBindVertexArray(0);
       glDisable(GL_BLEND);
       glBindFramebuffer(GL_FRAMEBUFFER, 0);
       gpu::checkGlError("splatting pass");
+    }
+    if (levels > 1) {
+      auto t = timer->scope("accumulation");
+      glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+      const gpu::ShaderProgram& p = *upsampleProgram;
+      gpu::bindStorage(kVertexProfiles, vertexProfileBuffer);
+      gpu::bindStorage(kTriangles, triangleBuffer);
+      gpu::bindStorage(kMeshFloats, gpuMesh->vertexBuffer());
+      gpu::bindStorage(kVertexRp, vertexRpBuffer);
+      p.set("SpFloatsPerVertex", gpuMesh->floatsPerVertex());
+      p.set("CameraPosition", camPos);
+      p.set("CameraForward", camFwd);
+      p.set("Rw", static_cast<float>(2.0 * radius));
+      p.set("LambdaZ", static_cast<float>(params.getFloat("lambda_z")));
+      p.set("LambdaM", static_cast<float>(params.getFloat("lambda_m")));
+      for (int k = levels - 2; k >= 0; --k) {
+        const Level& c = levelTargets[size_t(k)];
+        const int fw = k == 0 ? width : levelTargets[size_t(k - 1)].w;
+        const int fh = k == 0 ? height : levelTargets[size_t(k - 1)].h;
+        glBindTextureUnit(0, k == 0 ? gbuffer.position().id() : levelTargets[size_t(k - 1)].position.id());
+        glBindTextureUnit(1, c.position.id());
+        glBindTextureUnit(2, c.accum.id());
+        glBindImageTexture(0, k == 0 ? accum.id() : levelTargets[size_t(k - 1)].accum.id(), 0, GL_FALSE, 0,
+                           GL_READ_WRITE, GL_RGBA32F);
+        gpu::dispatch(p, {(unsigned(fw) + 7u) / 8u, (unsigned(fh) + 7u) / 8u, 1u});
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+      }
     }
     {
       auto t = timer->scope("radiance");
@@ -312,7 +535,7 @@ std::string_view SplattingTechnique::description() const {
   return impl_->shah ? "image-space splatting of every irradiance texel with full-size splats "
                        "(Shah, Kontinen & Pattanaik 2009)"
                      : "multiresolution splatting of light-view irradiance samples (Chen, Peers, "
-                       "Zhang & Tong 2012); so far without its accelerations";
+                       "Zhang & Tong 2012); no adaptive sample selection yet";
 }
 
 const std::vector<techniques::ParameterInfo>& SplattingTechnique::parameters() const {

@@ -24,11 +24,23 @@
 // barycentrics taken on the deformed mesh. A homogeneous material gives every vertex the same
 // profile (the model's R(r) on the node grid).
 //
-// State of this branch: only the non-accelerated configuration is implemented — one level, every
-// irradiance texel splatted, full-range splats (R_min = 0, R_max = r_cut): adaptive = false,
-// multires = false (levels is then unused). `shah` is that configuration. adaptive = true or
-// multires = true throw ParameterError ("not implemented"). The parameters z0, alpha, epsilon,
-// lambda_z, lambda_m are declared with the paper's defaults for the accelerated passes.
+// Multiresolution (multires = true, levels n > 1; Eqs. 12-17): the splatting buffer's mipmap by
+// the 2×2 median-depth filter (shaders/splatting/downsample.comp, splatting::medianDepthIndex);
+// each sample splats at level k only the distances [R^k_min, R^k_max) of Eq. 13
+// (splatting::splatRanges, evaluated per sample in splat.vert: R_P the sample's 95% radius —
+// per vertex, of its widest channel, interpolated —, T0 = projectedResolution at the sample's
+// depth, R̄ from splatting::RbarTable built over the mean normalised profile of the vertex
+// profiles with ε = epsilon), with one deviation: R^{n−1}_max = r_cut instead of R_P, so the
+// profiles' tail beyond R_P (up to 5% of the energy) is kept at the coarsest level; each level's
+// image is then bilaterally upsampled into the next finer one and added (Eq. 17,
+// shaders/splatting/upsample.comp, splatting::bilateralUpsample; λz, λm; R_w the bounding-sphere
+// diameter; z the view depth). multires = false (or levels = 1): one level, R_min = 0,
+// R_max = r_cut. `shah` is that unaccelerated configuration (every irradiance texel, full-range
+// splats).
+//
+// Not implemented on this branch: adaptive sample selection (Eqs. 10-11, Algorithm 1;
+// adaptive = true throws ParameterError; every irradiance texel is splatted). z0 and alpha are
+// declared with the paper's defaults for it.
 //
 // Lights: directional and point (outside the bounding sphere); environment, beam and filtered
 // directional lights are refused with a ParameterError naming lights[i] and the supported types.
