@@ -31,7 +31,7 @@ constexpr Entry kTechniques[] = {
      &tsm::makeTsmTechnique},
     {"lss", "local subsurface scattering: per-pixel importance sampling of Rd on the image plane (Mertens et al. 2003)",
      &lss::makeLssTechnique},
-    {"splatting", "multiresolution splatting of light-view irradiance samples (Chen et al. 2012); no adaptive sample selection yet",
+    {"splatting", "multiresolution splatting of adaptively selected light-view irradiance samples (Chen, Peers, Zhang & Tong 2012)",
      &splatting::makeSplattingTechnique},
     {"shah", "image-space splatting of every irradiance texel with full-size splats (Shah, Kontinen & Pattanaik 2009)",
      &splatting::makeShahTechnique},

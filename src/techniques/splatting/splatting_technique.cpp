@@ -47,8 +47,8 @@ std::vector<ParameterInfo> parameterInfos(bool shah) {
   };
   if (!shah) {
     out.push_back(ParameterInfo::integer("levels", 3, 1, 6,
-                                         "splatting levels of the multiresolution hierarchy "
-                                         "(used with multires)", "levels"));
+                                         "levels of the splatting buffer (multires) and of "
+                                         "the irradiance buffer (adaptive)", "levels"));
     out.push_back(ParameterInfo::boolean("adaptive", true,
                                          "adaptive sample selection from the hierarchical "
                                          "irradiance buffer (Eqs. 10-11, Algorithm 1)"));
@@ -237,8 +237,7 @@ struct SplattingTechnique::Impl : techniques::ClosedMeshState {
     profileDesc = s.material;
   }
 
-  void requireImplemented() const {
-  }
+
 
   void renderMap(LightState& st) {
     const scene::Scene& s = *scene;
@@ -339,7 +338,6 @@ struct SplattingTechnique::Impl : techniques::ClosedMeshState {
 
   techniques::Frame render(const techniques::FrameRequest& request) {
     if (!scene) throw ParameterError(fmt::format("{}: render() before prepare(): expected a scene", techniqueName()));
-    requireImplemented();
     const scene::Scene& s = *scene;
     const auto [width, height] = techniques::frameSize(request, s.camera);
     if (!timer) timer.emplace();
@@ -534,8 +532,8 @@ std::string_view SplattingTechnique::name() const { return impl_->techniqueName(
 std::string_view SplattingTechnique::description() const {
   return impl_->shah ? "image-space splatting of every irradiance texel with full-size splats "
                        "(Shah, Kontinen & Pattanaik 2009)"
-                     : "multiresolution splatting of light-view irradiance samples (Chen, Peers, "
-                       "Zhang & Tong 2012); no adaptive sample selection yet";
+                     : "multiresolution splatting of adaptively selected light-view irradiance samples "
+                       "(Chen, Peers, Zhang & Tong 2012)";
 }
 
 const std::vector<techniques::ParameterInfo>& SplattingTechnique::parameters() const {

@@ -38,9 +38,18 @@
 // R_max = r_cut. `shah` is that unaccelerated configuration (every irradiance texel, full-range
 // splats).
 //
-// Not implemented on this branch: adaptive sample selection (Eqs. 10-11, Algorithm 1;
-// adaptive = true throws ParameterError; every irradiance texel is splatted). z0 and alpha are
-// declared with the paper's defaults for it.
+// Adaptive sample selection (adaptive = true; Eqs. 10-11, Algorithm 1): the hierarchical
+// irradiance buffer of `levels` levels per light (shaders/splatting/irradiance_mip.comp: level 0
+// the light-view map's texels with power E ΔA, R_P and light-view depth; each coarser texel the
+// sum of its children's power, their mean position, cos θ_g and R_P, the min/max of their depths,
+// the profile of its most-covering child's triangle) and, per texel at every level, the rule of
+// splatting::validSample with Eq. 10 = splatting::passesEq10 (z0 × the bounding radius, α, R_w
+// the bounding-sphere diameter, the level's resolution; in splat.vert): a texel is splatted when
+// it passes at its level (level 0: always, the fallback) and no coarser ancestor passes. Each
+// selected sample then splats over the splatting levels as above. Approximations of this
+// implementation (the paper leaves them open): the coarse sample's position is the mean of its
+// covered texels (not necessarily on the surface; its profile is taken at its projection on the
+// representative triangle).
 //
 // Lights: directional and point (outside the bounding sphere); environment, beam and filtered
 // directional lights are refused with a ParameterError naming lights[i] and the supported types.
