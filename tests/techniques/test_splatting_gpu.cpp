@@ -7,7 +7,7 @@
 //   - with adaptive selection as well (the full acceleration) within 4%;
 //   - the same equality on a homogeneous cube with a point light and on a deformed bunny;
 //   - shah renders the same image as splatting without acceleration;
-//   - unsupported lights and unimplemented options are refused with a clear ParameterError.
+//   - environment, beam and filtered directional lights are refused with a clear ParameterError.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -284,20 +284,27 @@ TEST_F(SplattingGpu, ShahEqualsUnacceleratedSplatting) {
 }
 
 TEST_F(SplattingGpu, RefusesUnsupportedLights) {
-  scene::Scene s = veinsScene();
-  s.lights[1].emitter = scene::EnvironmentLight{};
-  for (const char* name : {"splatting", "shah"}) {
-    auto t = techniques::make(name);
-    try {
-      t->prepare(s, gpu::testing::context());
-      ADD_FAILURE() << name << ": expected a ParameterError";
-    } catch (const ParameterError& e) {
-      const std::string what = e.what();
-      EXPECT_NE(what.find("lights[1]"), std::string::npos) << what;
-      EXPECT_NE(what.find("environment light"), std::string::npos) << what;
-      EXPECT_NE(what.find("directional and point lights"), std::string::npos) << what;
+  const std::pair<scene::Light, const char*> cases[] = {
+      {scene::Light{scene::EnvironmentLight{}}, "an environment light"},
+      {scene::Light{reference::BeamLight{}}, "a beam light"},
+      {scene::Light{scene::FilteredDirectionalLight{}}, "a filtered directional light"},
+  };
+  for (const auto& [light, kind] : cases)
+    for (const char* name : {"splatting", "shah"}) {
+      scene::Scene s = veinsScene();
+      s.lights[1] = light;
+      auto t = techniques::make(name);
+      try {
+        t->prepare(s, gpu::testing::context());
+        ADD_FAILURE() << name << ", " << kind << ": expected a ParameterError";
+      } catch (const ParameterError& e) {
+        const std::string what = e.what();
+        EXPECT_NE(what.find("lights[1]"), std::string::npos) << what;
+        EXPECT_NE(what.find(kind), std::string::npos) << what;
+        EXPECT_NE(what.find(std::string("the ") + name + " technique supports directional and point lights"),
+                  std::string::npos) << what;
+      }
     }
-  }
 }
 
 }  // namespace
