@@ -201,7 +201,12 @@ void runRender(const RenderArgs& a) {
 
   // Scene, with the command line's overrides.
   scene::Scene s = a.scene.empty() ? scene::defaultScene() : scene::loadScene(a.scene);
-  if (a.technique) s.technique = *a.technique;
+  if (a.technique) {
+    // The scene's technique settings belong to the scene's technique: another one named on the
+    // command line starts from its own defaults (its options still apply).
+    if (*a.technique != s.technique) s.settings.clear();
+    s.technique = *a.technique;
+  }
   if (a.width) s.camera.width = *a.width;
   if (a.height) s.camera.height = *a.height;
   if (a.model) s.model = *a.model;

@@ -38,7 +38,13 @@ void main() {
   float cosG = dot(ng, l);
   float cosTheta = dot(n, l);
   vec3 e = cosTheta > 0.0 ? value * (pcFresnelTransmittance(cosTheta, Eta) * cosTheta) : vec3(0.0);
+#ifdef LVM_PRIMITIVE_ID
+  // w = 1 + the triangle index (exact in float below 2^24 triangles): the splatting technique
+  // reads the texel's surface profile from its triangle (as pointcloud/gbuffer.frag, PC_HETERO).
+  outPosition = vec4(vPosition, 1.0 + float(gl_PrimitiveID));
+#else
   outPosition = vec4(vPosition, 1.0);
+#endif
   outNormal = vec4(ng, cosG);
   outIrradiance = vec4(e, 0.0);
 }

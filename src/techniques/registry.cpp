@@ -6,6 +6,7 @@
 #include "techniques/empirical/empirical_technique.h"
 #include "techniques/lss/lss_technique.h"
 #include "techniques/pointcloud/pointcloud_technique.h"
+#include "techniques/splatting/splatting_technique.h"
 #include "techniques/tsis/tsis_technique.h"
 #include "techniques/tsm/tsm_technique.h"
 
@@ -30,6 +31,10 @@ constexpr Entry kTechniques[] = {
      &tsm::makeTsmTechnique},
     {"lss", "local subsurface scattering: per-pixel importance sampling of Rd on the image plane (Mertens et al. 2003)",
      &lss::makeLssTechnique},
+    {"splatting", "multiresolution splatting of adaptively selected light-view irradiance samples (Chen, Peers, Zhang & Tong 2012)",
+     &splatting::makeSplattingTechnique},
+    {"shah", "image-space splatting of every irradiance texel with full-size splats (Shah, Kontinen & Pattanaik 2009)",
+     &splatting::makeShahTechnique},
 };
 
 const Entry& find(std::string_view name) {

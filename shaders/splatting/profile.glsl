@@ -1,0 +1,45 @@
+// Per-point profiles of the splatting technique (src/techniques/splatting/splatting_technique.h):
+// Eq. 8 between two surface points, each on a triangle of the (possibly deformed) mesh, their
+// ln P nodes the barycentric interpolation of the triangle's vertex profiles (computed once at
+// the rest pose, material/point_profiles.h). The segment arithmetic (Eq. 9, the tail) is
+// pointcloud/hetero.glsl's; the barycentrics use the deformed vertex buffer (GpuMesh's
+// interleaved floats) so that they stay valid under deformation.
+// Needs PC_PROFILE_NODES = n + 1.
+#pragma once
+#include "pointcloud/hetero.glsl"
+
+layout(std430, binding = 14) readonly buffer SpMeshFloats { float spMeshFloat[]; };  // GpuMesh vertices
+uniform uint SpFloatsPerVertex;
+
+vec3 spVertex(uint v) {
+  uint b = v * SpFloatsPerVertex;
+  return vec3(spMeshFloat[b], spMeshFloat[b + 1u], spMeshFloat[b + 2u]);
+}
+
+// Barycentrics of x's projection on triangle `tri`, clamped and renormalised (as
+// pcHeteroShadingInit, cpu_traversal.h shadingProfile).
+vec3 spBarycentric(vec3 x, uint tri) {
+  uvec4 t = pcTriangle[tri];
+  vec3 a = spVertex(t.x), e0 = spVertex(t.y) - a, e1 = spVertex(t.z) - a, e2 = x - a;
+  float d00 = dot(e0, e0), d01 = dot(e0, e1), d11 = dot(e1, e1), d20 = dot(e2, e0), d21 = dot(e2, e1);
+  float den = d00 * d11 - d01 * d01;
+  float v = den > 0.0 ? (d11 * d20 - d01 * d21) / den : 1.0 / 3.0;
+  float w = den > 0.0 ? (d00 * d21 - d01 * d20) / den : 1.0 / 3.0;
+  v = max(v, 0.0);
+  w = max(w, 0.0);
+  float u = max(1.0 - v - w, 0.0);
+  return vec3(u, v, w) / (u + v + w);
+}
+
+// Node k of the interpolated profile of a point on `tri` with barycentrics `b`.
+vec3 spNode(uint tri, vec3 b, uint k) {
+  uvec4 t = pcTriangle[tri];
+  return b.x * pcVertexProfile[t.x * PC_M + k].xyz + b.y * pcVertexProfile[t.y * PC_M + k].xyz +
+         b.z * pcVertexProfile[t.z * PC_M + k].xyz;
+}
+
+// ln P of that point at the distance of segment s (Eq. 9: linear in the nodes, so interpolating
+// the two nodes of the segment equals interpolating every node first).
+vec3 spLnProfile(uint tri, vec3 b, PcSegment s) {
+  return pcLnOnSegment(spNode(tri, b, s.k), spNode(tri, b, s.k + 1u), s);
+}
