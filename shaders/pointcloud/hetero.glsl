@@ -24,11 +24,11 @@ const float PC_LN_ZERO = -1e30;            // ln 0
 
 vec3 pcShading[PC_PROFILE_NODES];  // the shading point's ln P nodes
 
-// The shading point's profile on triangle `tri` at x (barycentrics of x's projection on the
-// triangle's plane, clamped and renormalised: cpu_traversal.h shadingProfile).
-void pcHeteroShadingInit(vec3 x, uint tri) {
-  uvec4 t = pcTriangle[tri];
-  vec3 a = pcVertex[t.x].xyz, e0 = pcVertex[t.y].xyz - a, e1 = pcVertex[t.z].xyz - a, e2 = x - a;
+// Barycentrics (u, v, w) of x's projection on the plane of triangle (a, b, c), clamped to the
+// triangle and renormalised (cpu_traversal.h shadingProfile); a degenerate triangle gives its
+// centroid. Shared with the splatting technique (splatting/profile.glsl).
+vec3 pcClampedBarycentric(vec3 a, vec3 b, vec3 c, vec3 x) {
+  vec3 e0 = b - a, e1 = c - a, e2 = x - a;
   float d00 = dot(e0, e0), d01 = dot(e0, e1), d11 = dot(e1, e1), d20 = dot(e2, e0), d21 = dot(e2, e1);
   float den = d00 * d11 - d01 * d01;
   float v = den > 0.0 ? (d11 * d20 - d01 * d21) / den : 1.0 / 3.0;
@@ -36,10 +36,14 @@ void pcHeteroShadingInit(vec3 x, uint tri) {
   v = max(v, 0.0);
   w = max(w, 0.0);
   float u = max(1.0 - v - w, 0.0);
-  float sum = u + v + w;
-  u /= sum;
-  v /= sum;
-  w /= sum;
+  return vec3(u, v, w) / (u + v + w);
+}
+
+// The shading point's profile on triangle `tri` at x.
+void pcHeteroShadingInit(vec3 x, uint tri) {
+  uvec4 t = pcTriangle[tri];
+  vec3 bc = pcClampedBarycentric(pcVertex[t.x].xyz, pcVertex[t.y].xyz, pcVertex[t.z].xyz, x);
+  float u = bc.x, v = bc.y, w = bc.z;
   for (uint k = 0u; k < PC_M; ++k)
     pcShading[k] = u * pcVertexProfile[t.x * PC_M + k].xyz + v * pcVertexProfile[t.y * PC_M + k].xyz +
                    w * pcVertexProfile[t.z * PC_M + k].xyz;

@@ -16,19 +16,10 @@ vec3 spVertex(uint v) {
   return vec3(spMeshFloat[b], spMeshFloat[b + 1u], spMeshFloat[b + 2u]);
 }
 
-// Barycentrics of x's projection on triangle `tri`, clamped and renormalised (as
-// pcHeteroShadingInit, cpu_traversal.h shadingProfile).
+// Barycentrics of x's projection on triangle `tri` of the deformed mesh (hetero.glsl's rule).
 vec3 spBarycentric(vec3 x, uint tri) {
   uvec4 t = pcTriangle[tri];
-  vec3 a = spVertex(t.x), e0 = spVertex(t.y) - a, e1 = spVertex(t.z) - a, e2 = x - a;
-  float d00 = dot(e0, e0), d01 = dot(e0, e1), d11 = dot(e1, e1), d20 = dot(e2, e0), d21 = dot(e2, e1);
-  float den = d00 * d11 - d01 * d01;
-  float v = den > 0.0 ? (d11 * d20 - d01 * d21) / den : 1.0 / 3.0;
-  float w = den > 0.0 ? (d00 * d21 - d01 * d20) / den : 1.0 / 3.0;
-  v = max(v, 0.0);
-  w = max(w, 0.0);
-  float u = max(1.0 - v - w, 0.0);
-  return vec3(u, v, w) / (u + v + w);
+  return pcClampedBarycentric(spVertex(t.x), spVertex(t.y), spVertex(t.z), x);
 }
 
 // Node k of the interpolated profile of a point on `tri` with barycentrics `b`.
