@@ -79,7 +79,12 @@ class CompareCli : public ::testing::Test {
   static void SetUpTestSuite() {
     fs::remove_all(kRoot);
     fs::create_directories(kRoot);
-    first_ = new CliRun(run(testScene("cube.json", "1.0") + "--sweep " + common(kRoot / "report"),
+    // The five techniques whose sweeps are checked below. splatting and shah are left out: on
+    // llvmpipe one of their frames at the sweep's 1024² irradiance buffer takes minutes (their
+    // accuracy is tested in test_splatting_gpu; their compare rows in BENCHMARKS.md).
+    first_ = new CliRun(run(testScene("cube.json", "1.0") +
+                                "--techniques pointcloud,empirical,tsis,tsm,lss --sweep " +
+                                common(kRoot / "report"),
                             "first"));
   }
   static void TearDownTestSuite() {
