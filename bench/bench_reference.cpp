@@ -9,16 +9,33 @@
 //                     Monte Carlo figure of merit; compares estimators that spend different
 //                     work per photon (analog absorption vs MCML's weight dropping).
 //
+// The GPU tracer (reference/gpu/slab_gpu.h) runs in the same binary on the same setups, in the
+// GL context EGL gives (llvmpipe on a machine without a GPU): its photons/s/thread counter is
+// photons per second of wall time (the host thread is 1), its name says the renderer.
+//
+// bunny/cpu_1t, bunny/gpu: the mesh tracer (reference/mesh_tracer.h, Embree) and its GPU walk
+// (mesh_gpu.h, flat BVH) on the glmark2 bunny (69,666 triangles, radius 1), Marble at 5 mm per
+// unit (~25 mean free paths across), two directional lights, photons per channel per second.
+// sphere/cpu_1t, sphere/gpu: the lit sphere (reference/sphere.h; Marble, 3 mm radius, RGB) on
+// one CPU thread and through the GPU walker (sphere_gpu.h), photons per channel per second.
+//
 // Run: build/release/bin/bench_reference [--benchmark_filter=mcml_slab]
 #include <benchmark/benchmark.h>
 
 #include <chrono>
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "gpu/context.h"
 #include "mcml_peer.h"
+#include "reference/gpu/slab_gpu.h"
+#include "reference/gpu/mesh_gpu.h"
+#include "reference/gpu/sphere_gpu.h"
 #include "reference/slab.h"
+#include "reference/mesh_tracer.h"
+#include "reference/sphere.h"
 
 namespace {
 
@@ -76,18 +93,16 @@ void setCounters(benchmark::State& state, uint64_t photons, double seconds, int 
   state.SetItemsProcessed(static_cast<int64_t>(photons));
 }
 
-void BM_Ours(benchmark::State& state, Config c, Kernel kernel, Absorption absorption, int threads) {
-  reference::TraceOptions o;
-  o.photons = c.batch;
-  o.threads = threads;
-  o.kernel = kernel;
-  o.absorption = absorption;
+// Runs of `o` with seeds 1, 2, ... through `trace` (the CPU or the GPU slab tracer).
+template <class Trace>
+void runSlab(benchmark::State& state, Config c, reference::TraceOptions o, int threads,
+             Trace&& trace) {
   uint64_t photons = 0, seed = 1;
   double seconds = 0.0, events = 0.0, varSum = 0.0;
   int runs = 0;
   for (auto _ : state) {
     o.seed = seed++;
-    const auto r = reference::traceSlab(c.setup, o);
+    const auto r = trace(c.setup, o);
     photons += r.photons;
     seconds += r.seconds;
     events += static_cast<double>(r.scattering_events);
@@ -96,6 +111,33 @@ void BM_Ours(benchmark::State& state, Config c, Kernel kernel, Absorption absorp
     ++runs;
   }
   setCounters(state, photons, seconds, threads, events, varSum, runs);
+}
+
+void BM_Ours(benchmark::State& state, Config c, Kernel kernel, Absorption absorption, int threads) {
+  reference::TraceOptions o;
+  o.photons = c.batch;
+  o.threads = threads;
+  o.kernel = kernel;
+  o.absorption = absorption;
+  runSlab(state, c, o, threads, [](const SlabSetup& s, const reference::TraceOptions& t) {
+    return reference::traceSlab(s, t);
+  });
+}
+
+translucent::gpu::Context& gpuContext() {
+  static translucent::gpu::Context context;
+  context.makeCurrent();
+  return context;
+}
+
+void BM_Gpu(benchmark::State& state, Config c, Absorption absorption) {
+  state.SetLabel(gpuContext().info().renderer);
+  reference::TraceOptions o;
+  o.photons = c.batch * 8;  // dispatches of at least 16 blocks, then doubling (slab_gpu.cpp)
+  o.absorption = absorption;
+  runSlab(state, c, o, 1, [](const SlabSetup& s, const reference::TraceOptions& t) {
+    return reference::traceSlabGpu(s, t);
+  });
 }
 
 void BM_Mcml(benchmark::State& state, Config c) {
@@ -125,7 +167,71 @@ void BM_Mcml(benchmark::State& state, Config c) {
   setCounters(state, photons, seconds, 1, events, varSum, runs);
 }
 
+// Passes of `blocks` blocks of fresh tracers (make(seed)) per iteration, photons per channel per
+// second; the GPU walkers' batches double from 4 blocks up to 256 (transport.h:
+// scoreWalkedBlocks), so a pass of 64 blocks is 5 dispatches per channel.
+template <class Make>
+void runPasses(benchmark::State& state, uint64_t blocks, Make&& make) {
+  uint64_t photons = 0, seed = 1;
+  double seconds = 0.0, events = 0.0;
+  for (auto _ : state) {
+    const auto t = make(seed++);
+    const auto st = t->addPass(blocks * reference::kBlockPhotons);
+    photons += st.photons[0];
+    seconds += st.seconds;
+    events += static_cast<double>(st.scattering_events) / static_cast<double>(st.photons.size());
+  }
+  state.counters["photons/s/thread"] = static_cast<double>(photons) / seconds;
+  state.counters["events/photon"] = events / static_cast<double>(photons);
+}
+
+void BM_Sphere(benchmark::State& state, bool gpu) {
+  reference::SphereScene scene;
+  scene.width = scene.height = 64;
+  Medium medium;  // Marble
+  medium.scale = 3.0;
+  if (gpu) state.SetLabel(gpuContext().info().renderer);
+  runPasses(state, 64, [&](uint64_t seed) {
+    auto t = std::make_unique<reference::SpherePathTracer>(scene, medium,
+                                                           reference::TracerOptions{seed, 1});
+    if (gpu) t->setWalker(reference::makeGpuSphereWalker(gpuContext()));
+    return t;
+  });
+}
+
+void BM_Bunny(benchmark::State& state, bool gpu) {
+  static const geometry::TriangleMesh mesh = [] {
+    geometry::TriangleMesh m = geometry::loadMesh("/usr/share/glmark2/models/bunny.obj");
+    const geometry::Bounds b = m.bounds();
+    m.transform(1.0 / b.radius(), -b.center() / b.radius());
+    return m;
+  }();
+  Medium medium;  // Marble
+  medium.scale = 5.0;
+  const std::vector<reference::Light> lights = {
+      {reference::DirectionalLight{glm::normalize(glm::dvec3(-0.3, 0.9, -0.6)), 5.0}, {1.0, 0.85, 0.7}},
+      {reference::DirectionalLight{glm::normalize(glm::dvec3(0.6, 0.2, 1.0)), 0.12}, {0.7, 0.8, 1.0}}};
+  reference::Camera cam;
+  cam.position = {0.15, 0.2, 3.2};
+  cam.width = cam.height = 64;
+  if (gpu) state.SetLabel(gpuContext().info().renderer);
+  runPasses(state, 32, [&](uint64_t seed) {
+    auto t = std::make_unique<reference::MeshPathTracer>(mesh, medium, lights, cam, 5.0,
+                                                         reference::TracerOptions{seed, 1});
+    if (gpu) t->setWalker(reference::makeGpuMeshWalker(gpuContext(), mesh));
+    return t;
+  });
+}
+
 const bool registered = [] {
+  for (bool gpu : {false, true})
+    benchmark::RegisterBenchmark(gpu ? "bunny/gpu" : "bunny/cpu_1t", BM_Bunny, gpu)
+        ->UseRealTime()
+        ->Unit(benchmark::kMillisecond);
+  for (bool gpu : {false, true})
+    benchmark::RegisterBenchmark(gpu ? "sphere/gpu" : "sphere/cpu_1t", BM_Sphere, gpu)
+        ->UseRealTime()
+        ->Unit(benchmark::kMillisecond);
   for (const Config& c : configs()) {
     auto add = [&](const std::string& what, auto&&... args) {
       benchmark::RegisterBenchmark((c.name + "/" + what).c_str(), args...)
@@ -140,6 +246,8 @@ const bool registered = [] {
       add("ours_scalar_analog_1t", BM_Ours, c, Kernel::Scalar, Absorption::Analog, 1);
       add("ours_scalar_weighted_1t", BM_Ours, c, Kernel::Scalar, Absorption::Weighted, 1);
     }
+    add("gpu_analog", BM_Gpu, c, Absorption::Analog);
+    add("gpu_weighted", BM_Gpu, c, Absorption::Weighted);
     add("mcml_1t", BM_Mcml, c);
   }
   return true;

@@ -22,6 +22,7 @@
 #include <set>
 
 #include "safe_print.h"
+#include "analysis/compare_run.h"
 #include "analysis/leaderboard.h"
 #include "analysis/report.h"
 #include "commands.h"
@@ -44,7 +45,9 @@ struct CompareArgs {
   std::string suite;  // --suite DIR: every *.json in it
   std::string techniques = "all";
   std::string references = "physical,model";
+  std::string reference_from;  // --reference-from: the physical reference from a pathtrace run
   std::string photons = "1e6", samples = "200000";
+  std::string reference_device = "cpu";  // --reference-device: where the physical reference runs
   int subpixels = 1;  // pixel centres, as the techniques shade them
   bool sweep = false;
   std::string out = "compare-report";
@@ -58,106 +61,10 @@ struct CompareArgs {
   std::optional<double> time;  // of the mesh's deformations (the scene's when not given)
 };
 
-double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-// One converged frame read back (the images), then `warmup` + `frames` frames kept on the GPU
-// (read-back stalls the pipeline, techniques/technique.h), of which the last `frames` are timed.
-struct Rendered {
-  analysis::TechniqueImages images;
-  std::vector<PassStat> passes;
-  double frame_ms = 0.0;
-  std::vector<std::string> notes;
-};
-
-// `row`: the row's name (the technique's, or a variant's spec).
-Rendered renderTimed(techniques::Technique& t, const std::string& row, const scene::Scene& s, int warmup,
-                     int frames) {
-  Rendered r;
-  techniques::FrameRequest request;
-  request.converge = true;
-  techniques::Frame f = t.render(request);
-  r.notes = f.notes;
-  if (f.width != s.camera.width || f.height != s.camera.height)
-    throw std::runtime_error(fmt::format("technique {} rendered {}x{}: expected the camera's {}x{}",
-                                         t.name(), f.width, f.height, s.camera.width,
-                                         s.camera.height));
-  r.images.name = row;
-  r.images.convention = techniques::radianceConvention(t);
-  r.images.radiance = {f.width, f.height, std::move(f.rgb), {}};
-  if (auto it = f.layers.find("exitance"); it != f.layers.end())
-    r.images.exitance = {f.width, f.height, std::move(it->second), {}};
-  request.readback = false;
-  std::vector<double> totals;
-  std::vector<std::pair<std::string, int>> order;  // passes in frame order
-  std::map<std::pair<std::string, int>, std::vector<double>> times;
-  for (int k = 0; k < warmup + frames; ++k) {
-    const techniques::Frame g = t.render(request);
-    if (k < warmup) continue;
-    totals.push_back(g.totalMs());
-    for (const auto& p : g.passes) {
-      const auto key = std::make_pair(p.name, p.depth);
-      if (!times.contains(key)) order.push_back(key);
-      times[key].push_back(p.ms);
-    }
-  }
-  r.frame_ms = median(totals);
-  for (const auto& key : order) {
-    const auto& v = times[key];
-    r.passes.push_back({key.first, key.second, median(v), *std::min_element(v.begin(), v.end()),
-                        *std::max_element(v.begin(), v.end())});
-  }
-  return r;
-}
-
-// A row of the comparison: a technique, or a variant of one, "name:key=value:key=value" (e.g.
-// tsis:mode=hybrid:samples=900), so that one report compares settings of the same technique
-// side by side; the spec is the row's name.
-struct TechniqueSpec {
-  std::string base;
-  std::vector<std::pair<std::string, std::string>> settings;
-};
-
-TechniqueSpec parseSpec(const std::string& spec) {
-  TechniqueSpec out;
-  std::vector<std::string> parts;
-  size_t start = 0;
-  for (;;) {
-    const size_t colon = spec.find(':', start);
-    parts.push_back(spec.substr(start, colon == std::string::npos ? std::string::npos : colon - start));
-    if (colon == std::string::npos) break;
-    start = colon + 1;
-  }
-  out.base = parts[0];
-  for (size_t i = 1; i < parts.size(); ++i) {
-    const size_t eq = parts[i].find('=');
-    if (eq == std::string::npos || eq == 0 || eq + 1 == parts[i].size())
-      throw ParameterError(fmt::format("--techniques: '{}': '{}' is not key=value (a variant is "
-                                       "name:key=value:key=value)", spec, parts[i]));
-    out.settings.emplace_back(parts[i].substr(0, eq), parts[i].substr(eq + 1));
-  }
-  return out;
-}
-
-// Makes the technique of a spec and applies its settings (the scene's first when the scene
-// names the base technique); errors name the spec and the setting.
-std::unique_ptr<techniques::Technique> makeSpec(const std::string& spec, const scene::Scene* scene) {
-  const TechniqueSpec ts = parseSpec(spec);
-  std::unique_ptr<techniques::Technique> t = techniques::make(ts.base);
-  if (scene && ts.base == scene->technique) techniques::applySettings(*t, *scene);
-  for (const auto& [key, value] : ts.settings) {
-    try {
-      t->setParameter(key, value);
-    } catch (const std::exception& e) {
-      throw ParameterError(fmt::format("--techniques '{}': {}", spec, e.what()));
-    }
-  }
-  return t;
-}
+using analysis::makeTechniqueSpec;
+using analysis::parseTechniqueSpec;
+using analysis::renderTimed;
+using analysis::utcNow;
 
 std::vector<std::string> techniqueList(const std::string& text) {
   const std::vector<std::string> all = techniques::names();
@@ -169,11 +76,11 @@ std::vector<std::string> techniqueList(const std::string& text) {
         if (std::find(out.begin(), out.end(), a) == out.end()) out.push_back(a);
       continue;
     }
-    const std::string base = parseSpec(n).base;
+    const std::string base = parseTechniqueSpec(n).base;
     if (std::find(all.begin(), all.end(), base) == all.end())
       throw ParameterError(fmt::format("--techniques '{}': unknown technique '{}': valid techniques "
                                        "are {} (or all)", text, base, fmt::join(all, ", ")));
-    (void)makeSpec(n, nullptr);  // the settings exist and take their values
+    (void)makeTechniqueSpec(n, nullptr);  // the settings exist and take their values
     if (std::find(out.begin(), out.end(), n) == out.end()) out.push_back(n);
   }
   if (out.empty())
@@ -188,14 +95,6 @@ std::string quoted(const std::string& s) {
   return q + "'";
 }
 
-std::string utcNow() {
-  const std::time_t now = std::time(nullptr);
-  std::tm tm{};
-  gmtime_r(&now, &tm);
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
-  return buf;
-}
 
 // The options that apply to every scene, checked once (before a suite's first scene).
 struct Parsed {
@@ -279,6 +178,8 @@ SceneOutcome compareScene(const CompareArgs& a, const Parsed& parsed, const std:
                      a.seed, s.camera.width, s.camera.height, a.frames, a.warmup,
                      a.sweep ? " --sweep" : "", quoted(out.string()));
   if (a.time) cmd += fmt::format(" --time {}", *a.time);
+  if (!a.reference_from.empty()) cmd += " --reference-from " + quoted(a.reference_from);
+  if (a.reference_device != "cpu") cmd += " --reference-device " + a.reference_device;
   if (a.no_cache) cmd += " --no-cache";
   else if (!a.cache.empty()) cmd += " --cache " + quoted(cacheDir.string());
   report.command = cmd;
@@ -298,6 +199,7 @@ SceneOutcome compareScene(const CompareArgs& a, const Parsed& parsed, const std:
                      {"photons_per_channel", std::to_string(photons)},
                      {"samples", std::to_string(samples)},
                      {"subpixels", std::to_string(a.subpixels)},
+                     {"reference_device", a.reference_device},
                      {"seed", std::to_string(a.seed)},
                      {"threads", std::to_string(a.threads)},
                      {"width", std::to_string(s.camera.width)},
@@ -332,12 +234,26 @@ SceneOutcome compareScene(const CompareArgs& a, const Parsed& parsed, const std:
     req.seed = a.seed;
     req.threads = a.threads;
     req.subpixels = a.subpixels;
+    req.device = a.reference_device;
     const bool physical = kind == analysis::ReferenceKind::Physical;
     ProgressBar bar(fmt::format("compare: {} reference", toString(kind)),
                     physical ? "photons" : "pixels");
     printStderr("{} reference ({} {}):\n", toString(kind), req.count,
                physical ? "photons per channel" : "surface samples");
     analysis::Reference ref;
+    if (physical && !a.reference_from.empty()) {
+      // Traced elsewhere (e.g. sharded on a cluster and merged, issue 17): checked against this
+      // scene by its reference key.
+      ref = analysis::loadPathtracedReference(a.reference_from, s);
+      const std::string what = fmt::format("read from {} ({} photons per channel, seed {}, traced "
+                                           "in {:.2f} s)", a.reference_from, ref.count_done,
+                                           ref.request.seed, ref.seconds);
+      bar.end();
+      printStderr("physical reference: {}\n", what);
+      report.notes.push_back("physical reference: " + what);
+      report.references.push_back(std::move(ref));
+      continue;
+    }
     try {
       ref = analysis::cachedReference(
           s, mesh, req, cache ? &*cache : nullptr,
@@ -349,15 +265,7 @@ SceneOutcome compareScene(const CompareArgs& a, const Parsed& parsed, const std:
       throw std::runtime_error(fmt::format("{} reference: {}", toString(kind), e.what()));
     }
     bar.end();
-    const std::string what =
-        ref.from_cache ? fmt::format("reused from the cache: {} (computed in {:.2f} s)",
-                                     ref.cache_file.string(), ref.seconds)
-                       : fmt::format("computed in {:.2f} s{}; {}", ref.seconds,
-                                     ref.partial ? " (stopped early: partial)" : "",
-                                     ref.cache_file.empty() ? (ref.cache_note.empty()
-                                                                   ? std::string("not cached")
-                                                                   : ref.cache_note)
-                                                            : "cached as " + ref.cache_file.string());
+    const std::string what = analysis::referenceOrigin(ref);
     printStderr("{} reference: {}\n", toString(kind), what);
     report.notes.push_back(fmt::format("{} reference: {}", toString(kind), what));
     report.partial = report.partial || ref.partial;
@@ -381,16 +289,16 @@ SceneOutcome compareScene(const CompareArgs& a, const Parsed& parsed, const std:
   for (const std::string& name : names) {
     analysis::TechniqueRun run;
     run.images.name = name;
-    run.description = techniques::description(parseSpec(name).base);
+    run.description = techniques::description(parseTechniqueSpec(name).base);
     std::unique_ptr<techniques::Technique> t;
     std::vector<PairMetrics> rows;
     try {
       // The scene's settings belong to the scene's technique; the others run at their defaults;
       // then a variant's own settings.
-      t = makeSpec(name, &s);
+      t = makeTechniqueSpec(name, &s);
       printStderr("{}: preparing on {}\n", name, report.gpu);
       t->prepare(s, gl);
-      Rendered r = renderTimed(*t, name, s, a.warmup, a.frames);
+      analysis::TimedRender r = renderTimed(*t, name, s, a.warmup, a.frames);
       printStderr("  frame {:.3f} ms (median of {}), L by the {} convention{}\n", r.frame_ms,
                  a.frames, toString(r.images.convention),
                  r.images.exitance.empty() ? ", no exitance" : "");
@@ -438,7 +346,7 @@ SceneOutcome compareScene(const CompareArgs& a, const Parsed& parsed, const std:
         for (double v : p.sweep) {
           try {
             t->setParameter(p.name, v);
-            Rendered sr = renderTimed(*t, name, s, a.warmup, a.frames);
+            analysis::TimedRender sr = renderTimed(*t, name, s, a.warmup, a.frames);
             analysis::SweepPoint point{name, p.name, v, sr.frame_ms,
                                        analysis::techniqueMetrics(sr.images, report.references,
                                                                   eta, report.masks, display)};
@@ -539,6 +447,8 @@ void runSuite(const CompareArgs& a, const Parsed& o) {
       a.height ? fmt::format(" --height {}", *a.height) : "", a.frames, a.warmup,
       a.sweep ? " --sweep" : "", quoted(out.string()));
   if (a.time) cmd += fmt::format(" --time {}", *a.time);
+  if (!a.reference_from.empty()) cmd += " --reference-from " + quoted(a.reference_from);
+  if (a.reference_device != "cpu") cmd += " --reference-device " + a.reference_device;
   if (a.no_cache) cmd += " --no-cache";
   else if (!a.cache.empty()) cmd += " --cache " + quoted(o.cacheDir.string());
   info.command = cmd;
@@ -601,6 +511,9 @@ void runCompare(const CompareArgs& a) {
   if (!a.suite.empty() && !a.scene.empty())
     throw ParameterError(fmt::format("--suite '{}' and scene '{}': expected one of them",
                                      a.suite, a.scene));
+  if (!a.suite.empty() && !a.reference_from.empty())
+    throw ParameterError(fmt::format("--reference-from '{}' names the reference of one scene: it "
+                                     "cannot be combined with --suite", a.reference_from));
   const Parsed o = parseOptions(a);
   if (!a.suite.empty()) return runSuite(a, o);
   InterruptGuard guard;
@@ -638,6 +551,17 @@ void addCompareCommand(CLI::App& app) {
                   "integrated over the surface), or both, comma-separated")
       ->capture_default_str();
   cmd->add_option("--photons", a->photons, "Physical reference: photons per channel (e.g. 1e6)")
+      ->capture_default_str();
+  cmd->add_option("--reference-from", a->reference_from,
+                  "Physical reference: take it from the --json of `translucent pathtrace mesh` "
+                  "of this scene (or of `translucent merge` of its shards, e.g. traced on a "
+                  "cluster) instead of tracing it (any photon count and seed); checked against "
+                  "the scene, mesh and material");
+  cmd->add_option("--reference-device", a->reference_device,
+                  "Physical reference: cpu (Embree, the default) or gpu (the GL compute-shader "
+                  "walk, issue 16: homogeneous materials, at most one environment light; its "
+                  "own random streams, so its own cache entries)")
+      ->check(CLI::IsMember({"cpu", "gpu"}))
       ->capture_default_str();
   cmd->add_option("--samples", a->samples, "Model reference: surface samples (e.g. 2e5)")
       ->capture_default_str();

@@ -21,6 +21,7 @@
 #include "options.h"
 #include "plot/profile_plot.h"
 #include "progress.h"
+#include "reference/gpu/device.h"
 #include "reference/slab.h"
 
 namespace translucent::cli {
@@ -48,6 +49,7 @@ struct ProfileArgs {
   double photons = 1e6;
   uint64_t seed = 1;
   int threads = 0;
+  std::string device = "auto";  // of the reference: cpu | gpu | auto (reference/gpu/device.h)
 };
 
 std::string extensionOf(const std::string& path) {
@@ -84,6 +86,7 @@ analysis::Curve referenceCurve(const Medium& medium, analysis::Channel ch, doubl
   std::array<bool, 3> needed{ch == analysis::Channel::Red || ch == analysis::Channel::Luminance,
                              ch == analysis::Channel::Green || ch == analysis::Channel::Luminance,
                              ch == analysis::Channel::Blue || ch == analysis::Channel::Luminance};
+  const reference::TraceDevice device = reference::openTraceDevice(a.device);
   for (size_t c = 0; c < 3; ++c) {
     if (!needed[c]) continue;
     const ScalarMedium m = medium.channel(static_cast<int>(c));
@@ -100,7 +103,7 @@ analysis::Curve referenceCurve(const Medium& medium, analysis::Channel ch, doubl
     o.radial_max = r_max;
     InterruptGuard guard;
     ProgressBar bar(fmt::format("reference ({})", kChannelNames[c]), "photons");
-    results[c] = reference::traceSlab(reference::SlabSetup::semiInfinite(m), o,
+    results[c] = reference::traceSlab(device, reference::SlabSetup::semiInfinite(m), o,
                                       [&](const reference::TraceProgress& p) { return bar(p); });
     bar.end();
     if (results[c].partial) printStderr("profile: reference stopped early, partial\n");
@@ -297,8 +300,17 @@ void addProfileCommand(CLI::App& app) {
       ->delimiter(',');
   cmd->add_option("--seed", args->seed, "Reference random seed")->capture_default_str();
   cmd->add_option("--threads", args->threads, "Reference threads (0: all)")->capture_default_str();
+  cmd->add_option("--device", args->device,
+                  "Where --reference is traced: cpu, gpu (GL compute shaders), or auto (the GPU "
+                  "on a hardware GPU, else the CPU)")
+      ->check(CLI::IsMember({"cpu", "gpu", "auto"}))
+      ->capture_default_str();
   cmd->callback([args, cmd] {
     if (args->study) {
+      // The study's references come from analysis::runModelStudy (CPU threads, with its cache).
+      if (args->device == "gpu")
+        throw ParameterError("--device gpu: the --study references are traced on the CPU; "
+                             "--device applies to --reference");
       std::string command = "translucent profile --study";
       for (const auto& opt : cmd->get_options())
         if (opt->count() > 0 && opt->get_name() != "--study" && opt->get_name() != "--help")

@@ -28,16 +28,19 @@
 #include <optional>
 
 #include "safe_print.h"
+#include "analysis/compare.h"  // referenceKey: `compare --reference-from` takes these runs
 #include "analysis/image_io.h"
 #include "bssrdf/registry.h"
 #include "commands.h"
 #include "output_guard.h"
+#include "shard.h"
 #include "geometry/mesh.h"
 #include "options.h"
 #include "progress.h"
 #include "reference/mesh_scene.h"
 #include "reference/mesh_tracer.h"
 #include "reference/model_reference.h"
+#include "reference/gpu/device.h"
 #include "reference/sphere.h"
 #include "reference/sphere_integration.h"
 
@@ -74,6 +77,7 @@ struct RunArgs {
   std::string quantity = "exitance";
   std::string exr, png, json;
   double exposure = 0.0, gamma = 2.2;
+  ShardArgs shard;  // the path tracers' --shard I/N --partial FILE (shard.h)
 
   void add(CLI::App& cmd, const char* countOption, const char* countHelp,
            const std::vector<std::string>& quantities) {
@@ -94,8 +98,8 @@ struct RunArgs {
                                        : ""))
         ->check(CLI::IsMember(quantities))
         ->capture_default_str();
-    outputOption(cmd.add_option("--exr", exr, "Output OpenEXR file (linear; layer 'stderr': standard error)"))
-        ->required();
+    outputOption(cmd.add_option("--exr", exr, "Output OpenEXR file (linear; layer 'stderr': "
+                                             "standard error); required but with --shard"));
     outputOption(cmd.add_option("--png", png, "Also write a tone-mapped PNG"));
     cmd.add_option("--exposure", exposure, "PNG exposure [stops]: values x 2^exposure")
         ->capture_default_str();
@@ -113,7 +117,14 @@ struct RunArgs {
       throw ParameterError(fmt::format("--gamma is {}: expected a value > 0", gamma));
     // Fail before spending the time if an output cannot be written or would replace an input
     // (`inputs`: the scene and its files, a .bssrdf model) or another output. Nothing is created
-    // here: the files appear, complete, when they are written (temporary file + rename).
+    // here: the files appear, complete, when they are written (temporary file + rename). A shard
+    // writes its partial file only.
+    if (shard.active()) {
+      refuseOutputsWithShard({{"--exr", exr}, {"--png", png}, {"--json", json}});
+      checkPartialOutput(shard, inputs);
+      return;
+    }
+    if (exr.empty()) throw ParameterError("--exr: required (the output OpenEXR file)");
     OutputSet outputs = inputs;
     outputs.output("--exr", exr);
     outputs.output("--png", png);
@@ -185,19 +196,6 @@ void writeJson(const RunArgs& a, nlohmann::json j) {
   writeTextOutput("--json", a.json, j.dump(2) + "\n");
 }
 
-nlohmann::json fluxJson(const reference::TransportStats& s) {
-  nlohmann::json j = nlohmann::json::array();
-  for (size_t c = 0; c < s.photons.size(); ++c) {
-    const auto em = s.emitted[c].estimate(s.photons[c]);
-    const auto en = s.entered[c].estimate(s.photons[c]);
-    const auto ex = s.exited[c].estimate(s.photons[c]);
-    const auto es = s.escaped[c].estimate(s.photons[c]);
-    j.push_back({{"emitted", em.value}, {"entered", en.value}, {"entered_stderr", en.std_error},
-                 {"exited", ex.value}, {"exited_stderr", ex.std_error},
-                 {"escaped", es.value}, {"escaped_stderr", es.std_error}});
-  }
-  return j;
-}
 
 // Runs the passes of a progressive tracer: pass(k, progress) -> partial?; after each pass
 // `write(partial)`.
@@ -277,12 +275,72 @@ const McImage& pick(const reference::CameraImages& images, const std::string& qu
   return images.exitance;
 }
 
-void runPathtraceSphere(const SphereArgs& s, const RunArgs& a) {
+// Per channel, the median of se / value over the pixels (interleaved RGB) with value > 0 that
+// `use(p)` accepts: the noise level of an image.
+template <class Use>
+std::vector<double> medianRelativeError(const std::vector<float>& value,
+                                        const std::vector<float>& se, Use&& use) {
+  std::vector<double> out;
+  for (size_t c = 0; c < 3; ++c) {
+    std::vector<double> rel;
+    for (size_t p = 0; 3 * p + c < value.size(); ++p)
+      if (use(p) && value[3 * p + c] > 0.0f)
+        rel.push_back(double(se[3 * p + c]) / double(value[3 * p + c]));
+    if (rel.empty()) {
+      out.push_back(0.0);
+      continue;
+    }
+    std::nth_element(rel.begin(), rel.begin() + long(rel.size() / 2), rel.end());
+    out.push_back(rel[rel.size() / 2]);
+  }
+  return out;
+}
+
+// The median relative standard error of a tracer's exitance over the pixels it reached.
+std::vector<double> medianRelativeError(const McImage& exitance) {
+  return medianRelativeError(exitance.rgb(), exitance.rgbStdError(), [](size_t) { return true; });
+}
+
+// Per channel, the median over fully covered pixels of exitance_se / exitance: the noise level.
+std::vector<double> medianRelativeError(const reference::ModelReferenceImages& img) {
+  return medianRelativeError(img.exitance, img.exitance_se,
+                             [&](size_t p) { return img.coverage[p] == 1.0f; });
+}
+
+// A shard of a progressive tracer's run (shard.h): its blocks of the run's passes × blocks per
+// pass, traced in one go, written to the partial file.
+template <class Tracer>
+void runShard(const RunArgs& a, Tracer& tracer, uint64_t photons, const std::string& label,
+              const OutputSet& inputs) {
+  const uint64_t perPass = (photons + reference::kBlockPhotons - 1) / reference::kBlockPhotons;
+  const ShardRange range = a.shard.range(perPass * static_cast<uint64_t>(a.passes));
+  reference::TransportStats st;
+  {
+    InterruptGuard guard;
+    ProgressBar bar(label, "photons", a.time_limit);
+    st = tracer.addBlocks(range.blocks == 0 ? range.total : range.first, range.blocks,
+                          [&](const reference::TraceProgress& p) { return bar(p); });
+    bar.end();
+  }
+  reference::RunState state;
+  tracer.write(state);
+  writePartial(a.shard, range, inputs, state, st.seconds, st.threads, !st.partial);
+}
+
+void runPathtraceSphere(const SphereArgs& s, const RunArgs& a, std::string device) {
   a.validate();
   const Medium medium = s.medium.medium();
   const reference::SphereScene scene = s.scene();
   const uint64_t photons = parseCount(a.count, "--photons");
+  device = a.shard.device(device);
+  const MergedRun* merged = mergedRun();
+  // Declared before the tracer: the context outlives the walker the tracer holds.
+  const reference::TraceDevice dev =
+      merged ? reference::TraceDevice{} : reference::openTraceDevice(device);
   reference::SpherePathTracer tracer(scene, medium, {a.seed, a.threads});
+  reference::useDevice(dev, tracer);
+  const std::string traced = merged ? mergedDevice(device) : tracer.device();
+  if (a.shard.active()) return runShard(a, tracer, photons, "pathtrace sphere", {});
   auto pass = [&](const reference::ProgressCallback& cb) { return tracer.addPass(photons, cb).partial; };
   auto write = [&](bool partial) {
     const auto& st = tracer.stats();
@@ -291,19 +349,27 @@ void runPathtraceSphere(const SphereArgs& s, const RunArgs& a) {
                fmt::format("{} photons per channel", st.photons.empty() ? 0 : st.photons[0]));
     nlohmann::json j = {{"command", "pathtrace sphere"}, {"scene", sceneJson(s, medium)},
                         {"photons_per_channel", st.photons.empty() ? 0 : st.photons[0]},
-                        {"passes", tracer.passes()}, {"seconds", st.seconds},
+                        {"passes", merged ? a.passes : tracer.passes()}, {"seconds", st.seconds},
                         {"photons_per_second", st.photonsPerSecond()}, {"threads", st.threads},
-                        {"cone_angle", s.cone_angle}, {"flux_per_channel", fluxJson(st)},
+                        {"device", traced},
+                        {"cone_angle", s.cone_angle}, {"flux_per_channel", reference::fluxPerChannelJson(st)},
                         {"partial", partial}};
     writeJson(a, j);
   };
-  runPasses(a, "pathtrace sphere", "photons", pass, write);
+  if (merged) {
+    checkMergedInputs({});
+    tracer.read(merged->state, merged->seconds, merged->threads);
+    write(false);
+  } else {
+    runPasses(a, "pathtrace sphere", "photons", pass, write);
+  }
   const auto& st = tracer.stats();
   printStderr("pathtrace sphere: {}{} photons per channel in {:.2f} s ({:.3g} photons/s, "
-                     "{} threads); wrote {}{}\n",
+                     "{}); wrote {}{}\n",
              st.partial ? "stopped early, partial result: " : "",
              st.photons.empty() ? 0 : st.photons[0], st.seconds, st.photonsPerSecond(),
-             st.threads, a.exr, a.png.empty() ? "" : " and " + a.png);
+             tracedBy(traced, st.threads), a.exr,
+             a.png.empty() ? "" : " and " + a.png);
 }
 
 void runIntegrateSphere(const SphereArgs& s, const RunArgs& a, const std::string& model,
@@ -360,7 +426,8 @@ reference::MeshScene loadTimedScene(const std::string& sceneFile, std::optional<
   return scene;
 }
 
-void runPathtraceMesh(const std::string& sceneFile, std::optional<double> time, const RunArgs& a) {
+void runPathtraceMesh(const std::string& sceneFile, std::optional<double> time, const RunArgs& a,
+                      std::string device) {
   const reference::MeshScene scene = loadTimedScene(sceneFile, time);
   OutputSet inputs;
   inputs.sceneInputs(sceneFile, scene);
@@ -368,11 +435,19 @@ void runPathtraceMesh(const std::string& sceneFile, std::optional<double> time, 
   const geometry::TriangleMesh mesh = scene::loadSceneMesh(scene);  // normalised and placed
   scene::requireOutsideMesh(scene, mesh);
   const uint64_t photons = parseCount(a.count, "--photons");
+  device = a.shard.device(device);
+  const MergedRun* merged = mergedRun();
+  // Declared before the tracer: the context outlives the walker the tracer holds.
+  const reference::TraceDevice dev =
+      merged ? reference::TraceDevice{} : reference::openTraceDevice(device);
   // The scene's material: homogeneous (the walk of transport.h), or a 3D field delta-tracked
   // through a majorant grid; a 2D-map material has no volume and is refused with the reason.
   reference::MeshPathTracer tracer(mesh, scene::sceneMaterial(scene, mesh),
                                    scene::referenceLights(scene), scene.camera, scene.cone_angle,
                                    {a.seed, a.threads});
+  reference::useDevice(dev, device, tracer, mesh, sceneFile);
+  const std::string traced = merged ? mergedDevice(device) : tracer.device();
+  if (a.shard.active()) return runShard(a, tracer, photons, "pathtrace mesh", inputs);
   auto pass = [&](const reference::ProgressCallback& cb) { return tracer.addPass(photons, cb).partial; };
   auto write = [&](bool partial) {
     const auto& st = tracer.stats();
@@ -386,18 +461,37 @@ void runPathtraceMesh(const std::string& sceneFile, std::optional<double> time, 
                         {"seconds", st.seconds}, {"photons_per_second", st.photonsPerSecond()},
                         {"scattering_events", st.scattering_events},
                         {"photons_in_several_pixels", tracer.severalPixelPhotons()},
+                        // Over the pixels with exitance > 0 (silhouette pixels included).
+                        {"median_relative_stderr", medianRelativeError(tracer.images().exitance)},
                         {"majorant_violations", tracer.majorantViolations()},
-                        {"threads", st.threads}, {"flux_per_channel", fluxJson(st)},
+                        {"threads", st.threads}, {"device", traced},
+                        {"flux_per_channel", reference::fluxPerChannelJson(st)},
                         {"partial", partial}};
+    // What `compare --reference-from` checks: the key of compare's physical reference of this
+    // scene, photon count, seed and device (the same tracer and blocks: the same images).
+    analysis::ReferenceRequest req;
+    req.kind = analysis::ReferenceKind::Physical;
+    req.count = st.photons.empty() ? 0 : st.photons[0];
+    req.seed = a.seed;
+    req.device = traced == "cpu" ? "cpu" : "gpu";
+    const std::string keyText = analysis::referenceKeyText(scene, req);
+    j["reference_key"] = analysis::referenceKey(scene, req);
+    j["reference_key_text"] = nlohmann::json::parse(keyText);
     writeJson(a, j);
   };
-  runPasses(a, "pathtrace mesh", "photons", pass, write);
+  if (merged) {
+    checkMergedInputs(inputs);
+    tracer.read(merged->state, merged->seconds, merged->threads);
+    write(false);
+  } else {
+    runPasses(a, "pathtrace mesh", "photons", pass, write);
+  }
   const auto& st = tracer.stats();
   printStderr("pathtrace mesh: {}{} photons per channel in {:.2f} s ({:.3g} photons/s, "
-                     "{} threads, {} triangles); wrote {}{}\n",
+                     "{}, {} triangles); wrote {}{}\n",
              st.partial ? "stopped early, partial result: " : "",
              st.photons.empty() ? 0 : st.photons[0], st.seconds, st.photonsPerSecond(),
-             st.threads, tracer.body().triangleCount(), a.exr, a.png.empty() ? "" : " and " + a.png);
+             tracedBy(traced, st.threads), tracer.body().triangleCount(), a.exr, a.png.empty() ? "" : " and " + a.png);
 }
 
 // Options of `integrate mesh` beyond RunArgs.
@@ -408,24 +502,6 @@ struct ModelReferenceArgs {
   bool jitter = false;
   std::optional<double> time;  // --time: the deformations' time (the scene's when not given)
 };
-
-// Per channel, the median over fully covered pixels of exitance_se / exitance: the noise level.
-std::vector<double> medianRelativeError(const reference::ModelReferenceImages& img) {
-  std::vector<double> out;
-  for (size_t c = 0; c < 3; ++c) {
-    std::vector<double> rel;
-    for (size_t p = 0; p < img.coverage.size(); ++p)
-      if (img.coverage[p] == 1.0f && img.exitance[3 * p + c] > 0.0f)
-        rel.push_back(double(img.exitance_se[3 * p + c]) / double(img.exitance[3 * p + c]));
-    if (rel.empty()) {
-      out.push_back(0.0);
-      continue;
-    }
-    std::nth_element(rel.begin(), rel.begin() + long(rel.size() / 2), rel.end());
-    out.push_back(rel[rel.size() / 2]);
-  }
-  return out;
-}
 
 void runIntegrateMesh(const ModelReferenceArgs& m, const RunArgs& a) {
   if (a.passes != 1)
@@ -511,7 +587,15 @@ void addRenderReferenceCommands(CLI::App& app) {
                   "exitance (or radiance) by photon tracing, as EXR/PNG");
     s->add(*cmd, true);
     a->add(*cmd, "--photons", "Photons per channel per pass (e.g. 1e6)", tracerQuantities);
-    cmd->callback([s, a] { runPathtraceSphere(*s, *a); });
+    auto device = std::make_shared<std::string>("auto");
+    cmd->add_option("--device", *device,
+                    "cpu: the CPU tracer; gpu: the GL compute-shader walk (any GL 4.5 context, "
+                    "Philox streams: agrees with the CPU within the standard errors, not bit for "
+                    "bit); auto: the GPU on a hardware GPU, else the CPU (with --shard: the CPU)")
+        ->check(CLI::IsMember({"cpu", "gpu", "auto"}))
+        ->capture_default_str();
+    a->shard.add(*cmd);
+    cmd->callback([s, a, device] { runPathtraceSphere(*s, *a, *device); });
   }
   {
     auto scene = std::make_shared<std::string>();
@@ -524,7 +608,17 @@ void addRenderReferenceCommands(CLI::App& app) {
     cmd->add_option("--time", *time,
                     "Time of the mesh's deformations (mesh.deform; default: the scene's \"time\", 0)");
     a->add(*cmd, "--photons", "Photons per channel per pass (e.g. 1e6)", tracerQuantities);
-    cmd->callback([scene, time, a] { runPathtraceMesh(*scene, *time, *a); });
+    auto device = std::make_shared<std::string>("auto");
+    cmd->add_option("--device", *device,
+                    "cpu: the CPU tracer (Embree); gpu: the GL compute-shader walk against a BVH "
+                    "of the mesh (homogeneous media, at most one environment light; Philox "
+                    "streams: agrees with the CPU within the standard errors, not bit for bit); "
+                    "auto: the GPU on a hardware GPU where it can trace the scene, else the CPU "
+                    "(with --shard: the CPU)")
+        ->check(CLI::IsMember({"cpu", "gpu", "auto"}))
+        ->capture_default_str();
+    a->shard.add(*cmd);
+    cmd->callback([scene, time, a, device] { runPathtraceMesh(*scene, *time, *a, *device); });
   }
   auto* in = subcommand(app, "integrate", "Monte Carlo integration of BSSRDF models on geometry");
   {

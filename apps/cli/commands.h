@@ -14,5 +14,9 @@ void addRenderCommand(CLI::App& app);            // render (real-time techniques
 void addCompareCommand(CLI::App& app);           // compare (techniques vs references, report)
 void addConventionStudyCommand(CLI::App& app);   // convention-study (exit-radiance conventions)
 void addAtlasCommand(CLI::App& app);             // atlas (surface parameterisation, statistics)
+void addMergeCommand(CLI::App& app);             // merge (the shards of a path-traced run)
+
+// Every subcommand above, on a new app (main(), and `merge` when it runs a recorded command).
+void addAllCommands(CLI::App& app);
 
 }  // namespace translucent::cli

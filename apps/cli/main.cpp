@@ -8,20 +8,42 @@
 #include "safe_print.h"
 #include "commands.h"
 
-int main(int argc, char** argv) {
-  CLI::App app{
-      "Translucent: render, compare and validate translucent (subsurface-scattering) materials."};
+#include "shard.h"
+
+#if defined(__SANITIZE_ADDRESS__)
+#define TRANSLUCENT_HAS_LSAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define TRANSLUCENT_HAS_LSAN 1
+#endif
+#endif
+#ifdef TRANSLUCENT_HAS_LSAN
+#include <sanitizer/lsan_interface.h>
+#endif
+
+namespace translucent::cli {
+void addAllCommands(CLI::App& app) {
   app.require_subcommand(1);
   app.set_version_flag("--version", "translucent 0.1.0");
-  translucent::cli::addPresetsCommand(app);
-  translucent::cli::addInvertCommand(app);
-  translucent::cli::addProfileCommand(app);
-  translucent::cli::addPathtraceCommand(app);
-  translucent::cli::addRenderReferenceCommands(app);  // after pathtrace: adds to it
-  translucent::cli::addRenderCommand(app);
-  translucent::cli::addCompareCommand(app);
-  translucent::cli::addConventionStudyCommand(app);
-  translucent::cli::addAtlasCommand(app);
+  addPresetsCommand(app);
+  addInvertCommand(app);
+  addProfileCommand(app);
+  addPathtraceCommand(app);
+  addRenderReferenceCommands(app);  // after pathtrace: adds to it
+  addRenderCommand(app);
+  addCompareCommand(app);
+  addConventionStudyCommand(app);
+  addAtlasCommand(app);
+  addMergeCommand(app);
+}
+}  // namespace translucent::cli
+
+namespace {
+int run(int argc, char** argv) {
+  CLI::App app{
+      "Translucent: render, compare and validate translucent (subsurface-scattering) materials."};
+  translucent::cli::addAllCommands(app);
+  translucent::cli::setCommandLine(argc, argv);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -34,4 +56,17 @@ int main(int argc, char** argv) {
     return 1;
   }
   return 0;
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+  const int status = run(argc, argv);
+#ifdef TRANSLUCENT_HAS_LSAN
+  // Under ASan, the leak check runs before exit, not from LSan's atexit handler while the system
+  // libraries' static destructors tear down their thread pools (a thread exiting during the
+  // check faults LSan's tracer: tests/support/gtest_main.cpp has the story).
+  std::fflush(stdout);
+  __lsan_do_leak_check();
+#endif
+  return status;
 }

@@ -42,6 +42,10 @@ class OutputSet {
   // writable, it is one of the inputs, or two outputs are the same file (naming both options
   // and the path). Call it before any long work.
   void check() const;
+  // The inputs given so far (what they are, their paths).
+  const std::vector<std::pair<std::string, std::filesystem::path>>& inputs() const {
+    return inputs_;
+  }
 
  private:
   std::vector<std::pair<std::string, std::string>> outputs_;

@@ -18,6 +18,7 @@
 #include "geometry/ray_scene.h"
 #include "material/material_desc.h"
 #include "reference/camera.h"
+#include "reference/gpu/device.h"
 #include "reference/mesh_tracer.h"
 #include "reference/model_reference.h"
 
@@ -130,6 +131,7 @@ std::string referenceKeyText(const scene::Scene& scene, const ReferenceRequest& 
   j["count"] = request.count;
   j["seed"] = request.seed;
   if (request.kind == ReferenceKind::Model) j["subpixels"] = request.subpixels;
+  if (request.kind == ReferenceKind::Physical && request.device != "cpu") j["device"] = request.device;
   j["stored_convention"] = "jensen";
   j["code_version"] = kReferenceCodeVersion;
   return j.dump();  // objects are ordered by key: canonical
@@ -363,9 +365,18 @@ Reference computeReference(const scene::Scene& scene, const geometry::TriangleMe
       if (!roles.physical)
         throw ParameterError(fmt::format("--reference physical: {}", roles.text));
     }
+    if (request.device != "cpu" && request.device != "gpu")
+      throw ParameterError(fmt::format("--reference-device '{}': expected cpu or gpu", request.device));
     // Homogeneous: bit-identical to the tracer of scene.medium; a 3D field: delta tracking.
+    // On the GPU (issue 16) in a GL context of its own, released before the techniques make
+    // theirs; declared before the tracer, whose walker it outlives.
+    const reference::TraceDevice device =
+        request.device == "gpu" ? reference::openTraceDevice("gpu", "--reference-device")
+                                : reference::TraceDevice{};
     reference::MeshPathTracer tracer(mesh, material, lights, scene.camera, scene.cone_angle,
                                      {request.seed, request.threads});
+    reference::useDevice(device, request.device, tracer, mesh, fs::path(scene.mesh_file).string(),
+                         "--reference-device");
     const reference::TransportStats st = tracer.addPass(request.count, progress);
     r.exitance = toCompareImage(tracer.images().exitance);
     r.radiance = toCompareImage(tracer.images().radiance);
@@ -412,6 +423,72 @@ Reference cachedReference(const scene::Scene& scene, const geometry::TriangleMes
   Reference r = computeReference(scene, mesh, request, progress);
   if (cache) cache->store(r);
   if (!note.empty()) r.cache_note = note + (r.cache_note.empty() ? "" : "; " + r.cache_note);
+  return r;
+}
+
+Reference loadPathtracedReference(const fs::path& json_file, const scene::Scene& scene) {
+  const std::string what = fmt::format("--reference-from '{}'", json_file.string());
+  json j;
+  try {
+    j = json::parse(readFileBytes(json_file, "--reference-from"));
+  } catch (const json::exception& e) {
+    throw ParameterError(fmt::format("{}: not a JSON file ({})", what, e.what()));
+  }
+  if (j.value("command", "") != "pathtrace mesh" || !j.contains("reference_key") ||
+      !j.contains("exr"))
+    throw ParameterError(fmt::format("{}: not the --json of `translucent pathtrace mesh` (or of "
+                                     "`translucent merge` of its shards)", what));
+  if (j.value("partial", true))
+    throw ParameterError(fmt::format("{}: a partial run (stopped early): trace it to the end", what));
+  ReferenceRequest req;
+  req.kind = ReferenceKind::Physical;
+  req.count = j.at("photons_per_channel").get<uint64_t>();
+  req.seed = j.at("seed").get<uint64_t>();
+  // A GPU-traced reference ("device": "gpu (<renderer>)", or "gpu" from merged shards) is keyed
+  // as such (ReferenceRequest::device).
+  req.device = j.value("device", std::string("cpu")).rfind("gpu", 0) == 0 ? "gpu" : "cpu";
+  const std::string text = referenceKeyText(scene, req);
+  if (sha256Hex(text) != j.at("reference_key").get<std::string>()) {
+    std::vector<std::string> differ;
+    const json mine = json::parse(text);
+    const json theirs = j.value("reference_key_text", json::object());
+    for (const auto& [k, v] : mine.items())
+      if (!theirs.contains(k) || theirs[k] != v) differ.push_back(k);
+    throw ParameterError(fmt::format(
+        "{}: traced for another scene than this comparison's (different: {})", what,
+        differ.empty() ? std::string("the reference key") : fmt::format("{}", fmt::join(differ, ", "))));
+  }
+  fs::path exr = j.at("exr").get<std::string>();
+  std::error_code ec;
+  if (exr.is_relative() && fs::exists(json_file.parent_path() / exr, ec))
+    exr = json_file.parent_path() / exr;
+  LayeredImage img;
+  try {
+    img = readExrLayers(exr.string());
+  } catch (const std::exception& e) {
+    throw ParameterError(fmt::format("{}: its EXR '{}' cannot be read ({})", what, exr.string(),
+                                     e.what()));
+  }
+  if (img.width != scene.camera.width || img.height != scene.camera.height)
+    throw ParameterError(fmt::format("{}: its EXR '{}' is {}x{}: the scene's camera is {}x{}",
+                                     what, exr.string(), img.width, img.height,
+                                     scene.camera.width, scene.camera.height));
+  Reference r;
+  r.kind = ReferenceKind::Physical;
+  r.request = req;
+  r.key = j.at("reference_key").get<std::string>();
+  r.count_done = req.count;
+  r.seconds = j.value("seconds", 0.0);
+  r.cache_file = exr;
+  auto image = [&](const std::string& name) {
+    if (!img.layers.count(name) || !img.layers.count(name + "_stderr"))
+      throw ParameterError(fmt::format("{}: its EXR '{}' has no layer '{}' (and '{}_stderr')",
+                                       what, exr.string(), name, name));
+    return CompareImage{img.width, img.height, img.layers.at(name), img.layers.at(name + "_stderr")};
+  };
+  r.exitance = image("exitance");
+  r.radiance = image("radiance");
+  r.cone_radiance = image("cone_radiance");
   return r;
 }
 

@@ -83,6 +83,10 @@ struct ReferenceRequest {
   uint64_t seed = 1;
   int threads = 0;     // 0: all cores (results do not depend on it)
   int subpixels = 1;   // model: rays per pixel per axis (1: the pixel centre, as techniques shade)
+  // Physical: "cpu" or "gpu" (reference/gpu/mesh_gpu.h: other random streams, so other images
+  // of the same quantity; in the key only when "gpu", so CPU keys stay as they were). "gpu"
+  // opens a GL context of its own for the trace (`compare --reference-device gpu`).
+  std::string device = "cpu";
 };
 
 struct Reference {
@@ -175,6 +179,15 @@ Reference computeReference(const scene::Scene& scene, const geometry::TriangleMe
 Reference cachedReference(const scene::Scene& scene, const geometry::TriangleMesh& mesh,
                           const ReferenceRequest& request, const ReferenceCache* cache,
                           const reference::ProgressCallback& progress = {});
+
+// A physical reference from the outputs of `translucent pathtrace mesh` (or of `translucent merge`
+// of its shards, issue 17): its JSON file and the EXR that JSON names (a relative name is looked
+// up beside the JSON first, then from the working directory). It must be a complete run of this
+// scene, material and mesh (with any photon count and seed: each gives a reference of the scene):
+// its "reference_key" must be referenceKey(scene, {physical, its photons per channel, its
+// seed}); otherwise ParameterError naming the file and the parts of the key that differ (scene,
+// medium, material, mesh file, ...).
+Reference loadPathtracedReference(const std::filesystem::path& json_file, const scene::Scene& scene);
 
 // Per pixel 1 where all grid × grid camera rays (stratified, pixel centres of the cells) hit the
 // mesh and, when min_cos > 0, see it with |n·v| >= min_cos; 0 elsewhere.

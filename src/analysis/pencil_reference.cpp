@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "reference/gpu/device.h"
+
 namespace translucent::analysis {
 namespace {
 
@@ -122,6 +124,7 @@ bool tracePencilReference(const Medium& medium, Channel channel,
           "never lets every photon go; the path-traced reference needs absorption",
           kChannelNames[c]));
 
+  const reference::TraceDevice device = reference::openTraceDevice(options.device, "reference device");
   PencilReferencePass state;
   uint64_t next = std::min(options.first_pass, options.photons);
   auto stopped = [&] { return stop != nullptr && stop->load(); };
@@ -138,9 +141,10 @@ bool tracePencilReference(const Medium& medium, Channel channel,
       o.radial_bins = options.bins;
       o.radial_max = options.r_max;
       traced[c] = reference::traceSlab(
-          reference::SlabSetup::semiInfinite(medium.channel(static_cast<int>(c))), o,
+          device, reference::SlabSetup::semiInfinite(medium.channel(static_cast<int>(c))), o,
           [&](const reference::TraceProgress&) { return !stopped(); });
       if (traced[c].partial) return false;
+      state.device = traced[c].device;
     }
     for (size_t c = 0; c < 3; ++c)
       if (needed[c]) accumulateSlab(state.results[c], traced[c]);

@@ -19,6 +19,7 @@
 #include <cstdint>
 #include <functional>
 #include <optional>
+#include <string>
 
 #include "analysis/profile_curves.h"
 #include "reference/slab.h"
@@ -47,12 +48,16 @@ struct PencilReferenceOptions {
   uint64_t first_pass = 16'384;       // photons per channel in the first pass; then doubling
   uint64_t seed = 1;
   int threads = 0;          // traceSlab threads (0: all)
+  // Where it is traced (reference/gpu/device.h): "cpu", "gpu" (a GL 4.5 context of its own, made
+  // on the calling thread) or "auto" (the GPU on a hardware GPU, else the CPU).
+  std::string device = "auto";
 };
 
 struct PencilReferencePass {
   int pass = 0;                 // 0, 1, ...
   uint64_t photons = 0;         // photons per channel traced so far (all passes)
   bool last = false;            // the budget is reached
+  std::string device;           // what traced it: "cpu" or "gpu (<renderer>)"
   std::array<reference::SlabResult, 3> results;  // running totals; unused channels empty
 };
 
@@ -60,8 +65,8 @@ struct PencilReferencePass {
 // channel, the last cut to the budget), calling on_pass with the running totals after each pass.
 // `stop` (may be null) set to true ends the run promptly (within ~0.1 s): the pass in flight is
 // dropped and the function returns false. Returns true when the budget was traced. Throws
-// ParameterError for a channel without absorption (the semi-infinite walk would never end) or
-// bad options.
+// ParameterError for a channel without absorption (the semi-infinite walk would never end), bad
+// options, or device "gpu" where EGL gives no GL 4.5 context.
 bool tracePencilReference(const Medium& medium, Channel channel,
                           const PencilReferenceOptions& options,
                           const std::function<void(const PencilReferencePass&)>& on_pass,

@@ -157,7 +157,7 @@ class ImageTally::Deposits final : public ExitTally::Block {
 };
 
 ImageTally::ImageTally(const Body& body, const Camera& camera, std::vector<double> etas,
-                       double cone_half_angle_degrees)
+                       double cone_half_angle_degrees, double photon_flux)
     : body_(body), camera_(camera), etas_(std::move(etas)) {
   if (etas_.empty()) throw ParameterError("image tally: no channels");
   if (!(cone_half_angle_degrees > 0.0 && cone_half_angle_degrees <= 90.0))
@@ -173,7 +173,16 @@ ImageTally::ImageTally(const Body& body, const Camera& camera, std::vector<doubl
     for (int i = 0; i < w; ++i)
       measure_[static_cast<size_t>(j) * static_cast<size_t>(w) + static_cast<size_t>(i)] =
           camera_.pixelMeasure(i, j);
-  images_.exitance = McImage(w, h, nc, McImage::Statistics::PerPhoton);
+  // A typical score: a photon's flux over the measure of the centre pixel (and the squared
+  // distance to the body, for a pinhole camera): the grid of the images' exact sums.
+  const double centre = measure_[static_cast<size_t>(h / 2) * static_cast<size_t>(w) +
+                                 static_cast<size_t>(w / 2)];
+  glm::dvec3 toCam;
+  double dist = 1.0;
+  camera_.toCamera(body_.bounds().center, toCam, dist);
+  const bool pinhole = camera_.camera().projection == Camera::Projection::Pinhole;
+  const double typical = photon_flux / (centre * (pinhole && dist > 0.0 ? dist * dist : 1.0));
+  images_.exitance = McImage(w, h, nc, McImage::Statistics::PerPhoton, FixedScale::around(typical));
   images_.radiance = images_.exitance;
   images_.cone_radiance = images_.exitance;
 }
@@ -190,6 +199,20 @@ void ImageTally::merge(Block& block) {
     images_.radiance.add(d.index, d.radiance);
     if (d.cone != 0.0) images_.cone_radiance.add(d.index, d.cone);
   }
+}
+
+void ImageTally::write(RunState& state, const std::string& prefix) const {
+  images_.exitance.write(state, prefix + ".exitance");
+  images_.radiance.write(state, prefix + ".radiance");
+  images_.cone_radiance.write(state, prefix + ".cone_radiance");
+  state.putCounts(prefix + ".several_pixel_photons", {severalPixelPhotons_});
+}
+
+void ImageTally::read(const RunState& state, const std::string& prefix) {
+  images_.exitance.read(state, prefix + ".exitance");
+  images_.radiance.read(state, prefix + ".radiance");
+  images_.cone_radiance.read(state, prefix + ".cone_radiance");
+  severalPixelPhotons_ = state.getCounts(prefix + ".several_pixel_photons", 1)[0];
 }
 
 void ImageTally::addPhotons(std::span<const uint64_t> photons) {

@@ -91,8 +91,11 @@ struct CameraImages {
 // Scores exiting photons into the camera's images. `etas` gives η per channel (for Ft).
 class ImageTally final : public ExitTally {
  public:
+  // `photon_flux`: about the flux one photon carries [W] (the images' sums are kept on a grid
+  // of the size of a typical score, exact_sum.h; any value within a few orders of magnitude
+  // gives full double precision).
   ImageTally(const Body& body, const Camera& camera, std::vector<double> etas,
-             double cone_half_angle_degrees);
+             double cone_half_angle_degrees, double photon_flux = 1.0);
   std::unique_ptr<Block> newBlock() const override;
   void merge(Block& block) override;
 
@@ -104,6 +107,9 @@ class ImageTally final : public ExitTally {
   // Photons (all channels) that scored into more than one pixel: the cross terms of McImage::
   // average's standard error are missing for them (mc_image.h); 0 for a convex body.
   uint64_t severalPixelPhotons() const { return severalPixelPhotons_; }
+  // The images and counts as named arrays `<prefix>.…` (run_state.h), and back.
+  void write(RunState& state, const std::string& prefix) const;
+  void read(const RunState& state, const std::string& prefix);
 
  private:
   class Deposits;

@@ -63,13 +63,7 @@ namespace {
 using detail::Tally;
 using detail::Walk;
 
-// Per-layer constants; boundary[i] .. boundary[i + 1] is layer i.
-struct Layers {
-  std::vector<double> boundary, sigmaT;
-  std::vector<uint64_t> absorbThreshold;  // as Walk::absorbThreshold, per layer
-  std::vector<double> albedo;
-  std::vector<float> g;
-};
+using detail::Layers;
 
 double uniform01(Rng& rng) {  // 53 random bits from the upper bits of two draws (rng.h)
   const uint64_t hi = rng.next() >> 6;
@@ -188,20 +182,9 @@ bool traceBlock(const Walk& W, const Layers& L, uint64_t seed, uint64_t block, u
   return true;
 }
 
-}  // namespace
-
-SlabResult traceLayeredSlab(const LayeredSlabSetup& setup, const TraceOptions& options,
-                            const ProgressCallback& progress) {
-  setup.validate();
-  options.validate();
-  const SlabLayer& last = setup.layers.back();
-  if (!setup.finite() && last.sigma_a == 0.0 && options.long_path_roulette == 0)
-    throw ParameterError(fmt::format(
-        "layered slab: layer {} (semi-infinite) has sigma_a 0: path lengths have infinite mean; "
-        "give it a finite thickness, some absorption, or the long-path roulette",
-        setup.layers.size()));
-  // Entry, surfaces and tallies as for a homogeneous slab of the top layer and the total
-  // thickness; the coefficients per layer.
+// Entry, surfaces and tallies as for a homogeneous slab of the top layer and the total
+// thickness; the coefficients per layer.
+SlabSetup topLayerSlab(const LayeredSlabSetup& setup) {
   SlabSetup s;
   s.sigma_a = setup.layers[0].sigma_a;
   s.sigma_s = setup.layers[0].sigma_s;
@@ -212,8 +195,22 @@ SlabResult traceLayeredSlab(const LayeredSlabSetup& setup, const TraceOptions& o
   s.theta = setup.theta;
   s.phi = setup.phi;
   s.thickness = setup.totalThickness();
-  double rsp = 0.0;
-  const Walk W = detail::makeWalk(s, options, rsp);
+  return s;
+}
+
+}  // namespace
+
+namespace detail {
+Layers layeredWalk(const LayeredSlabSetup& setup, const TraceOptions& options, SlabSetup& slab) {
+  setup.validate();
+  options.validate();
+  const SlabLayer& last = setup.layers.back();
+  if (!setup.finite() && last.sigma_a == 0.0 && options.long_path_roulette == 0)
+    throw ParameterError(fmt::format(
+        "layered slab: layer {} (semi-infinite) has sigma_a 0: path lengths have infinite mean; "
+        "give it a finite thickness, some absorption, or the long-path roulette",
+        setup.layers.size()));
+  slab = topLayerSlab(setup);
   Layers L;
   double z = 0.0;
   L.boundary.push_back(0.0);
@@ -223,32 +220,37 @@ SlabResult traceLayeredSlab(const LayeredSlabSetup& setup, const TraceOptions& o
     const double st = layer.sigma_a + layer.sigma_s;
     L.sigmaT.push_back(st);
     const double pAbsorb = layer.sigma_a / st;
-    L.absorbThreshold.push_back(pAbsorb >= 1.0 ? ~uint64_t{0}
-                                               : static_cast<uint64_t>(std::ldexp(pAbsorb, 64)));
+    L.absorbThreshold.push_back(absorbThreshold(pAbsorb));
     L.albedo.push_back(layer.sigma_s / st);
     L.g.push_back(static_cast<float>(layer.g));
   }
+  return L;
+}
+}  // namespace detail
+
+SlabResult traceLayeredSlab(const LayeredSlabSetup& setup, const TraceOptions& options,
+                            const ProgressCallback& progress, RunState* state) {
+  SlabSetup s;
+  const Layers L = detail::layeredWalk(setup, options, s);
+  double rsp = 0.0;
+  const Walk W = detail::makeWalk(s, options, rsp);
   const auto kernel = options.absorption == Absorption::Analog ? &traceBlock<Absorption::Analog>
                                                                : &traceBlock<Absorption::Weighted>;
-  const uint64_t nBlocks = (options.photons + kBlockPhotons - 1) / kBlockPhotons;
-  auto photonsIn = [&](uint64_t blocks) { return std::min(blocks * kBlockPhotons, options.photons); };
-  Tally total(options.radial_bins, options.angle_bins);
-  const detail::BlockRun run = detail::runBlocks<Tally>(
-      0, nBlocks, options.threads, [&] { return Tally(options.radial_bins, options.angle_bins); },
-      [&](uint64_t b, Tally& t, const std::atomic<bool>& stop) {
-        const uint64_t count = std::min(kBlockPhotons, options.photons - b * kBlockPhotons);
+  return detail::runSlabBlocks(
+      options, rsp,
+      [&](uint64_t b, uint64_t count, Tally& t, const std::atomic<bool>& stop) {
         return kernel(W, L, options.seed, b, count, t, stop);
       },
-      [&](uint64_t, const Tally& t) { total.merge(t); },
-      [&](uint64_t blocks, double seconds) {
-        return !progress || progress({photonsIn(blocks), options.photons, seconds});
-      });
-  SlabResult result = detail::finishSlab(total, options, rsp);
-  result.seconds = run.seconds;
-  result.threads = run.threads;
-  result.partial = total.photons < options.photons;
-  if (progress) progress({total.photons, options.photons, result.seconds});
-  return result;
+      progress, state);
+}
+
+SlabResult layeredSlabResult(const LayeredSlabSetup& setup, const TraceOptions& options,
+                             const RunState& state) {
+  setup.validate();
+  options.validate();
+  double rsp = 0.0;
+  detail::makeWalk(topLayerSlab(setup), options, rsp);
+  return detail::slabFromState(options, rsp, state);
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -44,8 +44,27 @@ struct LayeredSlabSetup {
 };
 
 // Traces options.photons photons (throws ParameterError for a bad setup or options).
+// With `state`, also the run's order-independent sums (run_state.h; traceSlab).
 SlabResult traceLayeredSlab(const LayeredSlabSetup& setup, const TraceOptions& options,
-                            const ProgressCallback& progress = {});
+                            const ProgressCallback& progress = {}, RunState* state = nullptr);
+// The result of a run from its state (slabResult).
+SlabResult layeredSlabResult(const LayeredSlabSetup& setup, const TraceOptions& options,
+                             const RunState& state);
+
+namespace detail {
+// Per-layer constants of a walk; boundary[i] .. boundary[i + 1] is layer i (z down, the last
+// boundary infinite for a semi-infinite slab).
+struct Layers {
+  std::vector<double> boundary, sigmaT;
+  std::vector<uint64_t> absorbThreshold;  // as Walk::absorbThreshold, per layer
+  std::vector<double> albedo;
+  std::vector<float> g;
+};
+// The setup and options validated as traceLayeredSlab validates them, the layers' constants,
+// and in `slab` the homogeneous slab of the top layer and the total thickness, whose entry,
+// surfaces and tallies the layered walk shares (the GPU walk, reference/gpu/slab_gpu.h, too).
+Layers layeredWalk(const LayeredSlabSetup& setup, const TraceOptions& options, SlabSetup& slab);
+}  // namespace detail
 
 // The layers of a JSON array, top layer first, of {"thickness": t or null (semi-infinite, last
 // layer only), "sigma_a": …, "sigma_s": …, "g": …} ("g" optional, default 0). Errors name `what`

@@ -5,11 +5,13 @@
 
 namespace translucent::reference {
 
-McImage::McImage(int width, int height, int channels, Statistics statistics)
+McImage::McImage(int width, int height, int channels, Statistics statistics, FixedScale scale)
     : width_(width),
       height_(height),
       channels_(channels),
       statistics_(statistics),
+      scale_(scale),
+      scale2_(scale.squared()),
       sum_(static_cast<size_t>(width) * static_cast<size_t>(height) * static_cast<size_t>(channels)),
       sum2_(sum_.size()),
       count_(static_cast<size_t>(channels)),
@@ -23,11 +25,7 @@ Estimate McImage::pixel(int x, int y, int c) const {
       statistics_ == Statistics::PerPixel
           ? pixelCount_[static_cast<size_t>(y) * static_cast<size_t>(width_) + static_cast<size_t>(x)]
           : count(c);
-  if (n == 0) return {};
-  const double N = static_cast<double>(n);
-  const double mean = sum_[i] / N;
-  const double var = n > 1 ? std::max(0.0, sum2_[i] / N - mean * mean) * N / (N - 1.0) : 0.0;
-  return {mean, std::sqrt(var / N)};
+  return meanAndError(scale_.toDouble(sum_[i]), scale2_.toDouble(sum2_[i]), n);
 }
 
 Estimate McImage::average(std::span<const uint32_t> pixels, int c) const {
@@ -49,12 +47,13 @@ Estimate McImage::average(std::span<const uint32_t> pixels, int c) const {
   // Shared photons, one pixel each (see mc_image.h for those that reached several): the group's
   // per-photon contribution is the pixel's contribution / k, so its second moment is the sum of
   // the pixels' second moments / k².
-  double s = 0.0, s2 = 0.0;
+  Fixed qs = 0, qs2 = 0;
   for (uint32_t p : pixels) {
     const size_t i = static_cast<size_t>(p) * static_cast<size_t>(channels_) + static_cast<size_t>(c);
-    s += sum_[i];
-    s2 += sum2_[i];
+    addFixed(qs, sum_[i]);
+    addFixed(qs2, sum2_[i]);
   }
+  const double s = scale_.toDouble(qs), s2 = scale2_.toDouble(qs2);
   const double N = static_cast<double>(n);
   const double mean = s / (N * k);
   const double m2 = s2 / (N * k * k);
@@ -81,6 +80,20 @@ std::vector<float> McImage::rgbStdError() const {
             static_cast<size_t>(c)] =
             static_cast<float>(pixel(x, y, std::min(c, channels_ - 1)).std_error);
   return out;
+}
+
+void McImage::write(RunState& state, const std::string& prefix) const {
+  state.putSums(prefix + ".sum", scale_.exponent(), sum_);
+  state.putSums(prefix + ".sum2", scale2_.exponent(), sum2_);
+  state.putCounts(prefix + ".count", count_);
+  state.putCounts(prefix + ".pixel_count", pixelCount_);
+}
+
+void McImage::read(const RunState& state, const std::string& prefix) {
+  sum_ = state.getSums(prefix + ".sum", sum_.size(), scale_.exponent());
+  sum2_ = state.getSums(prefix + ".sum2", sum2_.size(), scale2_.exponent());
+  count_ = state.getCounts(prefix + ".count", count_.size());
+  pixelCount_ = state.getCounts(prefix + ".pixel_count", pixelCount_.size());
 }
 
 }  // namespace translucent::reference

@@ -14,12 +14,19 @@
 //     ImageTally::severalPixelPhotons() counts such photons;
 //   - PerPixel (the sphere integrator): every pixel has its own samples (its own count, so a
 //     stopped pass may leave some pixels with more samples than others); pixels are independent.
+//
+// The sums are order-independent fixed-point sums (exact_sum.h) on a grid the owner sets from
+// its settings (the size of a typical sample), so that images traced in shards and merged equal,
+// bit for bit, the image traced in one process (issue 17).
 #pragma once
 
 #include <cstdint>
 #include <span>
+#include <string>
 #include <vector>
 
+#include "reference/exact_sum.h"
+#include "reference/run_state.h"
 #include "reference/slab.h"
 
 namespace translucent::reference {
@@ -29,7 +36,8 @@ class McImage {
   enum class Statistics { PerPhoton, PerPixel };
 
   McImage() = default;
-  McImage(int width, int height, int channels, Statistics statistics);
+  // `scale`: the grid of the sums, about the size of one sample (exact_sum.h).
+  McImage(int width, int height, int channels, Statistics statistics, FixedScale scale = {});
 
   int width() const { return width_; }
   int height() const { return height_; }
@@ -42,13 +50,10 @@ class McImage {
   }
 
   // Accumulation.
-  void add(size_t i, double v) {
-    sum_[i] += v;
-    sum2_[i] += v * v;
-  }
+  void add(size_t i, double v) { addSums(i, v, v * v); }
   void addSums(size_t i, double s, double s2) {
-    sum_[i] += s;
-    sum2_[i] += s2;
+    addFixed(sum_[i], scale_.toFixed(s));
+    addFixed(sum2_[i], scale2_.toFixed(s2));
   }
   // PerPhoton: photons traced in channel c. PerPixel: samples of pixel p (all channels).
   void addCount(int c, uint64_t n) { count_[static_cast<size_t>(c)] += n; }
@@ -66,10 +71,17 @@ class McImage {
   std::vector<float> rgb() const;
   std::vector<float> rgbStdError() const;
 
+  // The sums and counts as named arrays `<prefix>.sum`, `.sum2`, `.count`, `.pixel_count`
+  // (run_state.h), and back: read() replaces this image's sums and counts with the state's
+  // (std::runtime_error when its layout differs from this image's).
+  void write(RunState& state, const std::string& prefix) const;
+  void read(const RunState& state, const std::string& prefix);
+
  private:
   int width_ = 0, height_ = 0, channels_ = 0;
   Statistics statistics_ = Statistics::PerPhoton;
-  std::vector<double> sum_, sum2_;
+  FixedScale scale_, scale2_;
+  std::vector<Fixed> sum_, sum2_;
   std::vector<uint64_t> count_;
   std::vector<uint64_t> pixelCount_;  // PerPixel only
 };

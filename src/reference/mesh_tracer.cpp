@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -97,21 +98,89 @@ void MeshPathTracer::init(const Camera& camera, double cone_half_angle) {
     lights_[i] = lights_[i].validated(fmt::format("light {}", i + 1));
   std::vector<double> etas;
   for (const auto& c : channels_) etas.push_back(c.eta);
-  tally_ = std::make_unique<ImageTally>(body_, camera, etas, cone_half_angle);
+  // What a photon carries (transport.h: every photon of a channel carries the channel's total
+  // flux), the largest channel's: the grid of the images' exact sums.
+  double flux = 0.0;
+  for (size_t c = 0; c < channels_.size(); ++c) {
+    double channel = 0.0;
+    for (const Light& l : lights_) channel += emittedFlux(l, body_.bounds(), static_cast<int>(c));
+    flux = std::max(flux, channel);
+  }
+  tally_ = std::make_unique<ImageTally>(body_, camera, etas, cone_half_angle, flux);
 }
 
 TransportStats MeshPathTracer::addPass(uint64_t photons, const ProgressCallback& progress) {
-  TransportOptions o;
-  o.photons = photons;
-  o.seed = options_.seed;
-  o.threads = options_.threads;
-  o.long_path_roulette = options_.long_path_roulette;
-  o.first_block = stats_.next_block;
-  TransportStats pass = volume_ ? tracePhotons(body_, *volume_, lights_, o, *tally_, progress)
-                                : tracePhotons(body_, channels_, lights_, o, *tally_, progress);
+  return addBlocks(stats_.next_block, (photons + kBlockPhotons - 1) / kBlockPhotons, progress);
+}
+
+TransportStats MeshPathTracer::addBlocks(uint64_t first, uint64_t blocks,
+                                         const ProgressCallback& progress) {
+  if (stats_.photons.empty()) stats_ = emptyStats(body_.bounds(), channels_.size(), lights_);
+  // An empty share (more shards than blocks) traces nothing; its state is zero.
+  if (blocks == 0) return emptyStats(body_.bounds(), channels_.size(), lights_);
+  TransportStats pass;
+  if (walker_) {
+    const MeshWalkSetup setup = walkSetup();
+    pass = scoreWalkedBlocks(
+        body_.bounds(), lights_, setup.channels, first, blocks,
+        [&](int c, uint64_t b0, uint64_t nb, WalkedBatch& out) { walker_->trace(setup, c, b0, nb, out); },
+        *tally_, progress);
+  } else {
+    TransportOptions o;
+    o.photons = blocks * kBlockPhotons;
+    o.seed = options_.seed;
+    o.threads = options_.threads;
+    o.long_path_roulette = options_.long_path_roulette;
+    o.first_block = first;
+    pass = volume_ ? tracePhotons(body_, *volume_, lights_, o, *tally_, progress)
+                   : tracePhotons(body_, channels_, lights_, o, *tally_, progress);
+  }
   tally_->addPhotons(pass.photons);
   stats_.merge(pass);
   return pass;
+}
+
+std::string MeshPathTracer::walkerRefusal() const {
+  if (volume_) return "heterogeneous materials are traced on the CPU only";
+  int environments = 0;
+  for (const Light& l : lights_) environments += std::holds_alternative<EnvironmentLight>(l.emitter);
+  if (environments > 1)
+    return fmt::format("one environment light at most (this scene has {}; the CPU traces any "
+                       "number)", environments);
+  return "";
+}
+
+void MeshPathTracer::setWalker(std::shared_ptr<MeshWalker> walker) {
+  if (const std::string why = walkerRefusal(); walker && !why.empty())
+    throw ParameterError("--device gpu: " + why);
+  walker_ = std::move(walker);
+}
+
+MeshWalkSetup MeshPathTracer::walkSetup() const {
+  MeshWalkSetup s;
+  s.lights = lights_;
+  s.bounds = body_.bounds();
+  s.epsilon = body_.epsilon();
+  s.channels = walkChannels(s.bounds, channels_, lights_);
+  s.seed = options_.seed;
+  s.long_path_roulette = options_.long_path_roulette;
+  return s;
+}
+
+void MeshPathTracer::write(RunState& state) const {
+  tally_->write(state, "images");
+  stats_.write(state, "stats");
+  state.putCounts("majorant_violations", {majorantViolations()});
+}
+
+void MeshPathTracer::read(const RunState& state, double seconds, int threads) {
+  tally_->read(state, "images");
+  if (stats_.photons.empty()) stats_ = emptyStats(body_.bounds(), channels_.size(), lights_);
+  stats_.read(state, "stats");
+  stats_.seconds = seconds;
+  stats_.threads = threads;
+  stats_.partial = false;
+  mergedMajorantViolations_ = state.getCounts("majorant_violations", 1)[0];
 }
 
 }  // namespace translucent::reference

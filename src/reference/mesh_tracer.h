@@ -27,6 +27,7 @@
 
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "geometry/mesh.h"
@@ -62,6 +63,21 @@ class MeshBody final : public Body {
   size_t triangles_ = 0;
 };
 
+// A walker of the mesh other than the CPU's (the GPU: reference/gpu/mesh_gpu.h), made for one
+// mesh. It traces whole blocks of one channel and hands back, per photon, its exits and flux
+// sums (transport.h: WalkedBatch); MeshPathTracer scores them as its own photons
+// (scoreWalkedBlocks), so only the random streams differ.
+struct MeshWalkSetup {
+  std::vector<Light> lights;  // validated (unit directions)
+  BoundingSphere bounds;      // the mesh's (emission discs and cones)
+  double epsilon = 0.0;       // MeshBody::epsilon(): rays leaving the surface ignore closer hits
+  std::vector<WalkChannel> channels;
+  uint64_t seed = 1;
+  uint64_t long_path_roulette = 0;  // 0: off
+};
+
+using MeshWalker = PhotonWalker<MeshWalkSetup>;
+
 class MeshPathTracer {
  public:
   // Three channels of a medium (coefficients per scene unit) or one (grey images).
@@ -83,6 +99,12 @@ class MeshPathTracer {
 
   // Traces `photons` more photons per channel (rounded up to whole blocks of kBlockPhotons).
   TransportStats addPass(uint64_t photons, const ProgressCallback& progress = {});
+  // Blocks [first, first + blocks) of a run (SpherePathTracer::addBlocks: a shard, issue 17).
+  TransportStats addBlocks(uint64_t first, uint64_t blocks, const ProgressCallback& progress = {});
+  // The images and statistics as named arrays (run_state.h), and back (SpherePathTracer::read).
+  void write(RunState& state) const;
+  // `seconds`, `threads`: the timing to report (e.g. the shards' total).
+  void read(const RunState& state, double seconds = 0.0, int threads = 0);
 
   const CameraImages& images() const { return tally_->images(); }
   const TransportStats& stats() const { return stats_; }
@@ -90,8 +112,20 @@ class MeshPathTracer {
   // The heterogeneous medium (null for a homogeneous one) and its majorant grid.
   const VolumeMedium* volume() const { return volume_ ? &*volume_ : nullptr; }
   // VolumeMedium::majorant_violations so far (0 for a homogeneous medium).
-  uint64_t majorantViolations() const { return volume_ ? volume_->majorantViolations() : 0; }
+  uint64_t majorantViolations() const {
+    return mergedMajorantViolations_ + (volume_ ? volume_->majorantViolations() : 0);
+  }
   const CameraModel& camera() const { return tally_->camera(); }
+  // From now on, trace with `walker` (made for this tracer's mesh; null: the CPU again).
+  // ParameterError when the walker cannot trace this run: a heterogeneous medium or more than
+  // one environment light (the GPU walks homogeneous bodies under directional, point, beam and
+  // at most one environment light).
+  void setWalker(std::shared_ptr<MeshWalker> walker);
+  // Why a walker cannot trace this run ("" when it can), as setWalker's message says it.
+  std::string walkerRefusal() const;
+  std::string device() const { return walker_ ? walker_->name() : "cpu"; }
+  MeshWalkSetup walkSetup() const;
+
   // Photons that scored into more than one pixel (ImageTally::severalPixelPhotons).
   uint64_t severalPixelPhotons() const { return tally_->severalPixelPhotons(); }
 
@@ -104,6 +138,8 @@ class MeshPathTracer {
   MeshBody body_;
   std::unique_ptr<ImageTally> tally_;
   TransportStats stats_;
+  uint64_t mergedMajorantViolations_ = 0;  // from a state read in
+  std::shared_ptr<MeshWalker> walker_;
 };
 
 }  // namespace translucent::reference

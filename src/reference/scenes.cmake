@@ -8,6 +8,7 @@ find_package(embree 3 REQUIRED)
 add_library(translucent_reference_scenes STATIC
   transport.cpp
   mc_image.cpp
+  run_state.cpp  # partial files of sharded runs (issue 17)
   camera.cpp
   sphere.cpp
   sphere_integration.cpp

@@ -81,8 +81,7 @@ Walk makeWalk(const SlabSetup& S, const TraceOptions& O, double& rsp) {
   W.entryWeight = 1.0 - rsp;
   const double pAbsorb = S.sigma_a / sigmaT;
   W.albedo = S.sigma_s / sigmaT;
-  W.absorbThreshold =
-      pAbsorb >= 1.0 ? ~uint64_t{0} : static_cast<uint64_t>(std::ldexp(pAbsorb, 64));
+  W.absorbThreshold = absorbThreshold(pAbsorb);
   W.top = {S.n_above == S.n_inside, S.n_above / S.n_inside};
   W.bottom = {S.n_below == S.n_inside, S.n_below / S.n_inside};
   W.nr = O.radial_bins;
@@ -157,7 +156,7 @@ using detail::Walk;
 // tallies are merged strictly in block order, so floating-point sums do not depend on timing.
 
 SlabResult traceSlab(const SlabSetup& setup, const TraceOptions& options,
-                     const ProgressCallback& progress) {
+                     const ProgressCallback& progress, RunState* state) {
   setup.validate();
   options.validate();
   // Without absorption a random walk in a half space returns to the surface with probability 1,
@@ -171,33 +170,157 @@ SlabResult traceSlab(const SlabSetup& setup, const TraceOptions& options,
   const detail::BlockKernel scalar = detail::scalarKernel(options.absorption, setup.finite());
   const detail::LanesKernel lanes = detail::lanesKernel(
       options.absorption, setup.finite(), W.g, options.kernel == Kernel::LanesPortable);
-  auto traceBlock = [&](uint64_t b, uint64_t count, Tally& t, const std::atomic<bool>& stop_) {
-    return options.kernel == Kernel::Scalar
-               ? scalar(W, options.seed, b, count, t, stop_)
-               : lanes.run(W, lanes.pass, options.seed, b, count, t, stop_);
-  };
+  return detail::runSlabBlocks(
+      options, rsp,
+      [&](uint64_t b, uint64_t count, Tally& t, const std::atomic<bool>& stop_) {
+        return options.kernel == Kernel::Scalar
+                   ? scalar(W, options.seed, b, count, t, stop_)
+                   : lanes.run(W, lanes.pass, options.seed, b, count, t, stop_);
+      },
+      progress, state);
+}
 
-  const uint64_t nBlocks = (options.photons + kBlockPhotons - 1) / kBlockPhotons;
-  auto photonsIn = [&](uint64_t blocks) { return std::min(blocks * kBlockPhotons, options.photons); };
-  Tally total(options.radial_bins, options.angle_bins);
+SlabResult slabResult(const SlabSetup& setup, const TraceOptions& options, const RunState& state) {
+  setup.validate();
+  options.validate();
+  double rsp = 0.0;
+  detail::makeWalk(setup, options, rsp);
+  return detail::slabFromState(options, rsp, state);
+}
+
+uint64_t TraceOptions::photonsInBlocks(uint64_t first, uint64_t count) const {
+  const uint64_t begin = std::min(first * kBlockPhotons, photons);
+  const uint64_t end = std::min((first + count) * kBlockPhotons, photons);
+  return end - begin;
+}
+
+namespace detail {
+
+void ExactTally::merge(const Tally& t) {
+  photons += t.photons;
+  events += t.events;
+  reflected.add(t.reflected.s, t.reflected.s2);
+  transmitted.add(t.transmitted.s, t.transmitted.s2);
+  unscattered.add(t.unscattered.s, t.unscattered.s2);
+  absorbed.add(t.absorbed.s, t.absorbed.s2);
+  for (size_t i = 0; i < radial.size(); ++i) radial[i].add(t.radial[i].s, t.radial[i].s2);
+  for (size_t i = 0; i < angular.size(); ++i) angular[i].add(t.angular[i].s, t.angular[i].s2);
+  for (size_t i = 0; i < radialAngle.size(); ++i)
+    radialAngle[i].add(t.radialAngle[i].s, t.radialAngle[i].s2);
+}
+
+Tally ExactTally::toTally() const {
+  const int nr = radial.empty() ? 0 : static_cast<int>(radial.size()) - 1;
+  Tally t(nr, static_cast<int>(angular.size()));
+  t.photons = photons;
+  t.events = events;
+  auto get = [](const MomentSum& m) { return Sums{m.s(), m.s2()}; };
+  t.reflected = get(reflected);
+  t.transmitted = get(transmitted);
+  t.unscattered = get(unscattered);
+  t.absorbed = get(absorbed);
+  for (size_t i = 0; i < radial.size(); ++i) t.radial[i] = get(radial[i]);
+  for (size_t i = 0; i < angular.size(); ++i) t.angular[i] = get(angular[i]);
+  for (size_t i = 0; i < radialAngle.size(); ++i) t.radialAngle[i] = get(radialAngle[i]);
+  return t;
+}
+
+namespace {
+// Calls f(name, sums) for every array of MomentSums of the tally (scalars as arrays of one).
+template <class Self, class F>
+void forEachSums(Self& t, F&& f) {
+  using M = std::conditional_t<std::is_const_v<Self>, const MomentSum, MomentSum>;
+  auto one = [](M& m) { return std::vector<M*>{&m}; };
+  auto all = [](auto& v) {
+    std::vector<M*> p;
+    for (auto& m : v) p.push_back(&m);
+    return p;
+  };
+  f("reflected", one(t.reflected));
+  f("transmitted", one(t.transmitted));
+  f("unscattered", one(t.unscattered));
+  f("absorbed", one(t.absorbed));
+  f("radial", all(t.radial));
+  f("angular", all(t.angular));
+  f("radial_angle", all(t.radialAngle));
+}
+}  // namespace
+
+void ExactTally::write(RunState& state) const {
+  state.putCounts("photons", {photons});
+  state.putCounts("scattering_events", {events});
+  forEachSums(*this, [&](const std::string& name, const std::vector<const MomentSum*>& sums) {
+    std::vector<Fixed> s, s2;
+    for (const MomentSum* m : sums) {
+      s.push_back(m->rawS());
+      s2.push_back(m->rawS2());
+    }
+    state.putSums(name + ".s", 0, std::move(s));
+    state.putSums(name + ".s2", 0, std::move(s2));
+  });
+}
+
+void ExactTally::read(const RunState& state) {
+  photons = state.getCounts("photons", 1)[0];
+  events = state.getCounts("scattering_events", 1)[0];
+  forEachSums(*this, [&](const std::string& name, const std::vector<MomentSum*>& sums) {
+    const auto& s = state.getSums(name + ".s", sums.size(), 0);
+    const auto& s2 = state.getSums(name + ".s2", sums.size(), 0);
+    for (size_t i = 0; i < sums.size(); ++i) sums[i]->setRaw(s[i], s2[i]);
+  });
+}
+
+// The block-parallel loop of block_driver.h: workers claim blocks in increasing order and block
+// tallies are merged into the exact total (in block order, though the total does not depend on
+// it).
+BlockShare blockShare(const TraceOptions& options) {
+  const uint64_t all = options.totalBlocks();
+  BlockShare share;
+  share.first = std::min(options.first_block, all);
+  share.count = options.blocks == 0 ? all - share.first : std::min(options.blocks, all - share.first);
+  share.photons = options.photonsInBlocks(share.first, share.count);
+  return share;
+}
+
+SlabResult finishSlabRun(const ExactTally& total, const TraceOptions& options, double rsp,
+                         uint64_t expected, double seconds, int threads,
+                         const ProgressCallback& progress, RunState* state) {
+  SlabResult result = detail::finishSlab(total.toTally(), options, rsp);
+  result.seconds = seconds;
+  result.threads = threads;
+  result.partial = total.photons < expected;
+  if (state) total.write(*state);
+  if (progress) progress({total.photons, expected, result.seconds});
+  return result;
+}
+
+SlabResult runSlabBlocks(const TraceOptions& options, double rsp, const SlabBlock& block,
+                         const ProgressCallback& progress, RunState* state) {
+  const BlockShare share = blockShare(options);
+  const uint64_t expected = share.photons;
+  auto photonsIn = [&](uint64_t blocks) { return std::min(blocks * kBlockPhotons, expected); };
+  ExactTally total(options.radial_bins, options.angle_bins);
   const detail::BlockRun run = detail::runBlocks<Tally>(
-      0, nBlocks, options.threads,
+      share.first, share.count, options.threads,
       [&] { return Tally(options.radial_bins, options.angle_bins); },
       [&](uint64_t b, Tally& t, const std::atomic<bool>& stop_) {
-        const uint64_t count = std::min(kBlockPhotons, options.photons - b * kBlockPhotons);
-        return traceBlock(b, count, t, stop_);
+        return block(b, std::min(kBlockPhotons, options.photons - b * kBlockPhotons), t, stop_);
       },
       [&](uint64_t, const Tally& t) { total.merge(t); },
       [&](uint64_t blocks, double seconds) {
-        return !progress || progress({photonsIn(blocks), options.photons, seconds});
+        return !progress || progress({photonsIn(blocks), expected, seconds});
       });
+  return finishSlabRun(total, options, rsp, expected, run.seconds, run.threads, progress, state);
+}
 
-  SlabResult result = detail::finishSlab(total, options, rsp);
-  result.seconds = run.seconds;
-  result.threads = run.threads;
+SlabResult slabFromState(const TraceOptions& options, double rsp, const RunState& state) {
+  ExactTally total(options.radial_bins, options.angle_bins);
+  total.read(state);
+  SlabResult result = detail::finishSlab(total.toTally(), options, rsp);
   result.partial = total.photons < options.photons;
-  if (progress) progress({total.photons, options.photons, result.seconds});
   return result;
 }
+
+}  // namespace detail
 
 }  // namespace translucent::reference

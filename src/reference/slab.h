@@ -39,6 +39,7 @@
 #include <cstdint>
 #include <functional>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include "optics/medium.h"
@@ -75,6 +76,9 @@ enum class Kernel {
   Scalar,         // one photon at a time, Algorithm 1 as written (the readable reference)
 };
 
+// Photons per block; part of the determinism contract (results depend on it).
+inline constexpr uint64_t kBlockPhotons = 1024;
+
 struct TraceOptions {
   uint64_t photons = 1'000'000;
   uint64_t seed = 1;
@@ -90,12 +94,17 @@ struct TraceOptions {
   int angle_bins = 0;
   // Long-path roulette after this many scattering events (0: off).
   uint64_t long_path_roulette = 0;
+  // A share of the run (issue 17: shards): trace only its blocks first_block .. first_block +
+  // blocks - 1 of kBlockPhotons photons (0 blocks: to the end). Block b is the same photons in
+  // any share, so the shards' run states (run_state.h) add up to the whole run's.
+  uint64_t first_block = 0, blocks = 0;
 
+  // Blocks of the whole run, and the photons of blocks [first, first + count).
+  uint64_t totalBlocks() const { return (photons + kBlockPhotons - 1) / kBlockPhotons; }
+  uint64_t photonsInBlocks(uint64_t first, uint64_t count) const;
   void validate() const;
 };
 
-// Photons per block; part of the determinism contract (results depend on it).
-inline constexpr uint64_t kBlockPhotons = 1024;
 
 // A Monte Carlo estimate per incident photon and its standard error.
 struct Estimate {
@@ -135,6 +144,7 @@ struct SlabResult {
   int threads = 0;
   uint64_t seed = 0;
   bool partial = false;  // stopped before all photons were traced
+  std::string device = "cpu";  // what traced it: "cpu", or "gpu (<GL renderer>)" (slab_gpu.h)
 
   double photonsPerSecond() const { return seconds > 0.0 ? photons / seconds : 0.0; }
 };
@@ -148,8 +158,16 @@ struct TraceProgress {
 // stop (the photons traced so far are returned with partial = true).
 using ProgressCallback = std::function<bool(const TraceProgress&)>;
 
-// Traces options.photons photons (throws ParameterError for bad setup or options).
+struct RunState;
+
+// Traces options.photons photons, or the blocks of the share options.first_block/blocks
+// (throws ParameterError for bad setup or options). With `state`, also the run's
+// order-independent sums (run_state.h): what a shard writes for `translucent merge`.
 SlabResult traceSlab(const SlabSetup& setup, const TraceOptions& options,
-                     const ProgressCallback& progress = {});
+                     const ProgressCallback& progress = {}, RunState* state = nullptr);
+// The result of a run from its state (e.g. the merged states of its shards): what traceSlab
+// returns for the whole run, bit for bit (timings aside). std::runtime_error when the state's
+// layout is not that of these options.
+SlabResult slabResult(const SlabSetup& setup, const TraceOptions& options, const RunState& state);
 
 }  // namespace translucent::reference

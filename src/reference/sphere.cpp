@@ -3,6 +3,8 @@
 
 #include <fmt/format.h>
 
+#include <numbers>
+
 #include "reference/transport_impl.h"
 
 namespace translucent::reference {
@@ -67,7 +69,7 @@ SpherePathTracer::SpherePathTracer(const SphereScene& scene, const Medium& mediu
   medium.validate();
   for (int c = 0; c < 3; ++c) channels_.push_back(medium.channel(c));
   tally_ = std::make_unique<ImageTally>(body_, scene_.camera(), etasOf(channels_),
-                                        scene_.cone_half_angle);
+                                        scene_.cone_half_angle, photonFlux());
 }
 
 SpherePathTracer::SpherePathTracer(const SphereScene& scene, const ScalarMedium& medium,
@@ -76,23 +78,74 @@ SpherePathTracer::SpherePathTracer(const SphereScene& scene, const ScalarMedium&
   scene_.validate();
   medium.validate();
   tally_ = std::make_unique<ImageTally>(body_, scene_.camera(), etasOf(channels_),
-                                        scene_.cone_half_angle);
+                                        scene_.cone_half_angle, photonFlux());
 }
 
 TransportStats SpherePathTracer::addPass(uint64_t photons, const ProgressCallback& progress) {
-  TransportOptions o;
-  o.photons = photons;
-  o.seed = options_.seed;
-  o.threads = options_.threads;
-  o.long_path_roulette = options_.long_path_roulette;
-  o.first_block = stats_.next_block;
-  const Light light = scene_.light();
-  TransportStats pass = detail::traceBlocks(body_, channels_, std::span<const Light>(&light, 1), o,
-                                            *tally_, progress);
-  tally_->addPhotons(pass.photons);
-  stats_.merge(pass);
+  TransportStats pass = addBlocks(stats_.next_block, (photons + kBlockPhotons - 1) / kBlockPhotons,
+                                  progress);
   ++passes_;
   return pass;
+}
+
+TransportStats SpherePathTracer::addBlocks(uint64_t first, uint64_t blocks,
+                                           const ProgressCallback& progress) {
+  const Light light = scene_.light();
+  const std::span<const Light> lights(&light, 1);
+  if (stats_.photons.empty()) stats_ = emptyStats(body_.bounds(), channels_.size(), lights);
+  // An empty share (more shards than blocks) traces nothing; its state is zero.
+  if (blocks == 0) return emptyStats(body_.bounds(), channels_.size(), lights);
+  TransportStats pass;
+  if (walker_) {
+    const SphereWalkSetup setup = walkSetup();
+    pass = scoreWalkedBlocks(
+        body_.bounds(), lights, setup.channels, first, blocks,
+        [&](int c, uint64_t b0, uint64_t nb, WalkedBatch& out) { walker_->trace(setup, c, b0, nb, out); },
+        *tally_, progress);
+  } else {
+    TransportOptions o;
+    o.photons = blocks * kBlockPhotons;
+    o.seed = options_.seed;
+    o.threads = options_.threads;
+    o.long_path_roulette = options_.long_path_roulette;
+    o.first_block = first;
+    pass = detail::traceBlocks(body_, channels_, lights, o, *tally_, progress);
+  }
+  tally_->addPhotons(pass.photons);
+  stats_.merge(pass);
+  return pass;
+}
+
+SphereWalkSetup SpherePathTracer::walkSetup() const {
+  const Light light = scene_.light();
+  SphereWalkSetup s;
+  s.radius = scene_.radius;
+  s.light_direction = std::get<DirectionalLight>(light.emitter).direction;
+  s.channels = walkChannels(body_.bounds(), channels_, std::span<const Light>(&light, 1));
+  s.seed = options_.seed;
+  s.long_path_roulette = options_.long_path_roulette;
+  return s;
+}
+
+double SpherePathTracer::photonFlux() const {
+  return scene_.irradiance * std::numbers::pi * scene_.radius * scene_.radius;
+}
+
+void SpherePathTracer::write(RunState& state) const {
+  tally_->write(state, "images");
+  stats_.write(state, "stats");
+}
+
+void SpherePathTracer::read(const RunState& state, double seconds, int threads) {
+  tally_->read(state, "images");
+  if (stats_.photons.empty()) {
+    const Light light = scene_.light();
+    stats_ = emptyStats(body_.bounds(), channels_.size(), std::span<const Light>(&light, 1));
+  }
+  stats_.read(state, "stats");
+  stats_.seconds = seconds;
+  stats_.threads = threads;
+  stats_.partial = false;
 }
 
 }  // namespace translucent::reference

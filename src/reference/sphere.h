@@ -14,6 +14,8 @@
 
 #include <cmath>
 #include <memory>
+#include <string>
+#include <vector>
 
 #include <glm/geometric.hpp>
 
@@ -63,6 +65,21 @@ class SphereBody final : public Body {
   double eps_;
 };
 
+// A walker of the lit sphere other than the CPU's (the GPU: reference/gpu/sphere_gpu.h). It
+// traces whole blocks of one channel and reports, per photon, what the CPU walk would hand to
+// the tallies (transport.h: WalkedBatch; the sphere is convex, so a photon leaves at most once);
+// SpherePathTracer scores them exactly as its own photons (scoreWalkedBlocks: the images, the
+// flux statistics, the run state), so only the random streams differ.
+struct SphereWalkSetup {
+  double radius = 1.0;
+  glm::dvec3 light_direction{0.0, 0.0, 1.0};  // unit, towards the light
+  std::vector<WalkChannel> channels;
+  uint64_t seed = 1;
+  uint64_t long_path_roulette = 0;  // 0: off
+};
+
+using SphereWalker = PhotonWalker<SphereWalkSetup>;
+
 struct SphereScene {
   double radius = 1.0;                           // R [scene units]
   glm::dvec3 light_direction{1.0, 1.0, 1.0};     // towards the light (normalised)
@@ -91,6 +108,15 @@ class SpherePathTracer {
   // Traces `photons` more photons per channel (rounded up to whole blocks of kBlockPhotons) into
   // the images. Returns this pass's statistics; a stop from `progress` ends it early (partial).
   TransportStats addPass(uint64_t photons, const ProgressCallback& progress = {});
+  // Traces the `blocks` blocks of kBlockPhotons photons per channel from block `first` on: a
+  // share of a run (pass k of P passes of B blocks is blocks kB..(k+1)B - 1, so the shards of a
+  // run are ranges of its P·B blocks; issue 17). Accumulates like addPass.
+  TransportStats addBlocks(uint64_t first, uint64_t blocks, const ProgressCallback& progress = {});
+  // The images and statistics as named arrays (run_state.h), and back: read() replaces them
+  // with the state's (e.g. the merged shards of a run); std::runtime_error for another layout.
+  void write(RunState& state) const;
+  // `seconds`, `threads`: the timing to report (e.g. the shards' total).
+  void read(const RunState& state, double seconds = 0.0, int threads = 0);
 
   const CameraImages& images() const { return tally_->images(); }
   const TransportStats& stats() const { return stats_; }  // all passes
@@ -99,7 +125,16 @@ class SpherePathTracer {
   const CameraModel& camera() const { return tally_->camera(); }
   int passes() const { return passes_; }
 
+  // From now on, trace with `walker` instead of the CPU walk (null: the CPU again). Progress is
+  // reported, and stops honoured, between its batches of blocks.
+  void setWalker(std::shared_ptr<SphereWalker> walker) { walker_ = std::move(walker); }
+  // "cpu", or the walker's name.
+  std::string device() const { return walker_ ? walker_->name() : "cpu"; }
+  // What the walker is given (the scene's radius and light, the channels' coefficients).
+  SphereWalkSetup walkSetup() const;
+
  private:
+  double photonFlux() const;  // what a photon carries: E πR²
   SphereScene scene_;
   std::vector<ScalarMedium> channels_;
   TracerOptions options_;
@@ -107,6 +142,7 @@ class SpherePathTracer {
   std::unique_ptr<ImageTally> tally_;
   TransportStats stats_;
   int passes_ = 0;
+  std::shared_ptr<SphereWalker> walker_;
 };
 
 }  // namespace translucent::reference

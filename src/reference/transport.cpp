@@ -4,6 +4,9 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <array>
+#include <chrono>
 #include <cmath>
 #include <numbers>
 
@@ -12,11 +15,7 @@
 namespace translucent::reference {
 
 Estimate Moments::estimate(uint64_t n, double measure) const {
-  if (n == 0) return {};
-  const double N = static_cast<double>(n);
-  const double mean = s / N;
-  const double var = n > 1 ? std::max(0.0, s2 / N - mean * mean) * N / (N - 1.0) : 0.0;
-  return {mean / measure, std::sqrt(var / N) / measure};
+  return meanAndError(s, s2, n, measure);
 }
 
 namespace {
@@ -102,6 +101,37 @@ void TransportStats::merge(const TransportStats& o) {
   partial = partial || o.partial;
 }
 
+namespace {
+// The four flux sums of a channel, by name (write/read below).
+template <class Stats>
+auto fluxSums(Stats& st, size_t c) {
+  return std::array{std::pair{"emitted", &st.emitted[c]}, std::pair{"entered", &st.entered[c]},
+                    std::pair{"exited", &st.exited[c]}, std::pair{"escaped", &st.escaped[c]}};
+}
+}  // namespace
+
+void TransportStats::write(RunState& state, const std::string& prefix) const {
+  state.putCounts(prefix + ".photons", photons);
+  state.putCounts(prefix + ".scattering_events", {scattering_events});
+  for (size_t c = 0; c < photons.size(); ++c)
+    for (const auto& [name, m] : fluxSums(*this, c)) {
+      const std::string key = fmt::format("{}.{}.{}", prefix, name, c);
+      state.putSums(key + ".s", m->scale().exponent(), {m->rawS()});
+      state.putSums(key + ".s2", m->scale().squared().exponent(), {m->rawS2()});
+    }
+}
+
+void TransportStats::read(const RunState& state, const std::string& prefix) {
+  photons = state.getCounts(prefix + ".photons", photons.size());
+  scattering_events = state.getCounts(prefix + ".scattering_events", 1)[0];
+  for (size_t c = 0; c < photons.size(); ++c)
+    for (const auto& [name, m] : fluxSums(*this, c)) {
+      const std::string key = fmt::format("{}.{}.{}", prefix, name, c);
+      m->setRaw(state.getSums(key + ".s", 1, m->scale().exponent())[0],
+                state.getSums(key + ".s2", 1, m->scale().squared().exponent())[0]);
+    }
+}
+
 uint64_t TransportStats::totalPhotons() const {
   uint64_t n = 0;
   for (uint64_t p : photons) n += p;
@@ -128,6 +158,113 @@ double emittedFlux(const Light& light, const BoundingSphere& b, int channel) {
     flux = std::get<BeamLight>(light.emitter).power;
   }
   return flux * light.color[static_cast<size_t>(channel)];
+}
+
+nlohmann::json fluxPerChannelJson(const TransportStats& s) {
+  nlohmann::json j = nlohmann::json::array();
+  for (size_t c = 0; c < s.photons.size(); ++c) {
+    const auto em = s.emitted[c].estimate(s.photons[c]);
+    const auto en = s.entered[c].estimate(s.photons[c]);
+    const auto ex = s.exited[c].estimate(s.photons[c]);
+    const auto es = s.escaped[c].estimate(s.photons[c]);
+    j.push_back({{"emitted", em.value}, {"entered", en.value}, {"entered_stderr", en.std_error},
+                 {"exited", ex.value}, {"exited_stderr", ex.std_error},
+                 {"escaped", es.value}, {"escaped_stderr", es.std_error}});
+  }
+  return j;
+}
+
+TransportStats emptyStats(const BoundingSphere& bounds, size_t channels,
+                          std::span<const Light> lights) {
+  TransportStats stats;
+  stats.photons.assign(channels, 0);
+  for (size_t c = 0; c < channels; ++c) {
+    double flux = 0.0;  // summed as channelWalks sums ChannelWalk::totalFlux
+    for (const Light& l : lights) flux += emittedFlux(l, bounds, static_cast<int>(c));
+    const MomentSum zero(FixedScale::around(flux));
+    stats.emitted.push_back(zero);
+    stats.entered.push_back(zero);
+    stats.exited.push_back(zero);
+    stats.escaped.push_back(zero);
+  }
+  return stats;
+}
+
+std::vector<WalkChannel> walkChannels(const BoundingSphere& bounds,
+                                      std::span<const ScalarMedium> channels,
+                                      std::span<const Light> lights) {
+  std::vector<WalkChannel> out;
+  for (const auto& w : detail::channelWalks(bounds, channels, lights)) {
+    WalkChannel c;
+    c.sigma_t = w.sigmaT;
+    c.absorb_probability = w.absorbProbability;
+    c.g = static_cast<double>(w.g);
+    c.eta = w.matched ? 1.0 : w.eta;
+    c.flux = w.totalFlux;
+    for (double f : w.lightCdf) c.light_cdf.push_back(w.totalFlux > 0.0 ? f / w.totalFlux : 1.0);
+    out.push_back(std::move(c));
+  }
+  return out;
+}
+
+TransportStats scoreWalkedBlocks(const BoundingSphere& bounds, std::span<const Light> lights,
+                                 std::span<const WalkChannel> channels, uint64_t first,
+                                 uint64_t blocks, const WalkFunction& walk, ExitTally& tally,
+                                 const ProgressCallback& progress) {
+  const size_t nc = channels.size();
+  TransportStats pass = emptyStats(bounds, nc, lights);
+  const auto start = std::chrono::steady_clock::now();
+  auto elapsed = [&] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
+  const uint64_t perBlock = kBlockPhotons * nc, total = blocks * perBlock;
+  uint64_t batch = 4, done = 0;
+  std::vector<WalkedBatch> walked(nc);
+  while (done < blocks) {
+    const uint64_t nb = std::min(batch, blocks - done);
+    const double t0 = elapsed();
+    for (size_t c = 0; c < nc; ++c) walk(static_cast<int>(c), first + done, nb, walked[c]);
+    for (uint64_t b = 0; b < nb; ++b) {
+      // transport_impl.h traceBlocks: one tally block per block, its channels in order.
+      auto block = tally.newBlock();
+      detail::BlockCounters k(nc);
+      for (size_t c = 0; c < nc; ++c) {
+        const WalkedBatch& w = walked[c];
+        for (uint64_t p = 0; p < kBlockPhotons; ++p) {
+          const WalkedPhoton& ph = w.photons[b * kBlockPhotons + p];
+          k.emitted[c].add(channels[c].flux);
+          k.entered[c].add(ph.entered);
+          for (uint32_t e = 0; e < ph.exits; ++e) {
+            const WalkedExit& x = w.exits[ph.first_exit + e];
+            ExitRecord r;
+            r.position = x.position;
+            r.normal = x.normal;
+            r.direction = x.direction;
+            r.weight = x.weight;
+            r.channel = static_cast<int>(c);
+            block->record(r);
+          }
+          k.exited[c].add(ph.exited);
+          k.escaped[c].add(ph.escaped);
+          k.events += ph.scatters;
+          block->endPhoton();
+        }
+      }
+      tally.merge(*block);
+      detail::addBlock(pass, k);
+    }
+    done += nb;
+    if (elapsed() - t0 < 0.05) batch = std::min<uint64_t>(batch * 2, 256);
+    if (progress && done < blocks && !progress(TraceProgress{done * perBlock, total, elapsed()})) {
+      pass.partial = true;
+      break;
+    }
+  }
+  pass.next_block = first + done;
+  pass.seconds = elapsed();
+  pass.threads = 1;
+  if (progress) progress(TraceProgress{done * perBlock, total, pass.seconds});
+  return pass;
 }
 
 EnvironmentLight EnvironmentLight::make(std::shared_ptr<const lights::EnvironmentMap> map,

@@ -59,16 +59,21 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <span>
+#include <string>
 #include <variant>
 #include <vector>
 
 #include <glm/vec3.hpp>
+#include <nlohmann/json.hpp>
 
 #include "lights/environment_map.h"
+#include "reference/exact_sum.h"
 #include "optics/medium.h"
 #include "reference/majorant_grid.h"
+#include "reference/run_state.h"
 #include "reference/slab.h"
 
 namespace translucent::reference {
@@ -209,15 +214,17 @@ struct TracerOptions {
   uint64_t long_path_roulette = TransportOptions{}.long_path_roulette;
 };
 
-// Per-channel sums of one run (or of several, merged).
+// Per-channel sums of one run (or of several, merged). The flux sums are order-independent
+// (exact_sum.h) on the grid of the flux a photon of the channel carries, so that shards of a run
+// merge into its totals bit for bit.
 struct TransportStats {
-  std::vector<uint64_t> photons;  // photons traced, per channel
-  std::vector<Moments> emitted;   // flux sent towards the body
-  std::vector<Moments> entered;   // flux transmitted into the body
-  std::vector<Moments> exited;    // flux leaving it, summed over every exit of a photon (a
-                                  // photon that re-enters and leaves again counts twice)
-  std::vector<Moments> escaped;   // flux of the final departures (entered = absorbed + escaped;
-                                  // equals exited for a convex body)
+  std::vector<uint64_t> photons;    // photons traced, per channel
+  std::vector<MomentSum> emitted;   // flux sent towards the body
+  std::vector<MomentSum> entered;   // flux transmitted into the body
+  std::vector<MomentSum> exited;    // flux leaving it, summed over every exit of a photon (a
+                                    // photon that re-enters and leaves again counts twice)
+  std::vector<MomentSum> escaped;   // flux of the final departures (entered = absorbed +
+                                    // escaped; equals exited for a convex body)
   uint64_t scattering_events = 0;
   uint64_t next_block = 0;  // first block a following pass should use
   double seconds = 0.0;
@@ -226,6 +233,11 @@ struct TransportStats {
 
   void merge(const TransportStats& o);
   uint64_t totalPhotons() const;
+  // The sums and counts as named arrays `<prefix>.…` (run_state.h), and back (read() replaces
+  // the photons, flux sums and event count; the arrays must match this object's channels and
+  // grids).
+  void write(RunState& state, const std::string& prefix) const;
+  void read(const RunState& state, const std::string& prefix);
   double photonsPerSecond() const { return seconds > 0.0 ? totalPhotons() / seconds : 0.0; }
 };
 
@@ -245,8 +257,79 @@ TransportStats tracePhotons(const Body& body, const VolumeMedium& medium,
                             std::span<const Light> lights, const TransportOptions& options,
                             ExitTally& tally, const ProgressCallback& progress = {});
 
+// Photons traced by another walker (the GPU's: reference/gpu), handed back for scoring. A batch
+// holds whole blocks of one channel: photons[(b - first) kBlockPhotons + p] and their exits,
+// in photon order (photon k's are exits[first_exit .. first_exit + exits - 1], in the order it
+// left).
+struct WalkedPhoton {
+  double entered = 0.0;  // flux transmitted in at the first hit (0: missed the body)
+  double exited = 0.0;   // the sum of its exits' weights
+  double escaped = 0.0;  // the weight of its final departure (0: absorbed or ended by the roulette)
+  uint64_t scatters = 0;
+  uint32_t first_exit = 0, exits = 0;
+};
+struct WalkedExit {
+  glm::dvec3 position{}, normal{}, direction{};  // as ExitRecord
+  double weight = 0.0;
+};
+struct WalkedBatch {
+  std::vector<WalkedPhoton> photons;
+  std::vector<WalkedExit> exits;
+};
+// What another walker needs of a channel (detail::channelWalks, made public): coefficients per
+// scene unit, the light choice, and the flux every photon carries.
+struct WalkChannel {
+  double sigma_t = 1.0;
+  double absorb_probability = 0.0;  // 1 - α
+  double g = 0.0;
+  double eta = 1.0;                 // n_inside / n_outside (1: index-matched)
+  double flux = 0.0;                // what every photon of the channel carries
+  std::vector<double> light_cdf;    // cumulative share of the flux per light (last: 1)
+};
+// Throws ParameterError for bad media or lights (as tracePhotons).
+std::vector<WalkChannel> walkChannels(const BoundingSphere& bounds,
+                                      std::span<const ScalarMedium> channels,
+                                      std::span<const Light> lights);
+
+// A walker other than the CPU's (the GPU's: reference/gpu) for the body whose tracer gives it
+// `Setup` (SphereWalkSetup, MeshWalkSetup): whole blocks of one channel, handed back for the
+// tracer to score as its own photons (scoreWalkedBlocks).
+template <class Setup>
+class PhotonWalker {
+ public:
+  virtual ~PhotonWalker() = default;
+  // Photons of `channel` in blocks [first, first + count) into `out`.
+  virtual void trace(const Setup& setup, int channel, uint64_t first, uint64_t count,
+                     WalkedBatch& out) = 0;
+  virtual std::string name() const = 0;  // what traces, for outputs: "gpu (<renderer>)"
+};
+
+// Traces blocks [first, first + count) of `channel` into `out`.
+using WalkFunction = std::function<void(int channel, uint64_t first, uint64_t count, WalkedBatch& out)>;
+
+// Blocks [first, first + blocks) traced by `walk` and scored as tracePhotons scores its own
+// photons (per block and channel a tally block and flux counters, merged in block order; every
+// photon of channel c carries channels[c].flux): the images and statistics a tracer keeps do
+// not depend on which walker traced. Batches of blocks grow from 4 to 256 while one takes under
+// ~0.05 s; progress is reported, and a stop honoured, between batches (partial = true).
+// threads = 1.
+TransportStats scoreWalkedBlocks(const BoundingSphere& bounds, std::span<const Light> lights,
+                                 std::span<const WalkChannel> channels, uint64_t first,
+                                 uint64_t blocks, const WalkFunction& walk, ExitTally& tally,
+                                 const ProgressCallback& progress = {});
+
 // Flux each light sends towards the body's bounding sphere in one channel [W] (what the photons
 // of that light carry in total).
 double emittedFlux(const Light& light, const BoundingSphere& bounds, int channel);
+
+// Per channel the flux estimates of a run (emitted, entered, exited, escaped, with standard
+// errors), as the "flux_per_channel" array of the path tracers' JSON (CLI and Python).
+nlohmann::json fluxPerChannelJson(const TransportStats& stats);
+
+// The statistics of a run that has traced nothing yet: `channels` channels of zero sums, each on
+// the grid of the flux a photon of the channel carries (Σ of emittedFlux over the lights), as
+// tracePhotons makes them. A run state (run_state.h) is read into these.
+TransportStats emptyStats(const BoundingSphere& bounds, size_t channels,
+                          std::span<const Light> lights);
 
 }  // namespace translucent::reference

@@ -38,6 +38,18 @@ struct BlockCounters {
       : emitted(channels), entered(channels), exited(channels), escaped(channels) {}
 };
 
+// A block's counters into the run's statistics (every channel traced kBlockPhotons photons).
+inline void addBlock(TransportStats& stats, const BlockCounters& k) {
+  for (size_t c = 0; c < k.emitted.size(); ++c) {
+    stats.photons[c] += kBlockPhotons;
+    stats.emitted[c].add(k.emitted[c].s, k.emitted[c].s2);
+    stats.entered[c].add(k.entered[c].s, k.entered[c].s2);
+    stats.exited[c].add(k.exited[c].s, k.exited[c].s2);
+    stats.escaped[c].add(k.escaped[c].s, k.escaped[c].s2);
+  }
+  stats.scattering_events += k.events;
+}
+
 // Whether the body type declares itself convex (transport.h: `static constexpr bool kConvex`):
 // then an exit ray cannot meet the body again and the re-entry query is skipped.
 template <class BodyT>
@@ -373,12 +385,8 @@ TransportStats traceBlocks(const BodyT& body, std::span<const ScalarMedium> chan
     std::unique_ptr<ExitTally::Block> tally;
     BlockCounters counters;
   };
-  TransportStats stats;
-  stats.photons.assign(nc, 0);
-  stats.emitted.assign(nc, {});
-  stats.entered.assign(nc, {});
-  stats.exited.assign(nc, {});
-  stats.escaped.assign(nc, {});
+  // Zero sums on the grids of what a photon of each channel carries (exact_sum.h).
+  TransportStats stats = emptyStats(bounds, nc, lights);
 
   auto make = [&] { return Result{tally.newBlock(), BlockCounters(nc)}; };
   auto work = [&](uint64_t b, Result& r, const std::atomic<bool>& stop) {
@@ -398,14 +406,7 @@ TransportStats traceBlocks(const BodyT& body, std::span<const ScalarMedium> chan
   };
   auto merge = [&](uint64_t, Result& r) {
     tally.merge(*r.tally);
-    for (size_t c = 0; c < nc; ++c) {
-      stats.photons[c] += kBlockPhotons;
-      stats.emitted[c].merge(r.counters.emitted[c]);
-      stats.entered[c].merge(r.counters.entered[c]);
-      stats.exited[c].merge(r.counters.exited[c]);
-      stats.escaped[c].merge(r.counters.escaped[c]);
-    }
-    stats.scattering_events += r.counters.events;
+    addBlock(stats, r.counters);
   };
   const uint64_t perBlock = kBlockPhotons * nc, total = blocks * perBlock;
   std::function<bool(uint64_t, double)> tick;

@@ -7,11 +7,13 @@
 #include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "optics/fresnel.h"
 #include "reference/phase.h"
 #include "reference/rng.h"
+#include "reference/run_state.h"
 #include "reference/slab.h"
 #include "reference/walk_lanes.h"
 
@@ -31,11 +33,7 @@ struct Sums {
   }
   // Mean per photon and its standard error, divided by `measure` (an area or a solid angle).
   Estimate estimate(uint64_t n, double measure = 1.0) const {
-    if (n == 0) return {};
-    const double N = static_cast<double>(n);
-    const double mean = s / N;
-    const double var = n > 1 ? std::max(0.0, s2 / N - mean * mean) * N / (N - 1.0) : 0.0;
-    return {mean / measure, std::sqrt(var / N) / measure};
+    return meanAndError(s, s2, n, measure);
   }
 };
 
@@ -63,6 +61,44 @@ struct Tally {
     for (size_t i = 0; i < radialAngle.size(); ++i) radialAngle[i].merge(o.radialAngle[i]);
   }
 };
+
+// The run total of the block tallies, order-independent (exact_sum.h) so that shards merge into
+// it bit for bit; weights are those of one incident photon (<= 1 but for the roulettes'
+// factors of 10), on the unit grid.
+struct ExactTally {
+  uint64_t photons = 0, events = 0;
+  MomentSum reflected, transmitted, unscattered, absorbed;
+  std::vector<MomentSum> radial, angular, radialAngle;
+
+  ExactTally(int nr, int na)
+      : radial(nr > 0 ? static_cast<size_t>(nr) + 1 : 0),
+        angular(static_cast<size_t>(na)),
+        radialAngle(static_cast<size_t>(nr) * static_cast<size_t>(na)) {}
+  void merge(const Tally& block);
+  Tally toTally() const;  // the sums as doubles (for finishSlab)
+  void write(RunState& state) const;
+  void read(const RunState& state);
+};
+
+// The block loop of the slab tracers over the options' share of blocks: block(b, count, tally,
+// stop) traces `count` photons of block b into a fresh tally. With `state`, the run state too.
+using SlabBlock = std::function<bool(uint64_t b, uint64_t count, Tally& t,
+                                     const std::atomic<bool>& stop)>;
+SlabResult runSlabBlocks(const TraceOptions& O, double rsp, const SlabBlock& block,
+                         const ProgressCallback& progress, RunState* state);
+// The options' share of the run's blocks (all of them unless first_block / blocks say otherwise)
+// and the photons in it.
+struct BlockShare {
+  uint64_t first = 0, count = 0, photons = 0;
+};
+BlockShare blockShare(const TraceOptions& O);
+// The end of a slab run, whoever traced it: the result from the total (partial when it holds
+// fewer than `expected` photons), the state written, the last progress report.
+SlabResult finishSlabRun(const ExactTally& total, const TraceOptions& O, double rsp,
+                         uint64_t expected, double seconds, int threads,
+                         const ProgressCallback& progress, RunState* state);
+// The result of a run from its state (slabResult, traceLayeredSlab's counterpart).
+SlabResult slabFromState(const TraceOptions& O, double rsp, const RunState& state);
 
 // An interface seen from inside: relative index n_outside / n_inside, or index matched.
 struct Interface {
@@ -95,6 +131,11 @@ inline constexpr uint32_t kSurviveThreshold = 429496730u;  // round(0.1 * 2^32)
 inline constexpr double kSurviveBoost = 4294967296.0 / kSurviveThreshold;
 
 // The low word of the 64-bit absorption test, needed only when the high word ties (2^-32).
+// The 64-bit threshold of an absorption with probability p (Walk::absorbThreshold).
+inline uint64_t absorbThreshold(double p) {
+  return p >= 1.0 ? ~uint64_t{0} : static_cast<uint64_t>(std::ldexp(p, 64));
+}
+
 inline bool absorbsLowWord(uint32_t low, uint64_t threshold) {
   return low < static_cast<uint32_t>(threshold);
 }

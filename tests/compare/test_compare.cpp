@@ -262,6 +262,9 @@ TEST(CompareCache, ASecondRequestHitsAndAChangedInputMisses) {
   more = req;
   more.kind = ReferenceKind::Model;
   EXPECT_NE(referenceKey(s, more), first.key);
+  more = req;
+  more.device = "gpu";  // the GPU walk's own streams: another reference of the same scene
+  EXPECT_NE(referenceKey(s, more), first.key);
   other = s;
   other.medium.sigma_a[0] *= 1.01;
   const Reference changed = cachedReference(other, mesh, req, &cache);

@@ -267,4 +267,77 @@ TEST_F(CompareCli, FolderWithAUsersFilesIsRefused) {
   EXPECT_NE(bad.output.find("--reference 'pathtraced'"), std::string::npos) << bad.output;
 }
 
+// `--reference-from` (issue 17): the physical reference traced by `pathtrace mesh` in two shards
+// and merged is, pixel for pixel, the reference compare traces itself with the same photons and
+// seed; the JSON of another scene is refused naming what differs.
+TEST_F(CompareCli, ReferenceFromAMergedShardedRunIsTheReferenceCompareTraces) {
+  ASSERT_EQ(first_->status, 0) << first_->output;
+  // The scene at the comparison's size (pathtrace mesh renders the scene's camera).
+  std::string text = readText(TRANSLUCENT_CUBE_SCENE);
+  const std::string size = "\"width\": 160, \"height\": 120";
+  ASSERT_NE(text.find(size), std::string::npos);
+  text.replace(text.find(size), size.size(), "\"width\": 48, \"height\": 36");
+  const std::string mesh = "\"../meshes/cube.obj\"";
+  text.replace(text.find(mesh), mesh.size(),
+               "\"" + (fs::path(TRANSLUCENT_CUBE_SCENE).parent_path() / "../meshes/cube.obj").string() + "\"");
+  const std::string last = "\"cone_angle\": 5.0";
+  text.replace(text.find(last), last.size(),
+               last + ",\n  \"technique\": {\"name\": \"pointcloud\", \"points\": 2000}");
+  const fs::path scene = kRoot / "cube-48.json", dir = kRoot / "sharded";
+  fs::create_directories(dir);
+  std::ofstream(scene) << text;
+  const std::string pt = std::string("'") + TRANSLUCENT_CLI + "' pathtrace mesh --scene '" +
+                         scene.string() + "' --photons 20000 ";
+  for (const char* shard : {"0/2", "1/2"}) {
+    const std::string part = (dir / (std::string("part") + shard[0] + ".tpart")).string();
+    ASSERT_EQ(std::system((pt + "--seed 1 --shard " + shard + " --partial '" + part + "' 2>/dev/null").c_str()), 0);
+  }
+  const std::string merge = std::string("'") + TRANSLUCENT_CLI + "' merge '" + (dir / "part0.tpart").string() +
+                            "' '" + (dir / "part1.tpart").string() + "' --exr '" +
+                            (dir / "merged.exr").string() + "' --json '" + (dir / "merged.json").string() + "' 2>/dev/null";
+  ASSERT_EQ(std::system(merge.c_str()), 0);
+  // The same cube under a brighter light: another scene.
+  std::string brighter = text;
+  brighter.replace(brighter.find("\"irradiance\": 1.0"), 17, "\"irradiance\": 1.5");
+  std::ofstream(kRoot / "cube-48-brighter.json") << brighter;
+  ASSERT_EQ(std::system((std::string("'") + TRANSLUCENT_CLI + "' pathtrace mesh --scene '" +
+                         (kRoot / "cube-48-brighter.json").string() + "' --photons 20000 --exr '" +
+                         (dir / "brighter.exr").string() + "' --json '" +
+                         (dir / "brighter.json").string() + "' 2>/dev/null").c_str()), 0);
+
+  const std::string opts = "--techniques pointcloud --reference physical --width 48 --height 36 "
+                           "--photons 20000 --frames 1 --warmup 0 --threads 2 --no-cache ";
+  const CliRun from = run("'" + scene.string() + "' " + opts + "--reference-from '" +
+                              (dir / "merged.json").string() + "' --out '" + (dir / "from").string() + "'",
+                          "reference-from");
+  ASSERT_EQ(from.status, 0) << from.output;
+  EXPECT_NE(from.output.find("physical reference: read from"), std::string::npos) << from.output;
+  const CliRun traced = run("'" + scene.string() + "' " + opts + "--out '" + (dir / "traced").string() + "'",
+                            "reference-traced");
+  ASSERT_EQ(traced.status, 0) << traced.output;
+  const auto a = translucent::analysis::readExrLayers((dir / "from" / "physical.exr").string());
+  const auto b = translucent::analysis::readExrLayers((dir / "traced" / "physical.exr").string());
+  EXPECT_EQ(a.rgb, b.rgb);
+  for (const char* layer : {"exitance_stderr", "radiance", "radiance_stderr", "cone_radiance"})
+    EXPECT_EQ(a.layers.at(layer), b.layers.at(layer)) << layer;
+
+  // Any seed and photon count make a reference of the scene; another scene does not.
+  const CliRun other = run("'" + scene.string() + "' " + opts + "--reference-from '" +
+                               (dir / "brighter.json").string() + "' --out '" + (dir / "other").string() + "'",
+                           "reference-other");
+  EXPECT_NE(other.status, 0);
+  EXPECT_NE(other.output.find("traced for another scene than this comparison's (different: scene)"),
+            std::string::npos) << other.output;
+
+  // Traced on the GPU (issue 16: its JSON and key say so), it is a reference of the scene too.
+  ASSERT_EQ(std::system((pt + "--seed 1 --device gpu --exr '" + (dir / "gpu.exr").string() +
+                         "' --json '" + (dir / "gpu.json").string() + "' 2>/dev/null").c_str()), 0);
+  EXPECT_NE(readText((dir / "gpu.json").string()).find("\"device\": \"gpu ("), std::string::npos);
+  const CliRun gpu = run("'" + scene.string() + "' " + opts + "--reference-from '" +
+                             (dir / "gpu.json").string() + "' --out '" + (dir / "gpu").string() + "'",
+                         "reference-gpu");
+  ASSERT_EQ(gpu.status, 0) << gpu.output;
+  EXPECT_NE(gpu.output.find("physical reference: read from"), std::string::npos) << gpu.output;
+}
+
 }  // namespace

@@ -23,6 +23,27 @@ if(TARGET translucent_cli)
   render_test(sphere_time_limit ARGS pathtrace sphere --preset Marble ${SMALL} --photons 1e15
               --time-limit 0.3 --exr ${OUT}/rs3.exr --json ${OUT}/rs3.json
               FILE ${OUT}/rs3.json MATCH "\"partial\": true")
+  # --device (issue 16): the GPU walk writes the same outputs and says what traced them; time
+  # limits act between its batches; unknown devices are refused.
+  render_test(sphere_device_gpu ARGS pathtrace sphere --preset Skin1 --scale 2 ${SMALL}
+              --photons 4000 --device gpu --exr ${OUT}/rsg.exr --json ${OUT}/rsg.json
+              FILE ${OUT}/rsg.json MATCH "\"device\": \"gpu \\(")
+  render_test(sphere_device_gpu_time_limit ARGS pathtrace sphere --preset Marble ${SMALL}
+              --photons 1e15 --device gpu --time-limit 0.5 --exr ${OUT}/rsg2.exr
+              --json ${OUT}/rsg2.json FILE ${OUT}/rsg2.json MATCH "\"partial\": true")
+  render_test(sphere_device_bad FAIL ARGS pathtrace sphere ${SMALL} --device tpu
+              --exr ${OUT}/x.exr MATCH "--device")
+  render_test(mesh_device_gpu ARGS pathtrace mesh --scene ${PROJECT_SOURCE_DIR}/data/scenes/cube.json
+              --photons 4000 --device gpu --exr ${OUT}/rmg.exr --json ${OUT}/rmg.json
+              FILE ${OUT}/rmg.json MATCH "\"device\": \"gpu \\(")
+  render_test(mesh_device_gpu_environment ARGS pathtrace mesh
+              --scene ${PROJECT_SOURCE_DIR}/data/compare/bunny-marble-environment.json
+              --photons 2000 --device gpu --exr ${OUT}/rmge.exr
+              --json ${OUT}/rmge.json FILE ${OUT}/rmge.json MATCH "\"device\": \"gpu \\(")
+  render_test(mesh_device_gpu_field FAIL ARGS pathtrace mesh
+              --scene ${PROJECT_SOURCE_DIR}/data/scenes/bunny-marble-veins.json
+              --photons 4000 --device gpu --exr ${OUT}/x.exr
+              MATCH "--device gpu: heterogeneous materials are traced on the CPU only")
   render_test(integrate_json ARGS integrate sphere --model dipole --preset Ketchup ${SMALL}
               --samples 4 --sampling uniform --exr ${OUT}/ri.exr --json ${OUT}/ri.json
               FILE ${OUT}/ri.json MATCH "\"samples_per_pixel\": 4")

@@ -237,8 +237,8 @@ TEST(HeterogeneousMesh, SameSeedSameImagesForAnyThreadCount) {
   EXPECT_EQ(one->images().cone_radiance.rgb(), three->images().cone_radiance.rgb());
   EXPECT_EQ(one->stats().scattering_events, three->stats().scattering_events);
   for (int c = 0; c < 3; ++c) {
-    EXPECT_EQ(one->stats().exited[static_cast<size_t>(c)].s, three->stats().exited[static_cast<size_t>(c)].s);
-    EXPECT_EQ(one->stats().exited[static_cast<size_t>(c)].s2, three->stats().exited[static_cast<size_t>(c)].s2);
+    EXPECT_EQ(one->stats().exited[static_cast<size_t>(c)].s(), three->stats().exited[static_cast<size_t>(c)].s());
+    EXPECT_EQ(one->stats().exited[static_cast<size_t>(c)].s2(), three->stats().exited[static_cast<size_t>(c)].s2());
   }
   EXPECT_GT(one->stats().scattering_events, 0u);
 }

@@ -115,6 +115,15 @@ TEST(PencilReference, StopEndsTheRunAndBadInputIsRejected) {
   EXPECT_THROW(tracePencilReference(clear, Channel::Blue, o, {}), ParameterError);
   o.r_max = -1.0;
   EXPECT_THROW(tracePencilReference(m, Channel::Red, o, {}), ParameterError);
+  o.r_max = 10.0;
+  o.device = "tpu";
+  try {
+    tracePencilReference(m, Channel::Red, o, {});
+    ADD_FAILURE() << "device tpu accepted";
+  } catch (const ParameterError& e) {
+    EXPECT_NE(std::string(e.what()).find("reference device 'tpu': expected cpu, gpu or auto"),
+              std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

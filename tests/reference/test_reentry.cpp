@@ -361,7 +361,7 @@ TEST(Reentry, SecondBoxLitOnlyThroughTheFirstMatchesDeltaTracking) {
   expectAgree(face, v.scores[1].estimate(v.photons), 4.0, "exitance of B's far face");
   expectAgree(run.stats.escaped[0].estimate(n), v.escaped.estimate(v.photons), 4.0, "escaped flux");
   // Photons that crossed to B left the body twice: more flux exits than escapes.
-  EXPECT_GT(run.stats.exited[0].s, run.stats.escaped[0].s);
+  EXPECT_GT(run.stats.exited[0].s(), run.stats.escaped[0].s());
 }
 
 TEST(Reentry, UPrismMatchesDeltaTracking) {
@@ -422,10 +422,10 @@ TEST(Reentry, EnergyIsConservedAtMismatchedIndexWithoutAbsorption) {
   TracerRun run{{}, FluxTally({}), ImageTally(body, faceCamera({1.5, 0.5, 1.0}, {0, 0, 1}, {0, 1, 0}, 1.0), {1.4}, 5.0)};
   trace(body, m, light, 40 * kBlockPhotons, 13, run);
   const TransportStats& s = run.stats;
-  EXPECT_EQ(s.escaped[0].s, s.entered[0].s);
-  EXPECT_EQ(s.escaped[0].s2, s.entered[0].s2);
+  EXPECT_EQ(s.escaped[0].s(), s.entered[0].s());
+  EXPECT_EQ(s.escaped[0].s2(), s.entered[0].s2());
   // exited - escaped sums non-negative per-photon terms, 0 without re-entries.
-  EXPECT_GT(s.exited[0].s - s.escaped[0].s, 0.01 * s.escaped[0].s);
+  EXPECT_GT(s.exited[0].s() - s.escaped[0].s(), 0.01 * s.escaped[0].s());
 }
 
 // Chi-square bounds for 23 degrees of freedom at 0.05% in each tail (Wilson-Hilferty:
@@ -478,7 +478,7 @@ TEST(Reentry, StandardErrorsAreHonestWhenPhotonsScoreSeveralTimes) {
     walls.push_back(run.flux.sums[0].perPhoton.estimate(n));
     pixel.push_back(run.image.images().exitance.pixel(0, 0, 0));
     // Two independent accumulations of the per-photon total exitance agree.
-    EXPECT_NEAR(run.flux.sums[1].perPhoton.s2, run.stats.exited[0].s2, 1e-12 * run.stats.exited[0].s2);
+    EXPECT_NEAR(run.flux.sums[1].perPhoton.s2, run.stats.exited[0].s2(), 1e-12 * run.stats.exited[0].s2());
     naiveAll += run.flux.sums[1].perExit.estimate(n).std_error;
     honestAll += exited.back().std_error;
     several += run.image.severalPixelPhotons();
@@ -516,8 +516,8 @@ TEST(Reentry, ConvexBodiesAreUnchanged) {
   cam.width = cam.height = 8;
   TracerRun run{{}, FluxTally({}), ImageTally(box, cam, {1.3}, 5.0)};
   trace(box, m, light, 20 * kBlockPhotons, 17, run);
-  EXPECT_EQ(run.stats.exited[0].s, run.stats.escaped[0].s);
-  EXPECT_EQ(run.stats.exited[0].s2, run.stats.escaped[0].s2);
+  EXPECT_EQ(run.stats.exited[0].s(), run.stats.escaped[0].s());
+  EXPECT_EQ(run.stats.exited[0].s2(), run.stats.escaped[0].s2());
   EXPECT_EQ(run.image.severalPixelPhotons(), 0u);
 
   static_assert(detail::convexBody<SphereBody>() && !detail::convexBody<Body>() &&
@@ -539,8 +539,8 @@ TEST(Reentry, ConvexBodiesAreUnchanged) {
   const TransportStats s = tracePhotons(sphere, std::span<const ScalarMedium>(&m, 1),
                                         std::span<const Light>(&sl, 1), o, image);
   image.addPhotons(s.photons);
-  EXPECT_EQ(s.exited[0].s, inlined.stats().exited[0].s);
-  EXPECT_EQ(s.exited[0].s2, s.escaped[0].s2);
+  EXPECT_EQ(s.exited[0].s(), inlined.stats().exited[0].s());
+  EXPECT_EQ(s.exited[0].s2(), s.escaped[0].s2());
   EXPECT_EQ(image.images().exitance.rgb(), inlined.images().exitance.rgb());
   EXPECT_EQ(image.images().exitance.rgbStdError(), inlined.images().exitance.rgbStdError());
   EXPECT_EQ(image.images().cone_radiance.rgb(), inlined.images().cone_radiance.rgb());

@@ -13,9 +13,12 @@
 #include "optics/fresnel.h"
 #include "optics/medium.h"
 #include "reference/slab.h"
+#include "published_setups.h"
 
 namespace translucent::reference {
 namespace {
+
+using test_support::mcmlSlab;
 
 constexpr double kPi = std::numbers::pi;
 
@@ -35,17 +38,6 @@ TraceOptions opts(uint64_t photons, uint64_t seed = 1) {
   o.seed = seed;
   o.threads = 2;
   return o;
-}
-
-// The MCML benchmark slab (Wang, Jacques & Zheng 1995, Table 2): n = 1 everywhere,
-// μa = 10/cm, μs = 90/cm, g = 0.75, d = 0.02 cm.
-SlabSetup mcmlSlab() {
-  SlabSetup s;
-  s.sigma_a = 10.0;
-  s.sigma_s = 90.0;
-  s.g = 0.75;
-  s.thickness = 0.02;
-  return s;
 }
 
 TEST(Slab, MatchesMcmlBenchmarkSlabWithEveryWalker) {

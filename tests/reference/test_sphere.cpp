@@ -11,6 +11,7 @@
 #include "optics/fresnel.h"
 #include "reference/camera.h"
 #include "reference/sphere.h"
+#include "published_setups.h"
 #include "reference/transport_impl.h"
 
 namespace translucent::reference {
@@ -34,18 +35,6 @@ TracerOptions threads(int n, uint64_t seed = 11) {
   return o;
 }
 
-// 2 ∫0^1 Ft(μ; η) μ dμ: the fraction of a collimated beam's flux on a sphere that enters it
-// (the sphere's cross-section πR² sees every incidence cosine μ with density 2μ).
-double enteringFraction(double eta) {
-  const int n = 20000;
-  double sum = 0.0;
-  for (int i = 0; i < n; ++i) {
-    const double mu = (i + 0.5) / n;
-    sum += 2.0 * mu * fresnelTransmittance(mu, eta) / n;
-  }
-  return sum;
-}
-
 TEST(SpherePathTracer, ConservesEnergyWithoutAbsorption) {
   // σa = 0: every photon that enters leaves again (the walk ends with probability 1 in a finite
   // body), so the exiting flux equals the entering flux photon by photon; the entering flux
@@ -61,7 +50,7 @@ TEST(SpherePathTracer, ConservesEnergyWithoutAbsorption) {
   const Estimate emitted = s.emitted[0].estimate(n), entered = s.entered[0].estimate(n),
                  exited = s.exited[0].estimate(n);
   EXPECT_NEAR(emitted.value, 2.0 * kPi * 1.5 * 1.5, 1e-9);
-  const double expected = 2.0 * kPi * 1.5 * 1.5 * enteringFraction(1.4);
+  const double expected = 2.0 * kPi * 1.5 * 1.5 * test_support::sphereEnteringFraction(1.4);
   EXPECT_NEAR(entered.value, expected, 4.0 * entered.std_error);
   EXPECT_GT(entered.std_error, 0.0);
   EXPECT_NEAR(exited.value, entered.value, 1e-12 * entered.value);

@@ -23,6 +23,7 @@
 #include "bssrdf/bssrdf_file.h"
 #include "core/explorer_state.h"
 #include "core/pixel_image_view.h"
+#include "core/trace_device_box.h"
 #include "reference/slab.h"  // kBlockPhotons
 
 namespace translucent::explorer {
@@ -166,6 +167,8 @@ void CompareDock::buildUi() {
   auto* budgets = new QHBoxLayout;
   budgets->addWidget(photons_box_);
   budgets->addWidget(samples_box_);
+  device_box_ = makeTraceDeviceBox(QStringLiteral("tracer_device"), tr("the path tracer"), root);
+  budgets->addWidget(device_box_);
   controls->addLayout(budgets, 1, 3);
   controls->setColumnStretch(1, 1);
   controls->setColumnStretch(3, 1);
@@ -216,8 +219,12 @@ void CompareDock::buildUi() {
           [this](int k) { setPhotonBudget(static_cast<uint64_t>(k) * 1024); });
   connect(samples_box_, &QSpinBox::valueChanged, this,
           [this](int k) { setSampleBudget(static_cast<uint64_t>(k) * 1000); });
+  connect(device_box_, &QComboBox::currentIndexChanged, this, [this](int i) {
+    setTracerDevice(device_box_->itemData(i).toString().toStdString());
+  });
   photons_box_->setVisible(kind_ == analysis::ReferenceKind::Physical);
   samples_box_->setVisible(kind_ == analysis::ReferenceKind::Model);
+  device_box_->setVisible(kind_ == analysis::ReferenceKind::Physical);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -236,6 +243,7 @@ void CompareDock::setReferenceKind(analysis::ReferenceKind kind) {
   kind_box_->setCurrentIndex(kind == analysis::ReferenceKind::Model ? 1 : 0);
   photons_box_->setVisible(kind_ == analysis::ReferenceKind::Physical);
   samples_box_->setVisible(kind_ == analysis::ReferenceKind::Model);
+  device_box_->setVisible(kind_ == analysis::ReferenceKind::Physical);
   // The last images are of the other reference: not shown beside the new one.
   snapshot_.reset();
   reference_image_ = QImage();
@@ -259,6 +267,14 @@ void CompareDock::setPhotonBudget(uint64_t photons) {
   photon_budget_ = photons;
   const QSignalBlocker block(photons_box_);
   photons_box_->setValue(static_cast<int>(std::min<uint64_t>(photons / 1024, 10'000'000)));
+  restart(false);
+}
+
+void CompareDock::setTracerDevice(const std::string& device) {
+  if (device == tracer_device_) return;
+  tracer_device_ = device;
+  const QSignalBlocker block(device_box_);
+  device_box_->setCurrentIndex(device_box_->findData(QString::fromStdString(device)));
   restart(false);
 }
 
@@ -308,8 +324,9 @@ void CompareDock::restart(bool force) {
   if (force || fk != frame_key_) requestFrame(s, std::move(fk), sk);
 
   const bool physical = kind_ == analysis::ReferenceKind::Physical;
-  std::string key = fmt::format("{}|{}|{}", analysis::toString(kind_),
-                                physical ? photon_budget_ : sample_budget_, sk);
+  std::string key = fmt::format("{}|{}|{}|{}", analysis::toString(kind_),
+                                physical ? photon_budget_ : sample_budget_,
+                                physical ? tracer_device_ : std::string(), sk);
   if (!force && key == run_key_) {
     if (stale_) {  // back to the scene of the reference shown (after a failed change)
       stale_ = false;
@@ -364,6 +381,7 @@ void CompareDock::startRun(const scene::Scene& scene, std::string key) {
   c.scene = scene;
   c.kind = kind_;
   c.seed = kSeed;
+  c.device = tracer_device_;
   if (kind_ == analysis::ReferenceKind::Physical) {
     c.first = kFirstPhotons;
     c.budget = photon_budget_;
@@ -624,6 +642,7 @@ void CompareDock::updateStatus() {
                           .arg(snapshot_->passes)
                           .arg(count(s.count), count(s.computed))
                           .arg(s.seconds, 0, 'f', 2);
+    if (physical && snapshot_->reference.request.device == "gpu") text += tr(" on the GPU");
     if (!run_ && s.computed == s.budget) text += tr(", done");
   } else if (run_) {
     text = tr("computing the first pass…");

@@ -78,6 +78,9 @@ class CompareDock : public QDockWidget {
   int imageWidth() const { return width_; }
   int imageHeight() const;
   uint64_t photonBudget() const { return photon_budget_; }
+  // Where the physical reference is traced: "auto", "cpu" or "gpu" (CompareRunConfig::device).
+  void setTracerDevice(const std::string& device);
+  const std::string& tracerDevice() const { return tracer_device_; }
   uint64_t sampleBudget() const { return sample_budget_; }
 
   struct Status {
@@ -141,6 +144,7 @@ class CompareDock : public QDockWidget {
   Quantity quantity_ = Quantity::Radiance;
   int width_ = 64;
   uint64_t photon_budget_ = uint64_t{1} << 22;
+  std::string tracer_device_ = "auto";
   uint64_t sample_budget_ = 160000;
 
   // Reference.
@@ -184,6 +188,7 @@ class CompareDock : public QDockWidget {
   QSpinBox* width_box_ = nullptr;
   QSpinBox* photons_box_ = nullptr;
   QSpinBox* samples_box_ = nullptr;
+  QComboBox* device_box_ = nullptr;
   PixelImageView* technique_view_ = nullptr;
   PixelImageView* reference_view_ = nullptr;
   PixelImageView* difference_view_ = nullptr;

@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <chrono>
 #include <exception>
+#include <filesystem>
 #include <utility>
 
+#include "reference/gpu/device.h"
 #include "reference/mesh_tracer.h"
 #include "reference/progressive.h"
 
@@ -71,8 +73,13 @@ void CompareRun::run() {
       for (uint64_t n : passes) total += n;
       const analysis::Masks masks = analysis::compareMasks(s, mesh, {});
       if (stop_) throw Stopped{};
+      // Before the tracer: the context outlives the walker the tracer holds.
+      const reference::TraceDevice dev = reference::openTraceDevice(config_.device, "reference device");
       reference::MeshPathTracer tracer(mesh, s.medium, lights, s.camera, s.cone_angle,
                                        {config_.seed, config_.threads});
+      reference::useDevice(dev, config_.device, tracer, mesh,
+                           std::filesystem::path(s.mesh_file).string(), "reference device");
+      const std::string device = tracer.device() == "cpu" ? "cpu" : "gpu";
       const int count = static_cast<int>(passes.size());
       stopped = reference::runProgressive(
                     tracer, passes, stop_,
@@ -83,6 +90,7 @@ void CompareRun::run() {
                       r.request.count = done;
                       r.request.seed = config_.seed;
                       r.request.threads = config_.threads;
+                      r.request.device = device;
                       r.exitance = analysis::toCompareImage(tracer.images().exitance);
                       r.radiance = analysis::toCompareImage(tracer.images().radiance);
                       r.cone_radiance = analysis::toCompareImage(tracer.images().cone_radiance);

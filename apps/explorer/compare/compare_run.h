@@ -39,6 +39,9 @@ struct CompareRunConfig {
   uint64_t first = 1, budget = 1, cap = 0;
   uint64_t seed = 1;
   int threads = 0;  // 0: all hardware threads
+  // The physical reference's device (reference/gpu/device.h): "cpu", "gpu" (a GL context of the
+  // run's own) or "auto" (the GPU on a hardware GPU where the GPU walk can trace the scene).
+  std::string device = "auto";
 };
 
 struct CompareSnapshot {

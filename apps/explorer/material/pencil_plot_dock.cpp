@@ -19,6 +19,7 @@
 
 #include "bssrdf/registry.h"
 #include "core/explorer_state.h"
+#include "core/trace_device_box.h"
 #include "gpu/bssrdf_profiles.h"
 #include "material/material_worker.h"
 #include "plot/profile_plot.h"
@@ -95,6 +96,7 @@ PencilPlotDock::PencilPlotDock(ExplorerState& state, QWidget* parent)
   photons_->setSingleStep(1e5);
   photons_->setValue(1e6);
   photons_->setToolTip(tr("Reference photons per channel (refined in passes of doubling counts)"));
+  device_ = makeTraceDeviceBox(QStringLiteral("reference_device"), tr("the reference"));
   status_ = new QLabel;
   status_->setObjectName(QStringLiteral("reference_status"));
   controls->addWidget(new QLabel(tr("y")), 0, 0);
@@ -106,7 +108,8 @@ PencilPlotDock::PencilPlotDock(ExplorerState& state, QWidget* parent)
   controls->addWidget(solo_, 1, 1);
   controls->addWidget(reference_, 1, 2);
   controls->addWidget(photons_, 1, 3);
-  controls->addWidget(status_, 1, 4);
+  controls->addWidget(device_, 1, 4);
+  controls->addWidget(status_, 2, 0, 1, 5);
   layout->addLayout(controls);
   view_ = new QChartView;
   view_->setRenderHint(QPainter::Antialiasing);
@@ -141,6 +144,7 @@ PencilPlotDock::PencilPlotDock(ExplorerState& state, QWidget* parent)
       stopReference();
     redraw();
   });
+  connect(device_, &QComboBox::currentIndexChanged, this, [this] { restartReference(); });
   connect(photons_, &QDoubleSpinBox::editingFinished, this, [this] {
     if (ref_active_ && ref_budget_ == static_cast<uint64_t>(photons_->value())) return;
     restartReference();
@@ -258,6 +262,7 @@ void PencilPlotDock::stopReference() {
   ++ref_runs_;  // passes of stopped runs arriving later are ignored
   ref_.reset();
   ref_photons_ = 0;
+  ref_device_.clear();
   ref_active_ = false;
   status_->setText(tr("reference stopped"));
 }
@@ -280,6 +285,7 @@ void PencilPlotDock::restartReference() {
   o.photons = static_cast<uint64_t>(photons_->value());
   o.first_pass = std::min<uint64_t>(16'384, o.photons);
   o.seed = 1;
+  o.device = device_->currentData().toString().toStdString();
   // Leave a core to the interface and the model curves.
   o.threads = std::max(1, static_cast<int>(std::thread::hardware_concurrency()) - 1);
   ref_r_max_ = r_max_;
@@ -304,8 +310,10 @@ void PencilPlotDock::restartReference() {
                   if (run != ref_runs_) return;
                   ref_ = p;
                   ref_photons_ = p.photons;
-                  status_->setText(tr("reference: %1 photons/channel%2")
+                  ref_device_ = p.device;
+                  status_->setText(tr("reference: %1 photons/channel on %2%3")
                                        .arg(static_cast<double>(p.photons), 0, 'g', 3)
+                                       .arg(q(p.device))
                                        .arg(p.last ? tr(" (done)") : QString()));
                   redraw();
                   emit referenceUpdated();

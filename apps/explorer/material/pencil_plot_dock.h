@@ -50,6 +50,8 @@ class PencilPlotDock : public QDockWidget {
   const std::vector<analysis::Curve>& modelCurves() const { return curves_; }
   std::vector<analysis::Curve> referenceCurves() const;
   uint64_t referencePhotons() const { return ref_photons_; }  // per channel, pooled so far
+  // What traced the reference shown: "cpu" or "gpu (<renderer>)" (empty before its first pass).
+  const std::string& referenceDevice() const { return ref_device_; }
   // Generation of the reference: grows at every stop and restart (a material change).
   int referenceRuns() const { return ref_runs_; }
   double radiusMax() const { return r_max_; }
@@ -76,6 +78,7 @@ class PencilPlotDock : public QDockWidget {
   QComboBox* solo_;
   QCheckBox* timesR_;
   QCheckBox* reference_;
+  QComboBox* device_;  // "reference_device": auto, cpu, gpu
   QDoubleSpinBox* photons_;
   QLabel* status_;
 
@@ -94,6 +97,7 @@ class PencilPlotDock : public QDockWidget {
   std::vector<RefRun> ref_threads_;
   std::optional<analysis::PencilReferencePass> ref_;
   uint64_t ref_photons_ = 0;
+  std::string ref_device_;
   int ref_runs_ = 0;
   double ref_r_max_ = 0.0;
   Medium ref_medium_;

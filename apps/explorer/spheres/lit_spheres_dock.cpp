@@ -27,6 +27,7 @@
 #include "bssrdf/registry.h"
 #include "core/explorer_state.h"
 #include "core/pixel_image_view.h"
+#include "core/trace_device_box.h"
 #include "reference/slab.h"  // kBlockPhotons
 
 namespace translucent::explorer {
@@ -62,7 +63,7 @@ constexpr uint64_t kCapSamples = 16;
 // A run's inputs. The path tracer's do not include the model's name: only its medium matters.
 std::string key(const SphereRunConfig& c, const std::string& model) {
   const Medium& m = c.medium;
-  return fmt::format("{}|{}x{}|{}|{}|{}|{}|{}|{}|{}", c.model ? model : std::string("path traced"),
+  return fmt::format("{}|{}x{}|{}|{}|{}|{}|{}|{}|{}", c.model ? model : "path traced on " + c.device,
                      c.scene.width, c.scene.height, fmt::join(m.sigma_a, ","),
                      fmt::join(m.sigma_s, ","), m.g, m.eta, m.scale, c.first, c.budget);
 }
@@ -148,6 +149,7 @@ void LitSpheresDock::buildUi() {
                               "passes together"));
   samples_box_->setValue(static_cast<int>(sample_budget_));
   samples_box_->setKeyboardTracking(false);
+  device_box_ = makeTraceDeviceBox(QStringLiteral("tracer_device"), tr("the path tracer"), root);
 
   // Four short rows rather than two long ones: the dock shares a column with the plot, and its
   // minimum width decides how much of the window the viewport gets.
@@ -166,6 +168,8 @@ void LitSpheresDock::buildUi() {
   controls->addWidget(photons_box_, 2, 4, 1, 2);
   controls->addWidget(new QLabel(tr("Integration"), root), 3, 0);
   controls->addWidget(samples_box_, 3, 1, 1, 2);
+  controls->addWidget(new QLabel(tr("Tracer on"), root), 3, 3);
+  controls->addWidget(device_box_, 3, 4, 1, 2);
   controls->setColumnStretch(1, 1);
   controls->setColumnStretch(4, 1);
   layout->addLayout(controls);
@@ -235,6 +239,9 @@ void LitSpheresDock::buildUi() {
           [this](int k) { setPhotonBudget(static_cast<uint64_t>(k) * 1024); });
   connect(samples_box_, &QSpinBox::valueChanged, this,
           [this](int n) { setSampleBudget(static_cast<uint64_t>(n)); });
+  connect(device_box_, &QComboBox::currentIndexChanged, this, [this](int i) {
+    setTracerDevice(device_box_->itemData(i).toString().toStdString());
+  });
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -318,6 +325,7 @@ LitSpheresDock::PaneStatus LitSpheresDock::status(Pane p) const {
     s.done = d.snapshot->done;
     s.budget = d.snapshot->budget;
     s.seconds = d.snapshot->seconds;
+    s.device = d.snapshot->device;
   }
   return s;
 }
@@ -334,7 +342,8 @@ void LitSpheresDock::updateStatus(Pane p) {
                .arg(QLocale().toString(static_cast<qulonglong>(s.done)))
                .arg(QString::fromLatin1(unit))
                .arg(s.seconds, 0, 'f', 2);
-  else if (d.run)
+  if (s.passes > 0 && !s.device.empty()) text += tr(" (%1)").arg(QString::fromStdString(s.device));
+  else if (s.passes == 0 && d.run)
     text = tr("computing the first pass…");
   if (d.stale) text += tr(" (previous material: see the console)");
   if (!d.run && s.passes > 0 && s.done == s.budget) text += tr(", done");
@@ -421,6 +430,14 @@ void LitSpheresDock::setSampleBudget(uint64_t samples) {
   restart(Pane::Integrated, false);
 }
 
+void LitSpheresDock::setTracerDevice(const std::string& device) {
+  if (device == tracer_device_) return;
+  tracer_device_ = device;
+  const QSignalBlocker block(device_box_);
+  device_box_->setCurrentIndex(device_box_->findData(QString::fromStdString(device)));
+  restart(Pane::PathTraced, false);
+}
+
 void LitSpheresDock::restartForMaterial() {
   restart(Pane::PathTraced, false);
   restart(Pane::Integrated, false);
@@ -433,6 +450,7 @@ void LitSpheresDock::restart(Pane p, bool force) {
   c.scene = sphereScene();
   c.seed = kSeed;
   c.threads = 0;
+  c.device = tracer_device_;
   try {
     // Both spheres use the medium the model is shown with, so that they compare like with like.
     c.medium = state_.mediumFor(model);

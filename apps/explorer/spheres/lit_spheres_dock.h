@@ -72,6 +72,10 @@ class LitSpheresDock : public QDockWidget {
   void setResolution(int pixels);             // square images, 8..1024
   void setPhotonBudget(uint64_t photons);     // path tracer: photons per channel, all passes
   void setSampleBudget(uint64_t samples);     // integration: samples per pixel, all passes
+  // Where the path tracer runs: "cpu", "gpu" or "auto" (sphere_run.h). A device that cannot
+  // be opened is an error on the console; the previous image stays.
+  void setTracerDevice(const std::string& device);
+  const std::string& tracerDevice() const { return tracer_device_; }
   int resolution() const { return resolution_; }
   uint64_t photonBudget() const { return photon_budget_; }
   uint64_t sampleBudget() const { return sample_budget_; }
@@ -83,6 +87,7 @@ class LitSpheresDock : public QDockWidget {
     uint64_t done = 0;     // photons per channel or samples per pixel in the image shown
     uint64_t budget = 0;
     double seconds = 0.0;  // current run: time to the image shown
+    std::string device;    // what traced the image shown (the path tracer's pane)
     bool running = false;
   };
   PaneStatus status(Pane pane) const;
@@ -126,6 +131,7 @@ class LitSpheresDock : public QDockWidget {
   int resolution_ = 128;
   uint64_t photon_budget_ = uint64_t{1} << 20;
   uint64_t sample_budget_ = 64;
+  std::string tracer_device_ = "auto";
   std::unique_ptr<PaneData> panes_[2];
   // Runs asked to stop, kept until their thread says it has finished (then joined at once).
   struct Retiring {
@@ -155,6 +161,7 @@ class LitSpheresDock : public QDockWidget {
   QSpinBox* resolution_box_ = nullptr;
   QSpinBox* photons_box_ = nullptr;
   QSpinBox* samples_box_ = nullptr;
+  QComboBox* device_box_ = nullptr;
 };
 
 }  // namespace translucent::explorer

@@ -5,6 +5,7 @@
 #include <exception>
 #include <utility>
 
+#include "reference/gpu/device.h"
 #include "reference/progressive.h"
 #include "reference/sphere_integration.h"
 
@@ -43,6 +44,7 @@ void SphereRun::run() {
       callbacks_.progress(
           std::clamp((static_cast<double>(done) + inPass * size) / static_cast<double>(total), 0.0, 1.0));
     };
+    std::string device;
     auto publish = [&](const auto& images, int k, uint64_t done) {
       if (!callbacks_.pass) return;
       auto s = std::make_shared<SphereSnapshot>();
@@ -51,6 +53,7 @@ void SphereRun::run() {
       s->done = done;
       s->budget = total;
       s->seconds = elapsed();
+      s->device = device;
       s->exitance = images.exitance;
       s->radiance = images.radiance;
       callbacks_.pass(std::move(s));
@@ -65,8 +68,12 @@ void SphereRun::run() {
                     [&](int k, uint64_t done) { publish(integrator.images(), k, done); }, progress)
                     .stopped;
     } else {
+      // Before the tracer: the context outlives the walker the tracer holds.
+      const reference::TraceDevice dev = reference::openTraceDevice(config_.device, "tracer device");
       reference::SpherePathTracer tracer(config_.scene, config_.medium,
                                          {config_.seed, config_.threads});
+      reference::useDevice(dev, tracer);
+      device = tracer.device();
       stopped = reference::runProgressive(
                     tracer, passes, stop_,
                     [&](int k, uint64_t done) { publish(tracer.images(), k, done); }, progress)

@@ -38,6 +38,9 @@ struct SphereRunConfig {
   uint64_t cap = 0;     // largest pass (0: none): keeps refreshes coming
   uint64_t seed = 1;
   int threads = 0;      // 0: all hardware threads
+  // The path tracer's device (reference/gpu/device.h): "cpu", "gpu" (a GL 4.5 context of the
+  // run's own, made on its thread) or "auto" (the GPU on a hardware GPU, else the CPU).
+  std::string device = "auto";
 };
 
 // The images after a complete pass.
@@ -47,6 +50,7 @@ struct SphereSnapshot {
   uint64_t done = 0;      // photons per channel or samples per pixel so far
   uint64_t budget = 0;    // the schedule's total
   double seconds = 0.0;   // since the run started (including setup)
+  std::string device;     // what traced it: "cpu" or "gpu (<renderer>)"; empty: integration
   reference::McImage exitance, radiance;
 };
 

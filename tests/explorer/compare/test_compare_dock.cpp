@@ -11,6 +11,7 @@
 #include <QtCore/QElapsedTimer>
 #include <QtTest/QSignalSpy>
 #include <QtTest/QTest>
+#include <QtWidgets/QComboBox>
 #include <QtWidgets/QLabel>
 
 #include <bit>
@@ -184,6 +185,38 @@ class TestCompareDock : public QObject {
         s, scene::loadSceneMesh(s), {analysis::ReferenceKind::Physical, 48 * 1024, 1, 0});
     QVERIFY(once.exitance.rgb == dock->comparedReference().rgb);
     QVERIFY(once.exitance.se == dock->comparedReference().se);
+  }
+
+  void physicalReferenceOnTheGpuIsTheLibrarysGpuReference() {
+    // The dock's device box (auto: the CPU on llvmpipe) set to GPU: the physical reference is
+    // traced by the GPU walk, the status says so, and the image is, bit for bit, the one-shot
+    // GPU reference of the library (the walk's streams are per photon: passes do not matter).
+    ExplorerState state;
+    auto dock = smallDock(state, 48 * 1024);
+    auto* box = dock->findChild<QComboBox*>("tracer_device");
+    QVERIFY(box);
+    QCOMPARE(dock->tracerDevice(), std::string("auto"));
+    box->setCurrentIndex(box->findData(QStringLiteral("gpu")));
+    QCOMPARE(dock->tracerDevice(), std::string("gpu"));
+    QTRY_VERIFY_WITH_TIMEOUT(!dock->status().running && dock->status().passes == 2, kWaitMs);
+    QTRY_VERIFY_WITH_TIMEOUT(dock->metrics().has_value(), kWaitMs);
+    QVERIFY(dock->findChild<QWidget*>("reference_pane")->findChildren<QLabel*>().size() >= 2);
+    bool said = false;
+    for (const QLabel* l : dock->findChild<QWidget*>("reference_pane")->findChildren<QLabel*>())
+      said |= l->text().contains("on the GPU");
+    QVERIFY(said);
+    dock->setQuantity(CompareDock::Quantity::Exitance);
+    scene::Scene s = state.scene();
+    s.camera.width = kWidth;
+    s.camera.height = dock->imageHeight();
+    analysis::ReferenceRequest gpu{analysis::ReferenceKind::Physical, 48 * 1024, 1, 0};
+    gpu.device = "gpu";
+    const analysis::Reference once = analysis::computeReference(s, scene::loadSceneMesh(s), gpu);
+    QVERIFY(once.exitance.rgb == dock->comparedReference().rgb);
+    QVERIFY(once.exitance.se == dock->comparedReference().se);
+    const analysis::Reference cpu = analysis::computeReference(
+        s, scene::loadSceneMesh(s), {analysis::ReferenceKind::Physical, 48 * 1024, 1, 0});
+    QVERIFY(cpu.exitance.rgb != once.exitance.rgb);
   }
 
   void techniqueSettingRendersAgainWithoutANewReference() {

@@ -9,6 +9,7 @@
 #include <QtCore/QTemporaryDir>
 #include <QtTest/QSignalSpy>
 #include <QtTest/QTest>
+#include <QtWidgets/QLabel>
 #include <QtWidgets/QCheckBox>
 #include <QtWidgets/QComboBox>
 #include <QtWidgets/QDoubleSpinBox>
@@ -196,6 +197,42 @@ class MaterialDocksTest : public QObject {
     QCOMPARE(ref.size(), size_t{1});
     QVERIFY(std::abs(ref[0].r.back() - f.plot.radiusMax() * (1.0 - 0.5 / 100.0)) <=
             1e-12 * f.plot.radiusMax());
+  }
+
+  void referenceOnTheGpuRestartsAndSaysWhatTracedIt() {
+    // The reference's device: auto is the CPU on llvmpipe; GPU restarts it, traced by the GL walk
+    // (its status and referenceDevice() name the renderer), and its Rd curve is the CPU's within
+    // the pooled standard errors (bins with both errors > 0; a loose 5σ per bin and a mean z²
+    // near 1).
+    Fixture f(true);
+    f.plot.findChild<QDoubleSpinBox*>("photons")->setValue(16384.0 * 3);  // 2 passes
+    QSignalSpy passes(&f.plot, &PencilPlotDock::referenceUpdated);
+    QTRY_VERIFY_WITH_TIMEOUT(f.plot.referencePhotons() == 3 * 16384, 60000);
+    QCOMPARE(f.plot.referenceDevice(), std::string("cpu"));
+    const auto cpu = f.plot.referenceCurves();
+    auto* device = f.plot.findChild<QComboBox*>("reference_device");
+    QVERIFY(device);
+    const int runs = f.plot.referenceRuns();
+    device->setCurrentIndex(device->findData(QStringLiteral("gpu")));
+    QVERIFY(f.plot.referenceRuns() > runs);
+    QTRY_VERIFY_WITH_TIMEOUT(f.plot.referencePhotons() == 3 * 16384, 60000);
+    QVERIFY2(f.plot.referenceDevice().rfind("gpu (", 0) == 0, f.plot.referenceDevice().c_str());
+    QVERIFY(f.plot.findChild<QLabel*>("reference_status")->text().contains("gpu ("));
+    const auto gpu = f.plot.referenceCurves();
+    QCOMPARE(gpu.size(), size_t{1});
+    QCOMPARE(gpu[0].value.size(), cpu[0].value.size());
+    double z2 = 0.0;
+    int n = 0;
+    for (size_t i = 0; i < gpu[0].value.size(); ++i) {
+      const double se = std::hypot(gpu[0].stderr_[i], cpu[0].stderr_[i]);
+      if (!(gpu[0].stderr_[i] > 0.0 && cpu[0].stderr_[i] > 0.0)) continue;
+      const double z = (gpu[0].value[i] - cpu[0].value[i]) / se;
+      QVERIFY2(std::abs(z) < 5.0, qPrintable(QString("bin %1: z = %2").arg(i).arg(z)));
+      z2 += z * z;
+      ++n;
+    }
+    QVERIFY(n > 50);
+    QVERIFY2(std::abs(z2 / n - 1.0) < 6.0 * std::sqrt(2.0 / n), qPrintable(QString("mean z² %1").arg(z2 / n)));
   }
 
   void malformedBssrdfIsReportedAndTheAppResponds() {

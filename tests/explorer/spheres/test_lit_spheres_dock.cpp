@@ -9,6 +9,7 @@
 #include <QtCore/QElapsedTimer>
 #include <QtTest/QSignalSpy>
 #include <QtTest/QTest>
+#include <QtWidgets/QComboBox>
 #include <QtWidgets/QSlider>
 
 #include <cmath>
@@ -104,6 +105,34 @@ class TestLitSpheresDock : public QObject {
     QVERIFY(c.metrics.mean_test > 0.5 * c.metrics.mean_reference &&
             c.metrics.mean_test < 2.0 * c.metrics.mean_reference);
     QVERIFY(!dock->differenceImage().isNull());
+  }
+
+  void tracerOnTheGpuRestartsThePathTracerOnlyAndAgreesWithTheCpu() {
+    // The "Tracer on" combo: GPU restarts the path tracer alone (the integration's run is kept),
+    // the status names the renderer, and the GPU image's mean is the CPU image's within a few
+    // of its standard errors (the means of 60k-photon images differ by ~1% at most here).
+    ExplorerState state;
+    auto dock = smallDock(state);
+    QTRY_VERIFY_WITH_TIMEOUT(finished(*dock), kWaitMs);
+    QCOMPARE(dock->tracerDevice(), std::string("auto"));
+    QCOMPARE(dock->status(Pane::PathTraced).device, std::string("cpu"));  // llvmpipe: auto = cpu
+    const std::vector<float> cpu = dock->linearImage(Pane::PathTraced);
+    const int integration = dock->status(Pane::Integrated).generation;
+    auto* box = dock->findChild<QComboBox*>("tracer_device");
+    QVERIFY(box);
+    box->setCurrentIndex(box->findData(QStringLiteral("gpu")));
+    QCOMPARE(dock->tracerDevice(), std::string("gpu"));
+    QTRY_VERIFY_WITH_TIMEOUT(finished(*dock) && dock->status(Pane::PathTraced).passes == 4, kWaitMs);
+    QCOMPARE(dock->status(Pane::Integrated).generation, integration);
+    const std::string device = dock->status(Pane::PathTraced).device;
+    QVERIFY2(device.rfind("gpu (", 0) == 0, device.c_str());
+    const std::vector<float> gpu = dock->linearImage(Pane::PathTraced);
+    QCOMPARE(gpu.size(), cpu.size());
+    for (int c = 0; c < 3; ++c) {
+      const double a = channelMean(cpu, c), b = channelMean(gpu, c);
+      QVERIFY2(std::abs(a - b) < 0.03 * a, qPrintable(QString("channel %1: cpu %2, gpu %3").arg(c).arg(a).arg(b)));
+    }
+    QVERIFY(gpu != cpu);  // other streams
   }
 
   void materialChangeCancelsAndRestarts() {

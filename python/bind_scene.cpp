@@ -1,0 +1,220 @@
+// Scenes (the one JSON format of every renderer: src/scene/scene.h) and the mesh path tracer
+// (`translucent pathtrace mesh`, apps/cli/cmd_render_reference.cpp runPathtraceMesh).
+#include <fmt/format.h>
+#include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
+
+#include <algorithm>
+#include <nlohmann/json.hpp>
+
+#include "analysis/compare.h"
+#include "bind.h"
+#include "common.h"
+#include "geometry/mesh.h"
+#include "json_py.h"
+#include "reference/mesh_scene.h"
+#include "reference/gpu/device.h"
+#include "reference/mesh_tracer.h"
+#include "scene/scene.h"
+
+namespace translucent::python {
+namespace {
+
+// apps/cli/cmd_render_reference.cpp medianRelativeError: per channel, the median of se / value
+// over the pixels with value > 0.
+std::vector<double> medianRelativeError(const reference::McImage& img) {
+  const std::vector<float> value = img.rgb(), se = img.rgbStdError();
+  std::vector<double> out;
+  for (size_t c = 0; c < 3; ++c) {
+    std::vector<double> rel;
+    for (size_t p = 0; 3 * p + c < value.size(); ++p)
+      if (value[3 * p + c] > 0.0f) rel.push_back(double(se[3 * p + c]) / double(value[3 * p + c]));
+    if (rel.empty()) {
+      out.push_back(0.0);
+      continue;
+    }
+    std::nth_element(rel.begin(), rel.begin() + long(rel.size() / 2), rel.end());
+    out.push_back(rel[rel.size() / 2]);
+  }
+  return out;
+}
+
+scene::Scene sceneFromDict(const py::handle& d, const std::filesystem::path& base_dir) {
+  return scene::parseScene(fromPython(d).dump(), base_dir, "scene dict");
+}
+
+}  // namespace
+
+void bindScene(py::module_& m) {
+  py::class_<scene::Scene>(m, "Scene", R"doc(
+A scene: mesh and placement, material, lights, camera, technique with its settings, display
+(the JSON format of `translucent render` and `translucent pathtrace mesh --scene`; see
+src/scene/scene.h for every key).
+
+    s = translucent.Scene.load("data/scenes/cube.json")
+    d = s.to_dict(); d["material"]["preset"] = "Skin1"
+    s = translucent.Scene.from_dict(d)       # parsed and checked as a file would be
+    s.save("skin_cube.json")                 # the same JSON as the CLI writes
+
+Parsing is strict: an unknown key or a bad value raises ValueError naming it. Relative file
+names are found beside the scene file (from_dict, from_json: in base_dir), else on the data
+search path ($TRANSLUCENT_DATA).
+)doc")
+      .def_static(
+          "load", [](const std::filesystem::path& p) { return scene::loadScene(p); },
+          py::arg("path"), "Reads and checks a scene file")
+      .def_static(
+          "from_json",
+          [](const std::string& text, const std::filesystem::path& base_dir) {
+            return scene::parseScene(text, base_dir, "scene JSON");
+          },
+          py::arg("text"), py::arg("base_dir") = std::filesystem::path("."),
+          "A scene from JSON text; relative file names are taken relative to base_dir")
+      .def_static("from_dict", &sceneFromDict, py::arg("d"),
+                  py::arg("base_dir") = std::filesystem::path("."),
+                  "A scene from a dict with the file's keys (what to_dict returns)")
+      .def_static("default", &scene::defaultScene,
+                  "The built-in scene: glmark2's closed bunny in Marble, lit from behind and "
+                  "above (what `translucent render` renders without --scene)")
+      .def("to_json", &scene::toJson,
+           "The scene as JSON text (Scene.from_json(s.to_json()) is the same scene)")
+      .def(
+          "to_dict",
+          [](const scene::Scene& s) { return toPython(nlohmann::json::parse(scene::toJson(s))); },
+          "The scene as a dict with the file's keys")
+      .def(
+          "save", [](const scene::Scene& s, const std::filesystem::path& p) { scene::saveScene(s, p); },
+          py::arg("path"), "Writes to_json() to `path` (ValueError naming the file when it cannot)")
+      .def_readwrite("technique", &scene::Scene::technique, "Technique name (translucent.techniques())")
+      .def_property(
+          "settings", [](const scene::Scene& s) { return s.settings; },
+          [](scene::Scene& s, const py::dict& d) {
+            // Explicitly by type: pybind11's variant caster would take an int for a bool.
+            std::map<std::string, scene::Setting> out;
+            for (const auto& [k, v] : d) {
+              const std::string name = k.cast<std::string>();
+              if (py::isinstance<py::bool_>(v))
+                out[name] = v.cast<bool>();
+              else if (py::isinstance<py::int_>(v) || py::isinstance<py::float_>(v))
+                out[name] = v.cast<double>();
+              else if (py::isinstance<py::str>(v))
+                out[name] = v.cast<std::string>();
+              else
+                throw ParameterError(fmt::format("technique.{}: {} is not a bool, number or str",
+                                                 name, py::str(py::repr(v)).cast<std::string>()));
+            }
+            s.settings = std::move(out);
+          },
+          "Technique settings {name: bool | float | str} (a copy: assign a dict to change them; "
+          "validated by the technique when rendering)")
+      .def_readwrite("model", &scene::Scene::model,
+                     "BSSRDF model of the material: a registered name or a .bssrdf file")
+      .def_readwrite("time", &scene::Scene::time, "Time of the mesh deformations [s]")
+      .def_readwrite("exposure", &scene::Scene::exposure, "Display exposure [stops]")
+      .def_readwrite("gamma", &scene::Scene::gamma, "Display gamma")
+      .def_readwrite("cone_angle", &scene::Scene::cone_angle,
+                     "Path tracer: half-angle of the cone-averaged radiance [degrees]")
+      .def_property(
+          "width", [](const scene::Scene& s) { return s.camera.width; },
+          [](scene::Scene& s, int w) { s.camera.width = w; }, "Image width [pixels]")
+      .def_property(
+          "height", [](const scene::Scene& s) { return s.camera.height; },
+          [](scene::Scene& s, int h) { s.camera.height = h; }, "Image height [pixels]")
+      .def_property_readonly(
+          "medium", [](const scene::Scene& s) { return s.medium; },
+          "The material's medium (a copy; edit the material through to_dict/from_dict)")
+      .def_property_readonly(
+          "mesh_file", [](const scene::Scene& s) { return s.mesh_file; }, "The mesh file, resolved")
+      .def("__repr__", [](const scene::Scene& s) {
+        return fmt::format("<Scene {} {}x{} technique {}>", s.mesh_file.filename().string(),
+                           s.camera.width, s.camera.height, s.technique);
+      });
+
+  m.def(
+      "pathtrace_mesh",
+      [](const py::object& sceneArg, double photons, int passes, uint64_t seed, int threads,
+         std::optional<double> time, const std::string& device, std::optional<double> time_limit) {
+        validatePasses(passes, threads);
+        Interruptible stop(time_limit);
+        scene::Scene scene = py::isinstance<scene::Scene>(sceneArg)
+                                 ? sceneArg.cast<scene::Scene>()
+                                 : scene::loadScene(sceneArg.cast<std::filesystem::path>());
+        if (time) {
+          if (!std::isfinite(*time))
+            throw ParameterError(fmt::format("--time {}: expected a finite time", *time));
+          scene.time = *time;
+        }
+        const uint64_t n = photonCount(photons);
+        // Before the tracer, on this thread: the context outlives the walker the tracer holds.
+        const reference::TraceDevice dev = reference::openTraceDevice(device, "device");
+        std::unique_ptr<reference::MeshPathTracer> tracer;
+        int passesRun = 0;
+        {
+          // Loading (and hole filling, alpha wrapping) the mesh and building the BVH can take
+          // seconds: without the GIL.
+          py::gil_scoped_release release;
+          const geometry::TriangleMesh mesh = scene::loadSceneMesh(scene);
+          scene::requireOutsideMesh(scene, mesh);
+          tracer = std::make_unique<reference::MeshPathTracer>(
+              mesh, scene::sceneMaterial(scene, mesh), scene::referenceLights(scene),
+              scene.camera, scene.cone_angle, reference::TracerOptions{seed, threads});
+          reference::useDevice(dev, device, *tracer, mesh, scene.mesh_file.string(), "device");
+          stop.restart();  // the CLI's time limit counts the tracing, not the loading
+          runPasses(passes, stop, [&](const reference::ProgressCallback& cb) {
+            ++passesRun;
+            return tracer->addPass(n, cb).partial;
+          });
+        }
+        stop.finish();
+        const auto& st = tracer->stats();
+        py::dict d = imageDict(tracer->images());
+        d["scene"] = toPython(nlohmann::json::parse(scene::toJson(scene)));
+        d["triangles"] = tracer->body().triangleCount();
+        d["photons_per_channel"] = st.photons.empty() ? 0 : st.photons[0];
+        d["passes"] = passesRun;
+        d["seconds"] = st.seconds;
+        d["photons_per_second"] = st.photonsPerSecond();
+        d["scattering_events"] = st.scattering_events;
+        d["photons_in_several_pixels"] = tracer->severalPixelPhotons();
+        d["median_relative_stderr"] = medianRelativeError(tracer->images().exitance);
+        d["majorant_violations"] = tracer->majorantViolations();
+        d["threads"] = st.threads;
+        d["device"] = tracer->device();
+        d["flux_per_channel"] = fluxList(st);
+        d["partial"] = st.partial || stop.interrupted() || stop.timedOut();
+        d["seed"] = seed;
+        analysis::ReferenceRequest req;
+        req.kind = analysis::ReferenceKind::Physical;
+        req.count = st.photons.empty() ? 0 : st.photons[0];
+        req.seed = seed;
+        req.device = tracer->device() == "cpu" ? "cpu" : "gpu";  // as pathtrace mesh keys it
+        d["reference_key"] = analysis::referenceKey(scene, req);
+        stop.rethrow(d);
+        return d;
+      },
+      py::arg("scene"), py::kw_only(), py::arg("photons") = 1e6, py::arg("passes") = 1,
+      py::arg("seed") = 1, py::arg("threads") = 0, py::arg("time") = py::none(),
+      py::arg("device") = "auto", py::arg("time_limit") = py::none(), R"doc(
+Photon tracing in the scene's closed triangle mesh under its lights, seen by its camera:
+`translucent pathtrace mesh --scene FILE`.
+
+scene: a translucent.Scene or a scene file name. photons per channel per pass, passes
+(accumulated), seed, threads (0: all cores): the same seed gives the same images on any thread
+count. time: the deformations' time (the scene's when None). time_limit [s]: stop then,
+"partial": True. device: "cpu", "gpu" (the GL compute-shader walk against a BVH; homogeneous
+materials, at most one environment light: others are a ValueError naming why) or "auto" (the
+GPU on a hardware GPU where the walk can trace the scene, else the CPU), as `pathtrace mesh
+--device`; "device" in the result names what traced.
+
+Returns a dict: "exitance" (radiant exitance B [W/unit²]), "radiance" (Ft(η, ω_o) B / π),
+"cone_radiance" (true radiance towards the camera, cone-averaged [W/(unit² sr)]), each a
+(height, width, 3) float32 array, rows from the top, with "<name>_stderr"; and the keys of the
+CLI's --json: scene, triangles, photons_per_channel, seconds, photons_per_second,
+scattering_events, photons_in_several_pixels, median_relative_stderr, majorant_violations,
+threads, flux_per_channel, partial, seed, reference_key (what compare's --reference-from checks).
+The GIL is released while loading and tracing; Ctrl-C raises KeyboardInterrupt with the partial
+dict as its `partial_result`.
+)doc");
+}
+
+}  // namespace translucent::python

@@ -1,0 +1,97 @@
+// Shared pieces of the Python bindings: NumPy arrays that own C++ buffers (no copy), media from
+// keyword arguments as the CLI builds them, and long calls that release the GIL and stop on
+// Ctrl-C.
+#pragma once
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <chrono>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "optics/medium.h"
+#include "reference/camera.h"
+#include "reference/slab.h"
+#include "reference/transport.h"
+
+namespace translucent::python {
+
+namespace py = pybind11;
+
+// A NumPy array of `shape` that takes over `data` (moved to the heap, freed with the array):
+// large images leave C++ without a copy. C-contiguous.
+template <class T>
+py::array_t<T> ownedArray(std::vector<T>&& data, std::vector<py::ssize_t> shape) {
+  auto* owned = new std::vector<T>(std::move(data));
+  py::capsule free(owned, [](void* p) { delete static_cast<std::vector<T>*>(p); });
+  return py::array_t<T>(shape, owned->data(), free);
+}
+
+// A float64 array of three values (an RGB triple).
+py::array_t<double> rgbArray(const Rgb& v);
+
+// An RGB triple from a number (grey) or a sequence of three numbers; ParameterError naming
+// `what` otherwise.
+Rgb toRgb(const py::handle& value, const std::string& what);
+
+// The medium as the CLI's --preset/--sigma-a/--sigma-s/--g/--eta/--scale make it
+// (apps/cli/options.cpp MediumOptions::medium): explicit coefficients (g default 0, η 1.3), or a
+// preset (default `default_preset`) with g and η overriding its own; validated.
+Medium mediumFromArgs(const std::optional<std::string>& preset, const py::object& sigma_a,
+                      const py::object& sigma_s, std::optional<double> g,
+                      std::optional<double> eta, double scale,
+                      const std::string& default_preset = "Marble");
+
+// Runs a long C++ call without the GIL. The progress callback it hands out polls Python's signal
+// handlers (with the GIL taken back) about ten times a second, and `time_limit` seconds; it
+// returns false to stop the call when a handler raised (Ctrl-C: KeyboardInterrupt) or the limit
+// passed. After the call, rethrow() raises the handler's exception, if any, with the partial
+// result attached as its attribute `partial_result`.
+class Interruptible {
+ public:
+  explicit Interruptible(std::optional<double> time_limit = std::nullopt);
+  // Called from a progress callback (on the calling thread, GIL released) with the work done
+  // and the total: false to stop. Like the CLI's progress bar (apps/cli/progress.h), a run
+  // without a time limit whose projected total passes 24 hours after 5 s is stopped, and
+  // finish() raises ValueError with the measured rate.
+  bool poll(uint64_t done, uint64_t total);
+  // The callback for one call of reference::ProgressCallback.
+  reference::ProgressCallback callback();
+  double elapsed() const;
+  // Restarts the clock of the time limit (when the work it limits begins, after loading).
+  void restart() { start_ = std::chrono::steady_clock::now(); }
+  // After the call, with the GIL held: the refusal above, if any.
+  void finish() const;
+  bool interrupted() const { return error_.has_value(); }
+  bool timedOut() const { return timed_out_; }
+  // With the GIL held: raises the pending exception (KeyboardInterrupt) carrying `partial`.
+  void rethrow(const py::object& partial);
+
+ private:
+  std::optional<double> time_limit_;
+  std::chrono::steady_clock::time_point start_;
+  std::optional<py::error_already_set> error_;
+  bool timed_out_ = false;
+  std::string refused_;
+};
+
+// The three quantities of a photon tracer's camera images and their standard errors as
+// (height, width, 3) float32 arrays: "exitance", "exitance_stderr", "radiance", ... (the layers
+// of the CLI's EXR).
+py::dict imageDict(const reference::CameraImages& images);
+// Per channel: emitted, entered, exited, escaped flux with standard errors (the CLI's
+// "flux_per_channel").
+py::list fluxList(const reference::TransportStats& stats);
+// The CLI's passes loop (apps/cli/cmd_render_reference.cpp runPasses), GIL released: pass(cb)
+// returns whether it was stopped. Returns whether the run is partial.
+bool runPasses(int passes, Interruptible& stop,
+               const std::function<bool(const reference::ProgressCallback&)>& pass);
+void validatePasses(int passes, int threads);
+
+// Validations the CLI makes before tracing (apps/cli/cmd_pathtrace.cpp), with its messages.
+uint64_t photonCount(double photons, const char* option = "--photons");
+
+}  // namespace translucent::python

@@ -1,0 +1,251 @@
+#version 450
+// The walk of src/reference/transport_impl.h (launch, tracePhoton, crossBoundary, reenter) in a
+// closed triangle mesh on the GPU, one photon of one channel per invocation: emission from one
+// of the lights (chosen with probability ∝ its flux in the channel: directional, point, beam
+// or environment), entry at the first hit with the Fresnel transmittance as a weight and Snell
+// refraction, exponential flights, at the boundary Fresnel reflection or an exit (scored), the
+// flight in air after an exit and the re-entry into a non-convex body (Fresnel reflection off
+// the outside traced, as on the CPU), analog absorption, Henyey-Greenstein scattering and the
+// seed's long-path roulette. Ray queries: bvh.glsl (Embree-built BVH, watertight triangles).
+//
+// Random numbers: photon p of channel c reads the words of philox((p_lo, p_hi, m, c), Seed) for
+// m = 0, 1, 2, ... in order, four per call: one sequential stream per photon that no other
+// photon or channel touches, so the run does not depend on scheduling. An environment light's
+// direction is drawn on the CPU (mesh_gpu.cpp: the map's own sampler, exact texel by texel, from
+// philox((p_lo, p_hi, 0, 8 + c), Seed)) and read from EnvDirs.
+//
+// Outputs: one record per photon (entered, exited and escaped weight, scatterings, exits) and one
+// per exit, appended through an atomic counter with the photon's index and the exit's rank in
+// it; the CPU sorts them back into photon order and scores them as its own exits
+// (mesh_tracer.cpp). When more exits come than the buffer holds, only the count grows: the CPU
+// enlarges the buffer and traces the batch again (the same photons: the streams are counters).
+//
+// Positions in double (the CPU's), queries, flights and directions in float (Embree's and the
+// lane walker's precision).
+layout(local_size_x = 64) in;
+#include "common/compute.glsl"
+#include "reference/philox.glsl"
+#include "reference/walk_math.glsl"
+#include "reference/bvh.glsl"
+
+struct PhotonOut {
+  double entered, exited, escaped;
+  uint scatters, exits;
+};
+struct ExitOut {
+  double px, py, pz, weight;
+  float nx, ny, nz, dx, dy, dz;
+  uint photon, rank;
+};
+struct GpuLight {
+  vec3 p;       // directional: the disc's centre; point: the position; beam: the origin;
+                // environment: the bounding sphere's centre
+  uint type;    // 0 directional, 1 point, 2 beam, 3 environment
+  vec3 dir;     // directional: of flight (-towards the light); point: the cone's axis; beam: of flight
+  float radius; // disc (directional, beam)
+  vec3 t1;
+  float cosMax; // point: the cone that holds the bounding sphere (-1: all directions)
+  vec3 t2;
+  float cdf;    // cumulative share of the channel's flux, this light included (last: 1)
+};
+layout(std430, binding = 0) writeonly buffer Photons { PhotonOut photons[]; };
+layout(std430, binding = 3) writeonly buffer Exits { ExitOut exits[]; };
+layout(std430, binding = 4) buffer ExitCounter { uint exitCount; };
+layout(std430, binding = 5) readonly buffer Lights { GpuLight lights[]; };
+// Per photon of the batch, towards the environment (xyz; w unused): environment lights only.
+layout(std430, binding = 6) readonly buffer EnvDirs { vec4 envDirs[]; };
+
+uniform uvec2 Seed;
+uniform uvec2 FirstPhoton;
+uniform uint Count, Channel, LightCount, ExitCapacity;
+uniform double Flux;    // what a photon of the channel carries
+uniform bool Matched;   // η = 1
+uniform float Eta;      // n_inside / n_outside
+uniform float InvSigmaT, G, Epsilon;
+uniform uvec2 AbsorbThreshold;  // (high, low): absorbed when a 64-bit word < threshold
+uniform uint LongPath;
+
+const uint kSurviveThreshold = 429496730u;  // walk.h: keep with probability 1/10 ...
+const double kSurviveBoost = 4294967296.0lf / 429496730.0lf;  // ... and the exact inverse weight
+const float kInf = kBvhInf;
+
+// The photon's stream.
+uint gLo, gHi, gCounter, gUsed;
+uvec4 gWords;
+uint nextWord() {
+  if (gUsed == 4u) {
+    gWords = philox4x32_10(uvec4(gLo, gHi, gCounter++, Channel), Seed);
+    gUsed = 0u;
+  }
+  return gWords[gUsed++];
+}
+float uniformFloat() { return unitFromBits(nextWord()); }
+
+vec3 refractDir(vec3 d, vec3 n, float ratio, float cosT) {  // transport_impl.h: refract
+  return normalize(ratio * d + (cosT - ratio * dot(d, n)) * n);
+}
+
+double gEntered = 0.0lf, gExited = 0.0lf, gEscaped = 0.0lf;
+uint gScatters = 0u, gExits = 0u;
+uint gIndex;
+
+void recordExit(dvec3 x, vec3 n, vec3 d, double w) {
+  const uint k = atomicAdd(exitCount, 1u);
+  if (k < ExitCapacity) {
+    exits[k].px = x.x;
+    exits[k].py = x.y;
+    exits[k].pz = x.z;
+    exits[k].weight = w;
+    exits[k].nx = n.x;
+    exits[k].ny = n.y;
+    exits[k].nz = n.z;
+    exits[k].dx = d.x;
+    exits[k].dy = d.y;
+    exits[k].dz = d.z;
+    exits[k].photon = gIndex;
+    exits[k].rank = gExits;
+  }
+  ++gExits;
+  gExited += w;
+}
+
+void finish() {
+  photons[gIndex].entered = gEntered;
+  photons[gIndex].exited = gExited;
+  photons[gIndex].escaped = gEscaped;
+  photons[gIndex].scatters = gScatters;
+  photons[gIndex].exits = gExits;
+}
+
+// The flight in air after an exit at x along d (transport_impl.h: reenter): true with x, d the
+// re-entry point and the inward direction, false when it escapes.
+bool reenter(inout dvec3 x, inout vec3 d) {
+  for (;;) {
+    float t;
+    vec3 n;
+    uint tri;
+    if (!bvhIntersect(vec3(x), d, Epsilon, kInf, t, n, tri)) return false;
+    x += double(t) * dvec3(d);
+    if (Matched) return true;
+    const vec3 inward = dot(n, d) > 0.0 ? n : -n;
+    const float cosI = dot(d, inward);
+    const float F = fresnelReflectanceFloat(max(cosI, 0.0), Eta);
+    if (uniformFloat() < F) {
+      d = normalize(d - 2.0 * cosI * inward);
+      continue;
+    }
+    d = refractDir(d, inward, 1.0 / Eta, refractedCosineFloat(max(cosI, 0.0), Eta));
+    return true;
+  }
+}
+
+void main() {
+  const uint i = linearInvocationIndex();
+  if (i >= Count) return;
+  gIndex = i;
+  gLo = FirstPhoton.x + i;
+  gHi = FirstPhoton.y + (gLo < i ? 1u : 0u);
+  gCounter = 0u;
+  gUsed = 4u;
+
+  // Emission (transport_impl.h: launch, emit).
+  uint li = 0u;
+  if (LightCount > 1u) {
+    const float u = uniformFloat();
+    while (li + 1u < LightCount && lights[li].cdf <= u) ++li;
+  }
+  const GpuLight L = lights[li];
+  vec3 o, d;
+  if (L.type == 3u) {
+    // A point of the disc that covers the bounding sphere, perpendicular to the direction, outside
+    // it (transport_impl.h: emit, EnvironmentLight); any orthonormal frame of the direction will
+    // do (the disc is uniform in rotation).
+    const vec3 toEnv = envDirs[i].xyz;
+    const float sgn = toEnv.z >= 0.0 ? 1.0 : -1.0;
+    const float a = -1.0 / (sgn + toEnv.z), b = toEnv.x * toEnv.y * a;
+    const vec3 t1 = vec3(1.0 + sgn * toEnv.x * toEnv.x * a, sgn * b, -sgn * toEnv.x);
+    const vec3 t2 = vec3(b, sgn + toEnv.y * toEnv.y * a, -toEnv.y);
+    const float r = L.radius * sqrt(uniformFloat());
+    const vec2 cs = uniformAzimuth(nextWord());
+    o = L.p + 2.0 * L.radius * toEnv + r * cs.x * t1 + r * cs.y * t2;
+    d = -toEnv;
+  } else if (L.type == 1u) {
+    const float cosT = 1.0 - uniformFloat() * (1.0 - L.cosMax);
+    const float sinT = sqrt(max(0.0, 1.0 - cosT * cosT));
+    const vec2 cs = uniformAzimuth(nextWord());
+    o = L.p;
+    d = normalize(sinT * cs.x * L.t1 + sinT * cs.y * L.t2 + cosT * L.dir);
+  } else {
+    const float r = L.radius * sqrt(uniformFloat());
+    const vec2 cs = uniformAzimuth(nextWord());
+    o = L.p + r * cs.x * L.t1 + r * cs.y * L.t2;
+    d = L.dir;
+  }
+  double w = Flux;
+  float t;
+  vec3 n;
+  uint tri;
+  if (!bvhIntersect(o, d, 0.0, kInf, t, n, tri)) {
+    finish();
+    return;
+  }
+  dvec3 x = dvec3(o) + double(t) * dvec3(d);
+  {
+    const vec3 inward = dot(n, d) > 0.0 ? n : -n;
+    if (!Matched) {
+      const float cosI = dot(d, inward);
+      w *= 1.0lf - fresnelReflectanceDouble(double(max(cosI, 0.0)), double(Eta));
+      d = refractDir(d, inward, 1.0 / Eta, refractedCosineFloat(max(cosI, 0.0), Eta));
+    }
+  }
+  gEntered = w;
+
+  bool onSurface = true;  // the next ray starts on the boundary: ignore hits closer than ε
+  const float etaOut = 1.0 / Eta;
+  for (;;) {
+    // Free flight (Algorithm 1 line 3), then advance or meet the boundary (lines 4-14).
+    float s = -fastLog(unitOpenZeroFromBits(nextWord())) * InvSigmaT;
+    bool escaped = false;
+    for (;;) {
+      if (!bvhIntersect(vec3(x), d, onSurface ? Epsilon : 0.0, s, t, n, tri)) {
+        x += double(s) * dvec3(d);
+        onSurface = false;
+        break;
+      }
+      x += double(t) * dvec3(d);
+      s = max(0.0, s - t);
+      onSurface = true;
+      // crossBoundary: leave with probability 1 - F, else reflect and fly on (line 6-8).
+      const vec3 outward = dot(n, d) > 0.0 ? n : -n;
+      const float cosIn = dot(d, outward);
+      const float F = Matched ? 0.0 : fresnelReflectanceFloat(max(cosIn, 0.0), etaOut);
+      if (F > 0.0 && uniformFloat() < F) {
+        d = normalize(d - 2.0 * cosIn * outward);
+        continue;
+      }
+      const vec3 dOut =
+          Matched ? d : refractDir(d, outward, Eta, refractedCosineFloat(max(cosIn, 0.0), etaOut));
+      recordExit(x, outward, dOut, w);
+      d = dOut;
+      if (reenter(x, d)) continue;  // the rest of the flight from the re-entry point
+      escaped = true;
+      gEscaped = w;
+      break;
+    }
+    if (escaped) break;
+    // Analog absorption (line 15) to 2^-64, then Henyey-Greenstein scattering (line 16).
+    const uint hiWord = nextWord();
+    if (hiWord <= AbsorbThreshold.x) {
+      if (hiWord < AbsorbThreshold.x) break;
+      if (nextWord() < AbsorbThreshold.y) break;
+    }
+    const float mu = sampleHgCosine(G, uniformFloat());
+    d = scatterDirection(d, mu, uniformAzimuth(nextWord()));
+    ++gScatters;
+    if (LongPath != 0u && gScatters > LongPath) {  // the seed's long-path roulette (section 3.2)
+      if (nextWord() >= kSurviveThreshold) break;
+      w *= kSurviveBoost;
+    }
+  }
+  finish();
+}

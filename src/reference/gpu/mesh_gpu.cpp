@@ -1,0 +1,254 @@
+// The GPU walker of the mesh tracer (mesh_gpu.h).
+#include "reference/gpu/mesh_gpu.h"
+
+#include <algorithm>
+#include <cmath>
+#include <variant>
+
+#include "geometry/flat_bvh.h"
+#include "gpu/compute.h"
+#include "gpu/program.h"
+#include "reference/gpu/walk_program.h"
+#include "reference/philox.h"
+#include "reference/sampling.h"
+
+namespace translucent::reference {
+namespace {
+
+// mesh_walk.comp's records (std430).
+struct PhotonOut {
+  double entered, exited, escaped;
+  uint32_t scatters, exits;
+};
+static_assert(sizeof(PhotonOut) == 32);
+struct ExitOut {
+  double px, py, pz, weight;
+  float nx, ny, nz, dx, dy, dz;
+  uint32_t photon, rank;
+};
+static_assert(sizeof(ExitOut) == 64);
+struct GpuLight {
+  float p[3];
+  uint32_t type;
+  float dir[3];
+  float radius;
+  float t1[3];
+  float cosMax;
+  float t2[3];
+  float cdf;
+};
+static_assert(sizeof(GpuLight) == 64);
+
+void put(float (&out)[3], const glm::dvec3& v) {
+  out[0] = static_cast<float>(v.x);
+  out[1] = static_cast<float>(v.y);
+  out[2] = static_cast<float>(v.z);
+}
+
+// The lights as mesh_walk.comp emits them (transport_impl.h: emit), with channel c's cdf.
+std::vector<GpuLight> gpuLights(const MeshWalkSetup& setup, const WalkChannel& ch) {
+  std::vector<GpuLight> out;
+  const BoundingSphere& b = setup.bounds;
+  for (size_t i = 0; i < setup.lights.size(); ++i) {
+    GpuLight g{};
+    glm::dvec3 axis{0.0, 0.0, 1.0};
+    if (const auto* dl = std::get_if<DirectionalLight>(&setup.lights[i].emitter)) {
+      g.type = 0;
+      put(g.p, b.center + 2.0 * b.radius * dl->direction);
+      axis = dl->direction;
+      put(g.dir, -dl->direction);
+      g.radius = static_cast<float>(b.radius);
+    } else if (const auto* pl = std::get_if<PointLight>(&setup.lights[i].emitter)) {
+      g.type = 1;
+      put(g.p, pl->position);
+      const glm::dvec3 toCenter = b.center - pl->position;
+      const double dist = glm::length(toCenter);
+      g.cosMax = -1.0f;
+      if (dist > b.radius) {
+        axis = toCenter / dist;
+        g.cosMax = static_cast<float>(
+            std::sqrt(std::max(0.0, 1.0 - (b.radius / dist) * (b.radius / dist))));
+      }
+      put(g.dir, axis);
+    } else if (const auto* bl = std::get_if<BeamLight>(&setup.lights[i].emitter)) {
+      g.type = 2;
+      put(g.p, bl->origin);
+      axis = bl->direction;
+      put(g.dir, bl->direction);
+      g.radius = static_cast<float>(bl->radius);
+    } else {
+      g.type = 3;  // environment: the direction per photon from EnvDirs
+      put(g.p, b.center);
+      g.radius = static_cast<float>(b.radius);
+    }
+    glm::dvec3 t1, t2;
+    detail::tangentFrame(axis, t1, t2);
+    put(g.t1, t1);
+    put(g.t2, t2);
+    g.cdf = i + 1 < ch.light_cdf.size() ? static_cast<float>(ch.light_cdf[i]) : 1.0f;
+    out.push_back(g);
+  }
+  return out;
+}
+
+using namespace gpu_walk;
+
+class GpuMeshWalker final : public MeshWalker {
+ public:
+  GpuMeshWalker(gpu::Context& context, const geometry::TriangleMesh& mesh, const std::string& what)
+      : context_(context), program_(build(context)) {
+    const geometry::FlatBvh bvh = geometry::FlatBvh::build(mesh, what);
+    nodes_ = gpu::makeStorageBuffer(std::span<const geometry::FlatBvhNode>(bvh.nodes));
+    triangles_ = gpu::makeStorageBuffer(std::span<const geometry::FlatBvhTriangle>(bvh.triangles));
+    counter_ = gpu::makeStorageBuffer(sizeof(uint32_t));
+    name_ = deviceName();
+  }
+  // The buffers and the program are released in their context.
+  ~GpuMeshWalker() override { context_.makeCurrent(); }
+
+  void trace(const MeshWalkSetup& setup, int channel, uint64_t first, uint64_t count,
+             WalkedBatch& out) override {
+    context_.makeCurrent();
+    const WalkChannel& ch = setup.channels.at(static_cast<size_t>(channel));
+    const gpu::ShaderProgram& p = program_;
+    const std::vector<GpuLight> lights = gpuLights(setup, ch);
+    gpu::Buffer lightBuffer = gpu::makeStorageBuffer(std::span<const GpuLight>(lights));
+    setChannel(p, ch, setup.seed, setup.long_path_roulette);
+    p.set("Channel", static_cast<unsigned>(channel));
+    p.set("LightCount", static_cast<unsigned>(lights.size()));
+    setDouble(p, "Flux", ch.flux);
+    p.set("Matched", ch.eta == 1.0);
+    p.set("Eta", static_cast<float>(ch.eta));
+    p.set("Epsilon", static_cast<float>(setup.epsilon));
+
+    const uint64_t n = count * kBlockPhotons, firstPhoton = first * kBlockPhotons;
+    if (n > photonCapacity_) {
+      photons_ = gpu::makeStorageBuffer(n * sizeof(PhotonOut));
+      photonCapacity_ = n;
+    }
+    // Most photons leave once or twice; a batch with more exits than the buffer holds is traced
+    // again into a larger one (the same photons: the streams are counters).
+    if (exitCapacity_ < 2 * n) growExits(2 * n);
+    setLowHigh(p, "FirstPhoton", firstPhoton);
+    environmentDirections(setup, channel, firstPhoton, n);
+    p.set("Count", static_cast<unsigned>(n));
+    uint32_t exitCount = 0;
+    for (;;) {
+      const uint32_t zero = 0;
+      gpu::uploadBytes(counter_, 0, sizeof(zero), &zero);
+      p.set("ExitCapacity", static_cast<unsigned>(exitCapacity_));
+      gpu::bindStorage(0, photons_);
+      gpu::bindStorage(1, nodes_);
+      gpu::bindStorage(2, triangles_);
+      gpu::bindStorage(3, exits_);
+      gpu::bindStorage(4, counter_);
+      gpu::bindStorage(5, lightBuffer);
+      gpu::bindStorage(6, envDirs_);
+      gpu::dispatch1D(p, n);
+      gpu::downloadBytes(counter_, 0, sizeof(exitCount), &exitCount);
+      if (exitCount <= exitCapacity_) break;
+      growExits(exitCount + exitCount / 4);
+    }
+    hostPhotons_.resize(n);
+    gpu::downloadBytes(photons_, 0, n * sizeof(PhotonOut), hostPhotons_.data());
+    hostExits_.resize(exitCount);
+    if (exitCount) gpu::downloadBytes(exits_, 0, exitCount * sizeof(ExitOut), hostExits_.data());
+
+    // Back into photon order: photon k's exits at first_exit(k) + rank.
+    out.photons.assign(n, WalkedPhoton{});
+    uint32_t next = 0;
+    for (uint64_t k = 0; k < n; ++k) {
+      const PhotonOut& r = hostPhotons_[k];
+      WalkedPhoton& ph = out.photons[k];
+      ph.entered = r.entered;
+      ph.exited = r.exited;
+      ph.escaped = r.escaped;
+      ph.scatters = r.scatters;
+      ph.first_exit = next;
+      ph.exits = r.exits;
+      next += r.exits;
+    }
+    if (next != exitCount)
+      throw std::runtime_error("GPU mesh walk: the photons' exit counts do not add up to the exits written");
+    out.exits.assign(exitCount, WalkedExit{});
+    for (const ExitOut& e : hostExits_) {
+      const WalkedPhoton& ph = out.photons.at(e.photon);
+      WalkedExit& x = out.exits.at(ph.first_exit + e.rank);
+      x.position = glm::dvec3(e.px, e.py, e.pz);
+      x.normal = glm::dvec3(e.nx, e.ny, e.nz);
+      x.direction = glm::dvec3(e.dx, e.dy, e.dz);
+      x.weight = e.weight;
+    }
+  }
+
+  std::string name() const override { return name_; }
+
+ private:
+  static gpu::ShaderProgram build(const gpu::Context& context) {
+    context.makeCurrent();
+    return gpu::ShaderProgram::compute("reference/mesh_walk.comp");
+  }
+  // The directions towards the scene's environment light (at most one: setWalker) of photons
+  // firstPhoton .. firstPhoton + n - 1 of `channel`, drawn by the map's sampler (exact, texel by
+  // texel in solid angle, as the CPU's emit) from two 53-bit uniforms of the photon's Philox
+  // words (firstPhoton + k, 0, 0, 8 + channel): a function of the seed, photon and channel only.
+  void environmentDirections(const MeshWalkSetup& setup, int channel, uint64_t firstPhoton,
+                             uint64_t n) {
+    const EnvironmentLight* env = nullptr;
+    for (const Light& l : setup.lights)
+      if (const auto* e = std::get_if<EnvironmentLight>(&l.emitter)) env = e;
+    if (env == nullptr) {
+      if (!envDirs_) envDirs_ = gpu::makeStorageBuffer(16);  // bound, never read
+      return;
+    }
+    const auto& sampler = env->samplers[static_cast<size_t>(channel)];
+    hostDirs_.assign(4 * n, 0.0f);
+    const PhiloxKey key{static_cast<uint32_t>(setup.seed), static_cast<uint32_t>(setup.seed >> 32)};
+    auto unit53 = [](uint32_t hi, uint32_t lo) {
+      return static_cast<double>((uint64_t{hi >> 5} << 26) | (lo >> 6)) * 0x1.0p-53;
+    };
+    for (uint64_t k = 0; k < n; ++k) {
+      // A channel without radiance is never chosen (its flux is 0) unless every light is black
+      // in it, and then its photons carry 0 whatever they do: any direction will do.
+      glm::dvec3 dir{0.0, 1.0, 0.0};
+      if (sampler) {
+        const uint64_t photon = firstPhoton + k;
+        const PhiloxCounter w = philox4x32_10(
+            {static_cast<uint32_t>(photon), static_cast<uint32_t>(photon >> 32), 0u,
+             8u + static_cast<uint32_t>(channel)}, key);
+        dir = sampler->sample({unit53(w[0], w[1]), unit53(w[2], w[3])}).direction;
+      }
+      hostDirs_[4 * k] = static_cast<float>(dir.x);
+      hostDirs_[4 * k + 1] = static_cast<float>(dir.y);
+      hostDirs_[4 * k + 2] = static_cast<float>(dir.z);
+    }
+    if (n > dirCapacity_) {
+      envDirs_ = gpu::makeStorageBuffer(n * 4 * sizeof(float));
+      dirCapacity_ = n;
+    }
+    gpu::uploadBytes(envDirs_, 0, n * 4 * sizeof(float), hostDirs_.data());
+  }
+
+  void growExits(uint64_t capacity) {
+    exits_ = gpu::makeStorageBuffer(capacity * sizeof(ExitOut));
+    exitCapacity_ = capacity;
+  }
+  gpu::Context& context_;
+  gpu::ShaderProgram program_;
+  gpu::Buffer nodes_, triangles_, counter_, photons_, exits_, envDirs_;
+  uint64_t photonCapacity_ = 0, exitCapacity_ = 0, dirCapacity_ = 0;
+  std::vector<float> hostDirs_;
+  std::vector<PhotonOut> hostPhotons_;
+  std::vector<ExitOut> hostExits_;
+  std::string name_;
+};
+
+}  // namespace
+
+std::shared_ptr<MeshWalker> makeGpuMeshWalker(gpu::Context& context,
+                                              const geometry::TriangleMesh& mesh,
+                                              const std::string& what) {
+  return std::make_shared<GpuMeshWalker>(context, mesh, what);
+}
+
+}  // namespace translucent::reference

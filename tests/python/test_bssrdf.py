@@ -1,0 +1,138 @@
+"""Models and profiles against `translucent profile --out x.csv` (9 significant digits)."""
+import csv
+import json
+
+import numpy as np
+import pytest
+
+import translucent
+
+
+def read_curves(path):
+    """{(model, channel): (r strings, value strings)} of a profile CSV."""
+    curves = {}
+    with open(path) as f:
+        for row in csv.DictReader(f):
+            r, v = curves.setdefault((row["model"], row["channel"]), ([], []))
+            r.append(row["r"])
+            v.append(row["value"])
+    return curves
+
+
+MEDIA = [
+    # (CLI options, profile() keywords)
+    (["--preset", "Skin1"], dict(preset="Skin1")),
+    (["--preset", "Marble", "--g", "0.5", "--eta", "1.4", "--scale", "10"],
+     dict(preset="Marble", g=0.5, eta=1.4, scale=10)),
+    (["--sigma-a", "0.01,0.02,0.05", "--sigma-s", "1.0,1.5,2", "--g", "0.8", "--eta", "1.33"],
+     dict(sigma_a=[0.01, 0.02, 0.05], sigma_s=[1.0, 1.5, 2.0], g=0.8, eta=1.33)),
+]
+
+
+@pytest.mark.parametrize("cli_args,kwargs", MEDIA)
+def test_profile_matches_cli_csv(cli, tmp_path, cli_args, kwargs):
+    out = tmp_path / "p.csv"
+    points, r_max = 50, 7.0
+    cli("profile", "--model", "all", "--channel", "all", "--points", points, "--rmax", r_max,
+        *cli_args, "--out", out)
+    curves = read_curves(out)
+    assert {m for m, _ in curves} == set(translucent.model_names())
+    # The CLI's grid, computed as analysis::radiusGrid does: r_i = r_max (i + 1) / points (the
+    # radii of the CSV are printed to 9 digits only, not enough to call R at the same r).
+    r = np.array([r_max * (i + 1) / points for i in range(points)])
+    for model in translucent.model_names():
+        R = translucent.profile(model, r, **kwargs)
+        assert R.shape == (points, 3)
+        for c, ch in enumerate("rgb"):
+            assert curves[(model, ch)][0] == [f"{x:.9g}" for x in r]
+            # The CSV prints {:.9g}; Python's '.9g' of the same double is the same text.
+            assert [f"{v:.9g}" for v in R[:, c]] == curves[(model, ch)][1], (model, ch)
+
+
+def test_profile_array_layout():
+    r = np.linspace(0.1, 3.0, 12).reshape(3, 4)
+    R = translucent.profile("dipole", r)
+    assert R.shape == (3, 4, 3) and R.dtype == np.float64 and R.flags["C_CONTIGUOUS"]
+    assert R.flags["OWNDATA"] is False  # the C++ buffer itself, handed over without a copy
+    flat = translucent.profile("dipole", r.ravel())
+    assert np.array_equal(R.reshape(-1, 3), flat)
+    # Lists and integer arrays are accepted (converted to float64).
+    assert np.array_equal(translucent.profile("dipole", [1, 2]),
+                          translucent.profile("dipole", np.array([1.0, 2.0])))
+
+
+def test_profiles_object_matches_profile():
+    medium = translucent.preset("Ketchup").medium()
+    p = translucent.model("better-dipole").profiles(medium)
+    r = np.geomspace(0.01, 20, 64)
+    assert np.array_equal(p.R(r), translucent.profile("better-dipole", r, preset="Ketchup"))
+    rd = p.Rd
+    assert rd.shape == (3,) and np.all((rd > 0) & (rd < 1))
+    # radius(f): the cumulative 2π∫0^r R r' dr' reaches f·Rd there (checked by quadrature of
+    # R(r) on a fine grid, to 0.5%).
+    r95 = p.radius(0.95)
+    for c in range(3):
+        x = np.linspace(1e-6, r95[c], 200001)
+        y = 2 * np.pi * x * p.R(x)[:, c]
+        assert np.trapz(y, x) / rd[c] == pytest.approx(0.95, rel=5e-3)
+    # sample(): r increases with u and its pdf is pdf(r).
+    u = np.array([0.1, 0.5, 0.9])
+    rs, pdf = p.sample(u)
+    assert rs.shape == (3, 3) and pdf.shape == (3, 3)
+    assert np.all(np.diff(rs, axis=0) > 0)
+    for c in range(3):
+        assert p.pdf(rs[:, c])[:, c] == pytest.approx(pdf[:, c], rel=1e-9)
+
+
+def test_unknown_model_same_message_as_cli(cli_error):
+    expected = cli_error("profile", "--model", "nope", "--out", "/tmp/never.csv")
+    with pytest.raises(ValueError) as e:
+        translucent.profile("nope", [1.0])
+    assert str(e.value) == expected
+
+
+def test_bad_medium_same_message_as_cli(cli_error):
+    expected = cli_error("profile", "--model", "dipole", "--sigma-a", "-1", "--sigma-s", "1",
+                         "--out", "/tmp/never.csv")
+    with pytest.raises(ValueError) as e:
+        translucent.profile("dipole", [1.0], sigma_a=-1, sigma_s=1)
+    assert str(e.value) == expected
+
+
+def test_bssrdf_file_profile_matches_cli_csv(cli, source_dir, tmp_path):
+    # A .bssrdf plug-in model, evaluated on the GPU (llvmpipe without one), as the CLI does.
+    model = source_dir / "data" / "bssrdf" / "better-dipole.bssrdf"
+    out = tmp_path / "p.csv"
+    points, r_max = 40, 6.0
+    cli("profile", "--model", model, "--channel", "all", "--points", points, "--rmax", r_max,
+        "--preset", "Skin1", "--out", out)
+    curves = read_curves(out)
+    r = np.array([r_max * (i + 1) / points for i in range(points)])
+    R = translucent.profile(str(model), r, preset="Skin1")
+    assert R.shape == (points, 3) and R.dtype == np.float64
+    for c, ch in enumerate("rgb"):
+        assert [f"{v:.9g}" for v in R[:, c]] == curves[("better-dipole", ch)][1], ch
+    # The GPU's float32 evaluation of the same formula as the C++ model: within 1e-5.
+    cpu = translucent.profile("better-dipole", r, preset="Skin1")
+    assert np.allclose(R, cpu, rtol=1e-5, atol=0)
+
+
+def test_bssrdf_model_parameters_and_invert(cli, source_dir):
+    path = str(source_dir / "data" / "bssrdf" / "better-dipole.bssrdf")
+    b = translucent.BssrdfModel(path)
+    assert b.name == "better-dipole" and "Multiplier" in b.parameters
+    expected = json.loads(cli("invert", "--model", path, "--rd", "0.8,0.6,0.4", "--ld", "5,2,1",
+                              "--json").stdout)
+    m = b.invert([0.8, 0.6, 0.4], [5, 2, 1])
+    assert m.sigma_a.tolist() == expected["sigma_a"]
+    assert m.sigma_s_prime.tolist() == expected["sigma_s_prime"]
+    medium = translucent.preset("Skin1").medium()
+    r = np.array([0.5, 1.0, 2.0])
+    base = b.profile(medium, r)
+    b.set(Multiplier=2.0)
+    assert b.parameters["Multiplier"] == 2.0
+    assert np.allclose(b.profile(medium, r), 2 * base, rtol=1e-6)
+    e = b.energy(medium)
+    assert e["Rd"].shape == (3,) and np.all(e["radius"] > 0)
+    with pytest.raises(ValueError, match="declares no parameter 'Nope'"):
+        b.set(Nope=1.0)

@@ -1,0 +1,302 @@
+// The mesh tracer's GPU walk (reference/gpu/mesh_gpu.h) against analytic fluxes (a cube under a
+// beam, three index-matched cubes in a row) and against the CPU tracer pixel by pixel on a cube
+// (two directional lights; an environment light) and on the bunny (non-convex: exits, flights
+// in air, re-entries; a point light); same seed, same images whatever the pass split; the
+// refusals. GL runs on whatever EGL offers
+// (llvmpipe here): small images and photon counts, bounds from the standard errors.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+#include "geometry/mesh.h"
+#include "gpu/gpu_test.h"
+#include "optics/fresnel.h"
+#include "reference/gpu/mesh_gpu.h"
+#include "reference/mesh_tracer.h"
+#include "image_zmap.h"
+
+namespace translucent::reference {
+namespace {
+
+using gpu::testing::GpuTest;
+
+Camera orthographic(glm::dvec3 position, double height, int size) {
+  Camera c;
+  c.projection = Camera::Projection::Orthographic;
+  c.position = position;
+  c.look_at = glm::dvec3(0.0);
+  c.up = std::abs(position.y) > 0.9 * glm::length(position) ? glm::dvec3(1.0, 0.0, 0.0)
+                                                              : glm::dvec3(0.0, 1.0, 0.0);
+  c.view_height = height;
+  c.width = c.height = size;
+  return c;
+}
+
+Light directional(glm::dvec3 toLight, double irradiance, Rgb color = {1.0, 1.0, 1.0}) {
+  return Light{DirectionalLight{glm::normalize(toLight), irradiance}, color};
+}
+
+void useGpu(MeshPathTracer& t, const geometry::TriangleMesh& mesh) {
+  t.setWalker(makeGpuMeshWalker(gpu::testing::context(), mesh));
+}
+
+// The closed bunny of glmark2-data, centred and scaled to a bounding radius of 1.
+const geometry::TriangleMesh& bunny() {
+  static const geometry::TriangleMesh mesh = [] {
+    geometry::TriangleMesh m = geometry::loadMesh(TRANSLUCENT_BUNNY_OBJ);
+    const geometry::Bounds b = m.bounds();
+    m.transform(1.0 / b.radius(), -b.center() / b.radius());
+    return m;
+  }();
+  return mesh;
+}
+
+using test_support::bonferroniZ;
+using test_support::ZMap;
+using test_support::zmap;
+
+// The images of the GPU and CPU walks agree pixel by pixel: mean z² within 6 of its standard
+// deviations sqrt(2/N) of 1, and no pixel beyond the Bonferroni-corrected 1% threshold. (With
+// few photons per pixel z is not quite normal; pixels with few scores have heavier tails, which
+// the corrected threshold at 1% leaves room for.)
+void expectImagesAgree(const CameraImages& g, const CameraImages& c, int minPixels) {
+  const std::pair<const char*, std::pair<const McImage*, const McImage*>> all[] = {
+      {"exitance", {&g.exitance, &c.exitance}},
+      {"radiance", {&g.radiance, &c.radiance}},
+      {"cone radiance", {&g.cone_radiance, &c.cone_radiance}}};
+  for (const auto& [name, images] : all) {
+    const ZMap m = zmap(*images.first, *images.second);
+    EXPECT_GT(m.n, minPixels) << name;
+    EXPECT_NEAR(m.meanZ2, 1.0, 6.0 * std::sqrt(2.0 / std::max(m.n, 1)))
+        << name << ": mean z² over " << m.n << " pixel values";
+    EXPECT_LT(m.maxAbs, bonferroniZ(m.n, 0.01)) << name << ": largest |z| over " << m.n;
+  }
+}
+
+// Within 4 combined standard errors, plus 1e-6 relative: the GPU's entry cosines are float, so
+// its Fresnel weights are the CPU's to ~1e-7 (which shows when every photon enters alike and
+// the standard error is 0).
+void expectFluxAgree(const TransportStats& g, const TransportStats& c) {
+  for (size_t ch = 0; ch < g.photons.size(); ++ch)
+    for (const auto& [name, a, b] :
+         {std::tuple{"entered", &g.entered[ch], &c.entered[ch]},
+          std::tuple{"exited", &g.exited[ch], &c.exited[ch]},
+          std::tuple{"escaped", &g.escaped[ch], &c.escaped[ch]}}) {
+      const Estimate p = a->estimate(g.photons[ch]), q = b->estimate(c.photons[ch]);
+      EXPECT_NEAR(p.value, q.value, 4.0 * std::hypot(p.std_error, q.std_error) + 1e-6 * std::abs(q.value))
+          << name << " " << ch;
+    }
+}
+
+// Three unit cubes along z, 0.5 apart (one closed mesh of three parts): z in [-2.5, -1.5],
+// [-1, 0], [0.5, 1.5].
+geometry::TriangleMesh threeCubes() {
+  geometry::TriangleMesh row;
+  for (int k = 0; k < 3; ++k) {
+    const double z0 = -2.5 + 1.5 * k;
+    const geometry::TriangleMesh box = geometry::makeBox({-0.5, -0.5, z0}, {0.5, 0.5, z0 + 1.0});
+    const auto base = static_cast<unsigned>(row.positions.size());
+    row.positions.insert(row.positions.end(), box.positions.begin(), box.positions.end());
+    for (const auto& tri : box.triangles) row.triangles.push_back(tri + glm::uvec3(base));
+  }
+  return row;
+}
+
+class MeshGpu : public GpuTest {};
+
+TEST_F(MeshGpu, CubeUnderABeamEntersTheAnalyticFlux) {
+  // A beam of radius 0.8 along -z onto the top face of the cube [-1, 1]³: every photon enters
+  // at normal incidence with weight 1 - F(1), F(1) = ((η - 1)/(η + 1))² (from float cosines on
+  // the GPU: to ~1e-7); without absorption every entered photon leaves (entered = escaped).
+  const geometry::TriangleMesh cube = geometry::makeBox(glm::dvec3(-1.0), glm::dvec3(1.0));
+  const Light beam{BeamLight{{0.1, -0.1, 5.0}, {0.0, 0.0, -1.0}, 0.8, 2.0}, {1.0, 1.0, 1.0}};
+  MeshPathTracer t(cube, ScalarMedium{0.0, 3.0, 0.4, 1.5}, {beam},
+                   orthographic({0.0, 0.0, 4.0}, 2.4, 8), 5.0, {3, 1});
+  useGpu(t, cube);
+  EXPECT_EQ(t.device().rfind("gpu (", 0), 0u) << t.device();
+  const TransportStats st = t.addPass(32 * kBlockPhotons);
+  const uint64_t n = st.photons[0];
+  const double f0 = (0.5 / 2.5) * (0.5 / 2.5);
+  EXPECT_NEAR(st.entered[0].estimate(n).value, 2.0 * (1.0 - f0), 2e-6);
+  EXPECT_NEAR(st.escaped[0].estimate(n).value, st.entered[0].estimate(n).value, 1e-12);
+  EXPECT_NEAR(st.exited[0].estimate(n).value, st.entered[0].estimate(n).value, 1e-12);
+  EXPECT_FALSE(st.partial);
+}
+
+TEST_F(MeshGpu, ThreeMatchedCubesInARowExitAndReenterAsTheChordsSay) {
+  // Three unit cubes along z, 0.5 apart, η = 1 (no Fresnel), pure absorber σa: a pencil beam
+  // along -z crosses them all, leaving each: a photon's exits sum to w (T + T² + T³), T = e^{-σa}
+  // on average, and it escapes with w T³. Three exits per photon also overflow the walker's first
+  // exit buffer (2 per photon): the batch is traced again into a larger one.
+  const geometry::TriangleMesh row = threeCubes();
+  const double sa = 0.4, T = std::exp(-sa);
+  const Light beam{BeamLight{{0.05, 0.1, 5.0}, {0.0, 0.0, -1.0}, 0.0, 1.0}, {1.0, 1.0, 1.0}};
+  MeshPathTracer t(row, ScalarMedium{sa, 0.0, 0.0, 1.0}, {beam},
+                   orthographic({3.0, 0.0, 0.0}, 5.0, 8), 5.0, {4, 1});
+  useGpu(t, row);
+  const TransportStats st = t.addPass(64 * kBlockPhotons);
+  const uint64_t n = st.photons[0];
+  EXPECT_NEAR(st.entered[0].estimate(n).value, 1.0, 1e-12);
+  const Estimate exited = st.exited[0].estimate(n), escaped = st.escaped[0].estimate(n);
+  EXPECT_NEAR(exited.value, T + T * T + T * T * T, 4.0 * exited.std_error);
+  EXPECT_NEAR(escaped.value, T * T * T, 4.0 * escaped.std_error);
+  EXPECT_LT(exited.std_error, 0.01);  // the test has power
+}
+
+TEST_F(MeshGpu, ThreeMismatchedCubesMatchTheCpuTracerThroughEveryReentry) {
+  // The row of three cubes with η = 1.5 and a pencil beam along the axis: every crossing is at
+  // normal incidence, so photons bounce between the faces and between the cubes (internal
+  // reflections, exits, re-entries and reflections off the outside, each with F(1) = 0.04),
+  // and the flux sums of the two walks must agree (no scattering: a 1D problem with exact
+  // Fresnel decisions all along).
+  const geometry::TriangleMesh row = threeCubes();
+  const Light beam{BeamLight{{0.05, 0.1, 5.0}, {0.0, 0.0, -1.0}, 0.0, 1.0}, {1.0, 1.0, 1.0}};
+  const ScalarMedium m{0.1, 0.0, 0.0, 1.5};
+  const Camera cam = orthographic({3.0, 0.0, 0.0}, 5.0, 8);
+  MeshPathTracer gpu(row, m, {beam}, cam, 5.0, {11, 1}), cpu(row, m, {beam}, cam, 5.0, {12, 2});
+  useGpu(gpu, row);
+  gpu.addPass(128 * kBlockPhotons);
+  cpu.addPass(128 * kBlockPhotons);
+  expectFluxAgree(gpu.stats(), cpu.stats());
+  const Estimate e = gpu.stats().exited[0].estimate(gpu.stats().photons[0]);
+  EXPECT_LT(e.std_error, 0.003 * e.value);  // the test has power
+}
+
+TEST_F(MeshGpu, CubeImagesMatchTheCpuTracerPixelByPixel) {
+  // RGB medium with anisotropy, two directional lights of different colours (the light choice
+  // by flux per channel), oblique orthographic view with a wide cone.
+  const geometry::TriangleMesh cube = geometry::makeBox(glm::dvec3(-1.0), glm::dvec3(1.0));
+  Medium medium;
+  medium.sigma_a = {0.3, 0.1, 0.03};
+  medium.sigma_s = {4.0, 6.0, 8.0};
+  medium.g = 0.8;  // strongly forward: a wrong g changes σs' = (1 - g) σs by tens of percent
+  medium.eta = 1.4;
+  const std::vector<Light> lights = {directional({0.3, 1.0, 0.5}, 1.0, {1.0, 0.8, 0.6}),
+                                     directional({-1.0, 0.2, 0.4}, 0.4, {0.5, 0.7, 1.0})};
+  const Camera cam = orthographic({2.0, 1.5, 3.0}, 4.0, 12);
+  MeshPathTracer gpu(cube, medium, lights, cam, 30.0, {5, 1}), cpu(cube, medium, lights, cam, 30.0, {6, 2});
+  useGpu(gpu, cube);
+  gpu.addPass(96 * kBlockPhotons);
+  cpu.addPass(96 * kBlockPhotons);
+  expectImagesAgree(gpu.images(), cpu.images(), 200);
+  expectFluxAgree(gpu.stats(), cpu.stats());
+  EXPECT_NEAR(double(gpu.stats().scattering_events) / double(cpu.stats().scattering_events), 1.0, 0.01);
+}
+
+TEST_F(MeshGpu, BunnyImagesMatchTheCpuTracerPixelByPixel) {
+  // The bunny (non-convex: light leaving the ears and paws re-enters the body) under a point
+  // light and a directional one, a pinhole camera: the images and the flux statistics of the
+  // two walks agree; both see re-entries (exited > escaped).
+  Medium medium;  // Marble's scattering at 2 mm per unit (~10 mean free paths across), g = 0.6
+  medium.scale = 2.0;
+  medium.sigma_a = {0.05, 0.02, 0.01};
+  medium.g = 0.6;
+  const std::vector<Light> lights = {
+      Light{PointLight{{1.5, 2.0, 2.5}, 6.0}, {1.0, 1.0, 1.0}},
+      directional({-0.5, 0.3, 1.0}, 0.5, {0.8, 0.9, 1.0})};
+  Camera cam;
+  cam.position = {0.3, 0.4, 3.2};
+  cam.fov = 40.0;
+  cam.width = cam.height = 20;  // the bunny covers about a third of the frame
+  MeshPathTracer gpu(bunny(), medium, lights, cam, 30.0, {7, 1}),
+      cpu(bunny(), medium, lights, cam, 30.0, {8, 2});
+  useGpu(gpu, bunny());
+  gpu.addPass(64 * kBlockPhotons);
+  cpu.addPass(64 * kBlockPhotons);
+  expectImagesAgree(gpu.images(), cpu.images(), 250);
+  expectFluxAgree(gpu.stats(), cpu.stats());
+  for (size_t c = 0; c < 3; ++c) {
+    const TransportStats& s = gpu.stats();
+    EXPECT_GT(s.exited[c].estimate(s.photons[c]).value, s.escaped[c].estimate(s.photons[c]).value * 1.001)
+        << "no re-entry seen in channel " << c;
+  }
+}
+
+TEST_F(MeshGpu, SameSeedSameImagesWhateverThePassSplit) {
+  const geometry::TriangleMesh cube = geometry::makeBox(glm::dvec3(-1.0), glm::dvec3(1.0));
+  const std::vector<Light> lights = {directional({0.2, 1.0, 0.3}, 1.0)};
+  const Camera cam = orthographic({1.0, 2.0, 3.0}, 4.0, 8);
+  Medium medium;
+  medium.scale = 2.0;
+  MeshPathTracer one(cube, medium, lights, cam, 5.0, {9, 1}), split(cube, medium, lights, cam, 5.0, {9, 1}),
+      other(cube, medium, lights, cam, 5.0, {10, 1});
+  for (MeshPathTracer* t : {&one, &split, &other}) useGpu(*t, cube);
+  one.addPass(6 * kBlockPhotons);
+  split.addPass(2 * kBlockPhotons);
+  split.addBlocks(2, 4);
+  other.addPass(6 * kBlockPhotons);
+  bool differs = false;
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 8; ++x)
+      for (int c = 0; c < 3; ++c) {
+        ASSERT_EQ(one.images().exitance.pixel(x, y, c).value, split.images().exitance.pixel(x, y, c).value);
+        ASSERT_EQ(one.images().exitance.pixel(x, y, c).std_error,
+                  split.images().exitance.pixel(x, y, c).std_error);
+        differs |= other.images().exitance.pixel(x, y, c).value != one.images().exitance.pixel(x, y, c).value;
+      }
+  EXPECT_TRUE(differs);
+}
+
+// A small sky: 8 x 4 texels of different radiance per channel (brighter towards +y, bluer
+// towards the horizon, so that the per-channel samplers differ) with a "sun" texel 40 times as
+// bright (most of the flux from one direction: a wrong direction shows in the images).
+std::shared_ptr<lights::EnvironmentMap> smallSky() {
+  auto map = std::make_shared<lights::EnvironmentMap>();
+  map->width = 8;
+  map->height = 4;
+  for (int y = 0; y < 4; ++y)
+    for (int x = 0; x < 8; ++x) {
+      const float up = 1.0f - 0.25f * static_cast<float>(y), side = 0.5f + 0.06f * static_cast<float>(x);
+      const float sun = x == 5 && y == 1 ? 40.0f : 1.0f;
+      map->rgb.insert(map->rgb.end(), {2.0f * up * side * sun, 1.5f * up * sun,
+                                       (0.5f + 0.5f * static_cast<float>(y)) * sun});
+    }
+  return map;
+}
+
+TEST_F(MeshGpu, EnvironmentLightMatchesTheCpuTracerPixelByPixel) {
+  // The cube under the small sky (rotated 30°) and a weak directional light: the directions
+  // come from the map's sampler on the CPU, the rest of the emission and the walk on the GPU;
+  // images and fluxes agree with the CPU tracer's.
+  const geometry::TriangleMesh cube = geometry::makeBox(glm::dvec3(-1.0), glm::dvec3(1.0));
+  Medium medium;
+  medium.sigma_a = {0.2, 0.1, 0.05};
+  medium.sigma_s = {3.0, 4.0, 5.0};
+  medium.g = 0.3;
+  medium.eta = 1.3;
+  const std::vector<Light> lights = {Light{EnvironmentLight::make(smallSky(), 30.0, 1.0), {1.0, 1.0, 1.0}},
+                                     directional({0.3, 1.0, 0.2}, 0.3)};
+  const Camera cam = orthographic({2.0, 1.0, 3.0}, 4.0, 12);
+  MeshPathTracer gpu(cube, medium, lights, cam, 30.0, {13, 1}), cpu(cube, medium, lights, cam, 30.0, {14, 2});
+  EXPECT_EQ(gpu.walkerRefusal(), "");
+  useGpu(gpu, cube);
+  gpu.addPass(96 * kBlockPhotons);
+  cpu.addPass(96 * kBlockPhotons);
+  expectImagesAgree(gpu.images(), cpu.images(), 200);
+  expectFluxAgree(gpu.stats(), cpu.stats());
+}
+
+TEST_F(MeshGpu, RefusesWhatItCannotTrace) {
+  // Two environment lights (the GPU walk reads one direction per photon), and a heterogeneous
+  // material (not here: the CLI tests refuse the veined-marble scene).
+  const geometry::TriangleMesh cube = geometry::makeBox(glm::dvec3(-1.0), glm::dvec3(1.0));
+  const Camera cam = orthographic({0.0, 0.0, 4.0}, 3.0, 8);
+  const Light env{EnvironmentLight::make(smallSky(), 0.0, 1.0), {1.0, 1.0, 1.0}};
+  MeshPathTracer t(cube, Medium{}, {env, env}, cam, 5.0, {1, 1});
+  EXPECT_NE(t.walkerRefusal().find("one environment light at most"), std::string::npos)
+      << t.walkerRefusal();
+  try {
+    useGpu(t, cube);
+    ADD_FAILURE() << "two environment lights were accepted";
+  } catch (const ParameterError& e) {
+    EXPECT_NE(std::string(e.what()).find("--device gpu: one environment light at most (this scene has 2"),
+              std::string::npos) << e.what();
+  }
+  EXPECT_EQ(t.device(), "cpu");
+}
+
+}  // namespace
+}  // namespace translucent::reference
