@@ -13,6 +13,7 @@
 // GL context EGL gives (llvmpipe on a machine without a GPU): its photons/s/thread counter is
 // photons per second of wall time (the host thread is 1), its name says the renderer.
 //
+// bunny_veins/cpu_1t, bunny_veins/gpu: the same with the veined-marble field (delta tracking).
 // bunny/cpu_1t, bunny/gpu: the mesh tracer (reference/mesh_tracer.h, Embree) and its GPU walk
 // (mesh_gpu.h, flat BVH) on the glmark2 bunny (69,666 triangles, radius 1), Marble at 5 mm per
 // unit (~25 mean free paths across), two directional lights, photons per channel per second.
@@ -29,6 +30,8 @@
 #include <vector>
 
 #include "gpu/context.h"
+#include "material/medium_desc.h"
+#include "material/veins.h"
 #include "mcml_peer.h"
 #include "reference/gpu/slab_gpu.h"
 #include "reference/gpu/mesh_gpu.h"
@@ -199,7 +202,30 @@ void BM_Sphere(benchmark::State& state, bool gpu) {
   });
 }
 
-void BM_Bunny(benchmark::State& state, bool gpu) {
+// The bunny filled with data/scenes/bunny-marble-veins.json's veins (Marble and a darker vein
+// medium, turbulent noise of 5 octaves) at the same 5 mm per unit: delta tracking through the
+// majorant grid, the field evaluated at each tentative collision.
+material::Material veinedMarble() {
+  material::VeinsDesc v;
+  Medium marble;
+  v.media = {material::mediumDesc(marble.sigma_a, marble.sigma_s, 0.0),
+             material::mediumDesc({0.09, 0.1, 0.12}, {1.6, 1.9, 2.2}, 0.0)};
+  v.period = 6.0;
+  v.direction = glm::normalize(glm::dvec3(1.0, 0.6, 0.2));
+  v.noise_size = 8.0;
+  v.octaves = 5;
+  v.turbulence = 1.2;
+  v.sharpness = 6.0;
+  material::Material m;
+  m.kind = material::Material::Kind::Volume;
+  m.medium = marble;
+  m.medium.scale = 5.0;
+  m.frame.scale = 5.0;  // material space in mm, as the scene's "scale"
+  m.volume = std::make_shared<material::VeinsField>(v);
+  return m;
+}
+
+void BM_Bunny(benchmark::State& state, bool gpu, bool veins) {
   static const geometry::TriangleMesh mesh = [] {
     geometry::TriangleMesh m = geometry::loadMesh("/usr/share/glmark2/models/bunny.obj");
     const geometry::Bounds b = m.bounds();
@@ -216,18 +242,23 @@ void BM_Bunny(benchmark::State& state, bool gpu) {
   cam.width = cam.height = 64;
   if (gpu) state.SetLabel(gpuContext().info().renderer);
   runPasses(state, 32, [&](uint64_t seed) {
-    auto t = std::make_unique<reference::MeshPathTracer>(mesh, medium, lights, cam, 5.0,
-                                                         reference::TracerOptions{seed, 1});
+    static const material::Material veined = veinedMarble();
+    auto t = veins ? std::make_unique<reference::MeshPathTracer>(mesh, veined, lights, cam, 5.0,
+                                                                 reference::TracerOptions{seed, 1})
+                   : std::make_unique<reference::MeshPathTracer>(mesh, medium, lights, cam, 5.0,
+                                                                 reference::TracerOptions{seed, 1});
     if (gpu) t->setWalker(reference::makeGpuMeshWalker(gpuContext(), mesh));
     return t;
   });
 }
 
 const bool registered = [] {
-  for (bool gpu : {false, true})
-    benchmark::RegisterBenchmark(gpu ? "bunny/gpu" : "bunny/cpu_1t", BM_Bunny, gpu)
-        ->UseRealTime()
-        ->Unit(benchmark::kMillisecond);
+  for (bool veins : {false, true})
+    for (bool gpu : {false, true})
+      benchmark::RegisterBenchmark((std::string(veins ? "bunny_veins/" : "bunny/") + (gpu ? "gpu" : "cpu_1t")).c_str(),
+                                   BM_Bunny, gpu, veins)
+          ->UseRealTime()
+          ->Unit(benchmark::kMillisecond);
   for (bool gpu : {false, true})
     benchmark::RegisterBenchmark(gpu ? "sphere/gpu" : "sphere/cpu_1t", BM_Sphere, gpu)
         ->UseRealTime()

@@ -290,8 +290,8 @@ Radial sampling is not bound for .bssrdf models (the CPU models have it: Profile
         return perChannel(r, [&](int c, double x) { return p->rgb[static_cast<size_t>(c)]->R(x); });
       },
       py::arg("model"), py::arg("r"), py::arg("preset") = py::none(),
-      py::arg("sigma_a") = py::none(), py::arg("sigma_s") = py::none(), py::arg("g") = py::none(),
-      py::arg("eta") = py::none(), py::arg("scale") = 1.0, py::kw_only(),
+      py::arg("sigma_a") = py::none(), py::arg("sigma_s") = py::none(), py::arg("g") = 0.0,
+      py::arg("eta") = 1.3, py::arg("scale") = 1.0, py::kw_only(),
       py::arg("medium") = py::none(), R"doc(
 Radial diffuse reflectance profile R(r) of a model, per RGB channel: `translucent profile`.
 
@@ -307,10 +307,11 @@ model: a registered model name (translucent.model_names()), or a .bssrdf file (e
 r: radii [scene units], any array-like; the result has shape r.shape + (3,), float64,
   C-contiguous, the last axis red, green, blue.
 preset: a measured material (translucent.presets(); default "Marble" unless sigma_a and
-  sigma_s are given). Its g and eta are replaced by g and eta when given.
+  sigma_s are given). The presets are reduced coefficients (σs', σa) measured with g = 0 and
+  eta = 1.3, the defaults below: a preset with another g has σs = σs' / (1 - g).
 sigma_a, sigma_s: absorption and scattering coefficients [1/mm], a number or (r, g, b).
-g: Henyey-Greenstein mean cosine (default 0, or the preset's).
-eta: relative index of refraction (default 1.3, or the preset's).
+g: Henyey-Greenstein mean cosine (default 0).
+eta: relative index of refraction (default 1.3).
 scale: mm per scene unit (default 1: r in mm).
 medium: a translucent.Medium instead of the arguments above (keyword only).
 Errors (unknown model or preset, bad coefficients) raise ValueError with the CLI's message.

@@ -46,6 +46,7 @@ struct CompareArgs {
   int subpixels = 1, frames = 5, warmup = 2, threads = 0;
   uint64_t seed = 1;
   std::string reference_device = "cpu";  // of the physical reference: cpu or gpu
+  std::vector<fs::path> reference_from;   // compare --reference-from: pathtrace mesh JSON files
   bool sweep = false, force = false;
   fs::path cacheDir;  // "": off
 };
@@ -125,6 +126,20 @@ py::dict compareScene(scene::Scene s, const std::string& sceneFile, const Compar
       req.subpixels = a.subpixels;
       req.device = a.reference_device;
       analysis::Reference ref;
+      if (kind == analysis::ReferenceKind::Physical && !a.reference_from.empty()) {
+        // As `compare --reference-from`: the file traced for this scene, or an error saying
+        // what differs in each.
+        std::string why;
+        std::optional<analysis::ReferenceFromFile> found =
+            analysis::findPathtracedReference(a.reference_from, s, &why);
+        if (!found) throw ParameterError(why);
+        ref = std::move(found->reference);
+        report.notes.push_back(fmt::format(
+            "physical reference: read from {} ({} photons per channel, seed {}, traced in {:.2f} s)",
+            found->file.string(), ref.count_done, ref.request.seed, ref.seconds));
+        report.references.push_back(std::move(ref));
+        continue;
+      }
       try {
         ref = analysis::cachedReference(s, mesh, req, cache ? &*cache : nullptr, stop.callback());
         stop.finish();  // a run projected past 24 hours is refused, as the CLI's progress bar does
@@ -246,7 +261,10 @@ techniques: names or variants "name:key=value:..." (default: every registered te
 references: "physical" (the volumetric path tracer, `photons` per channel) and/or "model" (the
   scene's BSSRDF integrated over the surface, `samples` samples); subpixels (1 to 16), seed,
   threads (0: all cores). reference_device: "cpu" or "gpu" (the physical reference's GL walk,
-  `compare --reference-device`).
+  `compare --reference-device`). reference_from: a file name or a list of them, the --json of
+  `translucent pathtrace mesh` or of `translucent merge` (`compare --reference-from`): the
+  physical reference is read from the one traced for this scene (a ValueError says what
+  differs in each otherwise), not traced.
 width, height, time: override the scene's. frames, warmup: timed and untimed frames per technique
   (GPU time: the median over the timed frames).
 sweep: also render each quality parameter over its sweep values (report["sweep"]: error against
@@ -272,8 +290,12 @@ void bindCompare(py::module_& m) {
          int subpixels, uint64_t seed, int threads, std::optional<int> width,
          std::optional<int> height, std::optional<double> time, int frames, int warmup,
          bool sweep, const py::object& cache, const std::optional<fs::path>& out, bool force,
-         const std::string& reference_device) {
+         const std::string& reference_device, const py::object& reference_from) {
         CompareArgs a;
+        if (py::isinstance<py::str>(reference_from) || py::isinstance(reference_from, py::module_::import("os").attr("PathLike")))
+          a.reference_from.push_back(reference_from.cast<fs::path>());
+        else if (!reference_from.is_none())
+          a.reference_from = reference_from.cast<std::vector<fs::path>>();
         if (reference_device != "cpu" && reference_device != "gpu")
           throw ParameterError(
               fmt::format("--reference-device '{}': expected cpu or gpu", reference_device));
@@ -347,7 +369,7 @@ void bindCompare(py::module_& m) {
       py::arg("height") = py::none(), py::arg("time") = py::none(), py::arg("frames") = 5,
       py::arg("warmup") = 2, py::arg("sweep") = false, py::arg("cache") = py::none(),
       py::arg("out") = py::none(), py::arg("force") = false, py::arg("reference_device") = "cpu",
-      kCompareDoc);
+      py::arg("reference_from") = py::none(), kCompareDoc);
 }
 
 }  // namespace translucent::python

@@ -45,7 +45,9 @@ struct CompareArgs {
   std::string suite;  // --suite DIR: every *.json in it
   std::string techniques = "all";
   std::string references = "physical,model";
-  std::string reference_from;  // --reference-from: the physical reference from a pathtrace run
+  // --reference-from, once per file: physical references from pathtrace runs (a suite's scenes
+  // each take the one traced for them)
+  std::vector<std::string> reference_from;
   std::string photons = "1e6", samples = "200000";
   std::string reference_device = "cpu";  // --reference-device: where the physical reference runs
   int subpixels = 1;  // pixel centres, as the techniques shade them
@@ -145,6 +147,10 @@ std::string joined(const std::vector<std::string>& v) { return fmt::format("{}",
 // a suite sees one Ctrl-C across its scenes). A technique that throws is recorded in the report
 // with its error and the others still run; anything else that throws (the scene, its mesh, a
 // reference: without the references there is nothing to compare against) fails the scene.
+std::vector<fs::path> referenceFiles(const CompareArgs& a) {
+  return {a.reference_from.begin(), a.reference_from.end()};
+}
+
 SceneOutcome compareScene(const CompareArgs& a, const Parsed& parsed, const std::string& sceneFile,
                           const fs::path& out) {
   const std::vector<std::string>& names = parsed.names;
@@ -178,7 +184,7 @@ SceneOutcome compareScene(const CompareArgs& a, const Parsed& parsed, const std:
                      a.seed, s.camera.width, s.camera.height, a.frames, a.warmup,
                      a.sweep ? " --sweep" : "", quoted(out.string()));
   if (a.time) cmd += fmt::format(" --time {}", *a.time);
-  if (!a.reference_from.empty()) cmd += " --reference-from " + quoted(a.reference_from);
+  for (const std::string& f : a.reference_from) cmd += " --reference-from " + quoted(f);
   if (a.reference_device != "cpu") cmd += " --reference-device " + a.reference_device;
   if (a.no_cache) cmd += " --no-cache";
   else if (!a.cache.empty()) cmd += " --cache " + quoted(cacheDir.string());
@@ -242,17 +248,27 @@ SceneOutcome compareScene(const CompareArgs& a, const Parsed& parsed, const std:
                physical ? "photons per channel" : "surface samples");
     analysis::Reference ref;
     if (physical && !a.reference_from.empty()) {
-      // Traced elsewhere (e.g. sharded on a cluster and merged, issue 17): checked against this
-      // scene by its reference key.
-      ref = analysis::loadPathtracedReference(a.reference_from, s);
-      const std::string what = fmt::format("read from {} ({} photons per channel, seed {}, traced "
-                                           "in {:.2f} s)", a.reference_from, ref.count_done,
-                                           ref.request.seed, ref.seconds);
-      bar.end();
-      printStderr("physical reference: {}\n", what);
-      report.notes.push_back("physical reference: " + what);
-      report.references.push_back(std::move(ref));
-      continue;
+      // Traced elsewhere (e.g. sharded on a cluster and merged, issue 17): the file whose
+      // reference key is this scene's. A single scene must find one; a suite's scene without
+      // one is traced here, with a note.
+      std::string why;
+      if (std::optional<analysis::ReferenceFromFile> found =
+              analysis::findPathtracedReference(referenceFiles(a), s, &why)) {
+        ref = std::move(found->reference);
+        const std::string what = fmt::format("read from {} ({} photons per channel, seed {}, "
+                                             "traced in {:.2f} s)", found->file.string(),
+                                             ref.count_done, ref.request.seed, ref.seconds);
+        bar.end();
+        printStderr("physical reference: {}\n", what);
+        report.notes.push_back("physical reference: " + what);
+        report.references.push_back(std::move(ref));
+        continue;
+      }
+      if (a.suite.empty()) throw ParameterError(why);
+      const std::string note = "physical reference: traced here, none of the --reference-from "
+                               "files is this scene's (" + why + ")";
+      printStderr("{}\n", note);
+      report.notes.push_back(note);
     }
     try {
       ref = analysis::cachedReference(
@@ -447,7 +463,7 @@ void runSuite(const CompareArgs& a, const Parsed& o) {
       a.height ? fmt::format(" --height {}", *a.height) : "", a.frames, a.warmup,
       a.sweep ? " --sweep" : "", quoted(out.string()));
   if (a.time) cmd += fmt::format(" --time {}", *a.time);
-  if (!a.reference_from.empty()) cmd += " --reference-from " + quoted(a.reference_from);
+  for (const std::string& f : a.reference_from) cmd += " --reference-from " + quoted(f);
   if (a.reference_device != "cpu") cmd += " --reference-device " + a.reference_device;
   if (a.no_cache) cmd += " --no-cache";
   else if (!a.cache.empty()) cmd += " --cache " + quoted(o.cacheDir.string());
@@ -511,9 +527,6 @@ void runCompare(const CompareArgs& a) {
   if (!a.suite.empty() && !a.scene.empty())
     throw ParameterError(fmt::format("--suite '{}' and scene '{}': expected one of them",
                                      a.suite, a.scene));
-  if (!a.suite.empty() && !a.reference_from.empty())
-    throw ParameterError(fmt::format("--reference-from '{}' names the reference of one scene: it "
-                                     "cannot be combined with --suite", a.reference_from));
   const Parsed o = parseOptions(a);
   if (!a.suite.empty()) return runSuite(a, o);
   InterruptGuard guard;
@@ -556,7 +569,9 @@ void addCompareCommand(CLI::App& app) {
                   "Physical reference: take it from the --json of `translucent pathtrace mesh` "
                   "of this scene (or of `translucent merge` of its shards, e.g. traced on a "
                   "cluster) instead of tracing it (any photon count and seed); checked against "
-                  "the scene, mesh and material");
+                  "the scene, mesh and material. Once per file: each scene (of --suite) takes "
+                  "the file traced for it; a suite's scene with none is traced")
+      ->allow_extra_args(false);
   cmd->add_option("--reference-device", a->reference_device,
                   "Physical reference: cpu (Embree, the default) or gpu (the GL compute-shader "
                   "walk, issue 16: homogeneous materials, at most one environment light; its "

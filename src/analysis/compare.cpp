@@ -426,7 +426,12 @@ Reference cachedReference(const scene::Scene& scene, const geometry::TriangleMes
   return r;
 }
 
-Reference loadPathtracedReference(const fs::path& json_file, const scene::Scene& scene) {
+namespace {
+
+// The run of `json_file` as this scene's reference, or std::nullopt with *mismatch saying what
+// differs when it was traced for another scene; every other problem is a ParameterError.
+std::optional<Reference> readPathtracedReference(const fs::path& json_file,
+                                                 const scene::Scene& scene, std::string* mismatch) {
   const std::string what = fmt::format("--reference-from '{}'", json_file.string());
   json j;
   try {
@@ -454,9 +459,10 @@ Reference loadPathtracedReference(const fs::path& json_file, const scene::Scene&
     const json theirs = j.value("reference_key_text", json::object());
     for (const auto& [k, v] : mine.items())
       if (!theirs.contains(k) || theirs[k] != v) differ.push_back(k);
-    throw ParameterError(fmt::format(
+    *mismatch = fmt::format(
         "{}: traced for another scene than this comparison's (different: {})", what,
-        differ.empty() ? std::string("the reference key") : fmt::format("{}", fmt::join(differ, ", "))));
+        differ.empty() ? std::string("the reference key") : fmt::format("{}", fmt::join(differ, ", ")));
+    return std::nullopt;
   }
   fs::path exr = j.at("exr").get<std::string>();
   std::error_code ec;
@@ -490,6 +496,28 @@ Reference loadPathtracedReference(const fs::path& json_file, const scene::Scene&
   r.radiance = image("radiance");
   r.cone_radiance = image("cone_radiance");
   return r;
+}
+
+}  // namespace
+
+Reference loadPathtracedReference(const fs::path& json_file, const scene::Scene& scene) {
+  std::string mismatch;
+  std::optional<Reference> r = readPathtracedReference(json_file, scene, &mismatch);
+  if (!r) throw ParameterError(mismatch);
+  return std::move(*r);
+}
+
+std::optional<ReferenceFromFile> findPathtracedReference(const std::vector<fs::path>& json_files,
+                                                 const scene::Scene& scene, std::string* why) {
+  std::vector<std::string> mismatches;
+  for (const fs::path& f : json_files) {
+    std::string mismatch;
+    if (std::optional<Reference> r = readPathtracedReference(f, scene, &mismatch))
+      return ReferenceFromFile{std::move(*r), f};
+    mismatches.push_back(std::move(mismatch));
+  }
+  if (why) *why = fmt::format("{}", fmt::join(mismatches, "; "));
+  return std::nullopt;
 }
 
 // ---- Masks ---------------------------------------------------------------------------------

@@ -189,6 +189,17 @@ Reference cachedReference(const scene::Scene& scene, const geometry::TriangleMes
 // medium, material, mesh file, ...).
 Reference loadPathtracedReference(const std::filesystem::path& json_file, const scene::Scene& scene);
 
+// Of several such runs (`--reference-from` given once per file, e.g. the merged references of a
+// suite's scenes traced on a cluster), the first traced for this scene and its file; std::nullopt when none
+// is, and then *why says for each file what differs (the message loadPathtracedReference throws,
+// joined by "; "). A file that is not such a run, is partial or unreadable is a ParameterError.
+struct ReferenceFromFile {
+  Reference reference;
+  std::filesystem::path file;
+};
+std::optional<ReferenceFromFile> findPathtracedReference(const std::vector<std::filesystem::path>& json_files,
+                                                 const scene::Scene& scene, std::string* why = nullptr);
+
 // Per pixel 1 where all grid × grid camera rays (stratified, pixel centres of the cells) hit the
 // mesh and, when min_cos > 0, see it with |n·v| >= min_cos; 0 elsewhere.
 std::vector<uint8_t> interiorMask(const geometry::TriangleMesh& mesh,

@@ -144,6 +144,9 @@ void ShaderProgram::set(std::string_view name, const glm::vec2& v) const {
 void ShaderProgram::set(std::string_view name, const glm::vec3& v) const {
   glProgramUniform3fv(program_.id(), uniformLocation(name), 1, glm::value_ptr(v));
 }
+void ShaderProgram::set(std::string_view name, const glm::ivec3& v) const {
+  glProgramUniform3iv(program_.id(), uniformLocation(name), 1, glm::value_ptr(v));
+}
 void ShaderProgram::set(std::string_view name, const glm::vec4& v) const {
   glProgramUniform4fv(program_.id(), uniformLocation(name), 1, glm::value_ptr(v));
 }

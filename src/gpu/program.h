@@ -75,6 +75,7 @@ class ShaderProgram {
   void set(std::string_view name, bool v) const;
   void set(std::string_view name, const glm::vec2& v) const;
   void set(std::string_view name, const glm::vec3& v) const;
+  void set(std::string_view name, const glm::ivec3& v) const;
   void set(std::string_view name, const glm::vec4& v) const;
   void set(std::string_view name, const glm::mat3& v) const;
   void set(std::string_view name, const glm::mat4& v) const;

@@ -28,6 +28,9 @@ class CheckerField final : public VolumeField {
   Rgb majorant(const glm::dvec3& lo, const glm::dvec3& hi) const override;
   // 0 or 1: which medium holds q.
   int cellParity(const glm::dvec3& q) const;
+  // For the GPU twin (reference/gpu/field_gpu.h).
+  const glm::dvec3& cell() const { return cell_; }
+  const LocalMedium& medium(int i) const { return media_[i]; }
 
  private:
   glm::dvec3 cell_;

@@ -28,6 +28,10 @@ class GradientField final : public VolumeField {
   // Exact: t is linear, so its range over the box is that over the corners, and σt is linear in t.
   Rgb majorant(const glm::dvec3& lo, const glm::dvec3& hi) const override;
   double t(const glm::dvec3& q) const;
+  // For the GPU twin (reference/gpu/field_gpu.h).
+  const glm::dvec3& from() const { return from_; }
+  const glm::dvec3& axis() const { return axis_; }
+  const LocalMedium& medium(int i) const { return media_[i]; }
 
  private:
   glm::dvec3 from_, axis_;  // axis_ = (b − a) / |b − a|²

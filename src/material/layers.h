@@ -55,6 +55,11 @@ class LayersField final : public VolumeField {
   Rgb majorant(const glm::dvec3& lo, const glm::dvec3& hi) const override;
   double depth(const glm::dvec3& q) const;
   size_t layerAt(double depth) const;
+  // For the GPU twin (reference/gpu/field_gpu.h).
+  const LayersDesc& desc() const { return d_; }
+  const std::vector<double>& bottoms() const { return bottoms_; }
+  const std::vector<LocalMedium>& media() const { return media_; }
+  const SurfaceDistance* surface() const { return surface_.get(); }
 
  private:
   LayersDesc d_;

@@ -37,6 +37,8 @@ double grad(int hash, double x, double y, double z) {
 
 }  // namespace
 
+std::span<const uint8_t, 256> perlinPermutation() { return kPermutation; }
+
 double perlinNoise(const glm::dvec3& p) {
   const double fx = std::floor(p.x), fy = std::floor(p.y), fz = std::floor(p.z);
   // The lattice repeats every 256 cells; wrap in double first so that huge coordinates do not

@@ -2,6 +2,9 @@
 // turbulence, for the procedural fields (veins.h). Deterministic, thread-safe.
 #pragma once
 
+#include <cstdint>
+#include <span>
+
 #include <glm/vec3.hpp>
 
 namespace translucent::material {
@@ -10,5 +13,7 @@ namespace translucent::material {
 double perlinNoise(const glm::dvec3& p);
 // Σ_{o < octaves} |noise(2^o p)| / 2^o, in [0, 2).
 double turbulence(const glm::dvec3& p, int octaves);
+// The permutation perlinNoise hashes with (for its GPU twin, reference/gpu/field_gpu.h).
+std::span<const uint8_t, 256> perlinPermutation();
 
 }  // namespace translucent::material

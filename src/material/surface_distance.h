@@ -18,7 +18,6 @@ class SurfaceDistance {
   double distance(const glm::dvec3& q) const;
   size_t triangleCount() const { return tris_.size(); }
 
- private:
   struct Tri {
     glm::dvec3 a, b, c;
   };
@@ -27,6 +26,11 @@ class SurfaceDistance {
     uint32_t first = 0, count = 0;  // leaf: tris_[first, first + count)
     uint32_t left = 0, right = 0;   // inner (count == 0)
   };
+  // The tree, root first (for the GPU twin, reference/gpu/field_gpu.h).
+  const std::vector<Tri>& triangles() const { return tris_; }
+  const std::vector<Node>& nodes() const { return nodes_; }
+
+ private:
   uint32_t build(uint32_t first, uint32_t count);
   std::vector<Tri> tris_;
   std::vector<Node> nodes_;

@@ -43,6 +43,7 @@ class VeinsField final : public VolumeField {
   Rgb majorant(const glm::dvec3& lo, const glm::dvec3& hi) const override;
   // w ∈ [0, 1]: the vein medium's weight at q.
   double veinWeight(const glm::dvec3& q) const;
+  const VeinsDesc& desc() const { return d_; }  // for the GPU twin (reference/gpu/field_gpu.h)
 
  private:
   VeinsDesc d_;

@@ -81,6 +81,7 @@ class VoxelsField final : public VolumeField {
   // Max over the voxels whose trilinear support meets the box (density: the blend at the
   // covered range's ends; coefficients: max σa + max σs).
   Rgb majorant(const glm::dvec3& lo, const glm::dvec3& hi) const override;
+  const VoxelsDesc& desc() const { return d_; }  // for the GPU twin (reference/gpu/field_gpu.h)
 
  private:
   VoxelsDesc d_;

@@ -141,7 +141,11 @@ TransportStats MeshPathTracer::addBlocks(uint64_t first, uint64_t blocks,
 }
 
 std::string MeshPathTracer::walkerRefusal() const {
-  if (volume_) return "heterogeneous materials are traced on the CPU only";
+  // The GPU evaluates fields in the rest frame only (fields.glsl): a deformed body's undeform
+  // (geometry/deform.h, iterative) has no GLSL twin yet. Which fields the GPU has is the GPU
+  // layer's to say (reference/gpu/device.h: meshGpuRefusal).
+  if (volume_ && volume_->frame.deformed())
+    return "a deformed heterogeneous material is traced on the CPU only";
   int environments = 0;
   for (const Light& l : lights_) environments += std::holds_alternative<EnvironmentLight>(l.emitter);
   if (environments > 1)
@@ -164,6 +168,7 @@ MeshWalkSetup MeshPathTracer::walkSetup() const {
   s.channels = walkChannels(s.bounds, channels_, lights_);
   s.seed = options_.seed;
   s.long_path_roulette = options_.long_path_roulette;
+  s.volume = volume_ ? &*volume_ : nullptr;
   return s;
 }
 

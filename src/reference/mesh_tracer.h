@@ -74,6 +74,8 @@ struct MeshWalkSetup {
   std::vector<WalkChannel> channels;
   uint64_t seed = 1;
   uint64_t long_path_roulette = 0;  // 0: off
+  // A heterogeneous medium filling the body (the tracer's; it outlives the setup), else null.
+  const VolumeMedium* volume = nullptr;
 };
 
 using MeshWalker = PhotonWalker<MeshWalkSetup>;
@@ -117,9 +119,9 @@ class MeshPathTracer {
   }
   const CameraModel& camera() const { return tally_->camera(); }
   // From now on, trace with `walker` (made for this tracer's mesh; null: the CPU again).
-  // ParameterError when the walker cannot trace this run: a heterogeneous medium or more than
-  // one environment light (the GPU walks homogeneous bodies under directional, point, beam and
-  // at most one environment light).
+  // ParameterError when the walker cannot trace this run: a deformed heterogeneous medium or
+  // more than one environment light (the GPU walks bodies under directional, point, beam and at
+  // most one environment light; which 3D fields it evaluates, reference/gpu/device.h says).
   void setWalker(std::shared_ptr<MeshWalker> walker);
   // Why a walker cannot trace this run ("" when it can), as setWalker's message says it.
   std::string walkerRefusal() const;

@@ -301,7 +301,7 @@ TEST_F(CompareCli, ReferenceFromAMergedShardedRunIsTheReferenceCompareTraces) {
   brighter.replace(brighter.find("\"irradiance\": 1.0"), 17, "\"irradiance\": 1.5");
   std::ofstream(kRoot / "cube-48-brighter.json") << brighter;
   ASSERT_EQ(std::system((std::string("'") + TRANSLUCENT_CLI + "' pathtrace mesh --scene '" +
-                         (kRoot / "cube-48-brighter.json").string() + "' --photons 20000 --exr '" +
+                         (kRoot / "cube-48-brighter.json").string() + "' --photons 20000 --device cpu --exr '" +
                          (dir / "brighter.exr").string() + "' --json '" +
                          (dir / "brighter.json").string() + "' 2>/dev/null").c_str()), 0);
 
@@ -328,6 +328,47 @@ TEST_F(CompareCli, ReferenceFromAMergedShardedRunIsTheReferenceCompareTraces) {
   EXPECT_NE(other.status, 0);
   EXPECT_NE(other.output.find("traced for another scene than this comparison's (different: scene)"),
             std::string::npos) << other.output;
+
+  // Several files: the one traced for the scene is taken, whatever its place in the list; none
+  // of them is the scene's: the error says what differs in each.
+  const CliRun two = run("'" + scene.string() + "' " + opts + "--reference-from '" +
+                             (dir / "brighter.json").string() + "' --reference-from '" +
+                             (dir / "merged.json").string() + "' --out '" + (dir / "two").string() + "'",
+                         "reference-two");
+  ASSERT_EQ(two.status, 0) << two.output;
+  EXPECT_NE(two.output.find("physical reference: read from " + (dir / "merged.json").string()),
+            std::string::npos) << two.output;
+  EXPECT_EQ(translucent::analysis::readExrLayers((dir / "two" / "physical.exr").string()).rgb, b.rgb);
+  const CliRun none = run("'" + scene.string() + "' " + opts + "--reference-from '" +
+                              (dir / "brighter.json").string() + "' --reference-from '" +
+                              (dir / "brighter.json").string() + "' --out '" + (dir / "none").string() + "'",
+                          "reference-none");
+  EXPECT_NE(none.status, 0);
+  EXPECT_NE(none.output.find("(different: scene); --reference-from"), std::string::npos) << none.output;
+
+  // A suite: each scene takes the file traced for it; the brighter cube has none and is traced
+  // (its notes say so), as the same suite without --reference-from traces both.
+  const fs::path suite = kRoot / "suite-from";
+  fs::create_directories(suite);
+  fs::copy_file(scene, suite / "cube.json", fs::copy_options::overwrite_existing);
+  fs::copy_file(kRoot / "cube-48-brighter.json", suite / "brighter.json",
+                fs::copy_options::overwrite_existing);
+  const CliRun fromSuite = run("--suite '" + suite.string() + "' " + opts + "--reference-from '" +
+                                   (dir / "merged.json").string() + "' --out '" +
+                                   (dir / "suite").string() + "'",
+                               "reference-suite");
+  ASSERT_EQ(fromSuite.status, 0) << fromSuite.output;
+  const std::string cubeReport = readText((dir / "suite" / "cube" / "report.json").string());
+  const std::string brightReport = readText((dir / "suite" / "brighter" / "report.json").string());
+  EXPECT_NE(cubeReport.find("physical reference: read from"), std::string::npos) << cubeReport;
+  EXPECT_NE(brightReport.find("physical reference: traced here, none of the --reference-from"),
+            std::string::npos) << brightReport;
+  EXPECT_EQ(translucent::analysis::readExrLayers((dir / "suite" / "cube" / "physical.exr").string()).rgb,
+            b.rgb);
+  const auto brightTraced = translucent::analysis::readExrLayers((dir / "brighter.exr").string());
+  EXPECT_EQ(translucent::analysis::readExrLayers((dir / "suite" / "brighter" / "physical.exr").string())
+                .layers.at("radiance"),
+            brightTraced.layers.at("radiance"));
 
   // Traced on the GPU (issue 16: its JSON and key say so), it is a reference of the scene too.
   ASSERT_EQ(std::system((pt + "--seed 1 --device gpu --exr '" + (dir / "gpu.exr").string() +

@@ -49,6 +49,26 @@ def test_profile_matches_cli_csv(cli, tmp_path, cli_args, kwargs):
             assert [f"{v:.9g}" for v in R[:, c]] == curves[(model, ch)][1], (model, ch)
 
 
+def test_profile_signature_is_the_documented_one():
+    # translucent.profile(model, r, preset=None, sigma_a=None, sigma_s=None, g=0, eta=1.3, scale=1)
+    first = translucent.profile.__doc__.splitlines()[0]
+    for arg in ["model", "r", "preset", "sigma_a", "sigma_s", "g", "eta", "scale"]:
+        assert f"{arg}:" in first, (arg, first)
+    assert "preset: Optional[str] = None" in first and "g: Optional[float] = 0.0" in first, first
+    assert "eta: Optional[float] = 1.3" in first and "scale: float = 1.0" in first, first
+    r = np.linspace(0.1, 4, 7)
+    # The defaults are every preset's own g and eta: giving them changes nothing.
+    assert np.array_equal(translucent.profile("dipole", r, preset="Skin1"),
+                          translucent.profile("dipole", r, "Skin1", None, None, 0, 1.3, 1))
+    # Another g with a preset: sigma_s = sigma_s' / (1 - g), as `profile --preset --g`.
+    p = translucent.preset("Skin1")
+    m = translucent.Medium.from_reduced(p.sigma_a, p.sigma_s_prime, 0.5, 1.3)
+    assert np.array_equal(translucent.profile("dipole", r, preset="Skin1", g=0.5),
+                          translucent.profile("dipole", r, medium=m))
+    assert not np.array_equal(translucent.profile("dipole", r, preset="Skin1", eta=1.5),
+                              translucent.profile("dipole", r, preset="Skin1"))
+
+
 def test_profile_array_layout():
     r = np.linspace(0.1, 3.0, 12).reshape(3, 4)
     R = translucent.profile("dipole", r)

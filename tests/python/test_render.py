@@ -116,6 +116,30 @@ def test_compare_reference_on_the_gpu_matches_cli_report(cli, cube, tmp_path):
         translucent.compare(str(cube), **common, reference_device="tpu")
 
 
+def test_compare_reference_from_a_pathtrace_run(cli, cube, tmp_path):
+    # reference_from= (`compare --reference-from`): the physical reference read from a
+    # `pathtrace mesh` run of the scene at the comparison's size is the one compare traces itself
+    # with the same photons and seed; a run of another scene is refused naming what differs.
+    s = translucent.Scene.load(cube)
+    s.width, s.height = 48, 36
+    small = tmp_path / "cube-48.json"
+    s.save(small)
+    js = tmp_path / "ref.json"
+    cli("pathtrace", "mesh", "--scene", small, "--photons", "2e4", "--seed", "2", "--device", "cpu",
+        "--exr", tmp_path / "ref.exr", "--json", js)
+    common = dict(techniques=["empirical"], references=["physical"], photons=2e4, seed=2,
+                  frames=1, warmup=0, cache=False)
+    got = translucent.compare(str(small), **common, reference_from=str(js))
+    traced = translucent.compare(str(small), **common)
+    assert got["metrics"] == traced["metrics"]
+    assert any(n.startswith("physical reference: read from " + str(js)) for n in got["notes"])
+    # A list (pathlib paths too): the one traced for the scene is taken.
+    listed = translucent.compare(str(small), **common, reference_from=[js, js])
+    assert listed["metrics"] == traced["metrics"]
+    with pytest.raises(ValueError, match="traced for another scene than this comparison's"):
+        translucent.compare(str(cube), **common, width=64, height=48, reference_from=[js])
+
+
 def test_compare_sweep_has_points(cube):
     got = translucent.compare(str(cube), techniques=["empirical"], references=["model"],
                               samples=2000, frames=1, warmup=0, cache=False, width=48,

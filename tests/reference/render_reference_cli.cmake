@@ -40,10 +40,19 @@ if(TARGET translucent_cli)
               --scene ${PROJECT_SOURCE_DIR}/data/compare/bunny-marble-environment.json
               --photons 2000 --device gpu --exr ${OUT}/rmge.exr
               --json ${OUT}/rmge.json FILE ${OUT}/rmge.json MATCH "\"device\": \"gpu \\(")
-  render_test(mesh_device_gpu_field FAIL ARGS pathtrace mesh
+  # 3D fields on the GPU (fields.glsl): the veined marble bunny; a deformed one stays on the CPU.
+  render_test(mesh_device_gpu_field ARGS pathtrace mesh
               --scene ${PROJECT_SOURCE_DIR}/data/scenes/bunny-marble-veins.json
+              --photons 4000 --device gpu --exr ${OUT}/rmgf.exr --json ${OUT}/rmgf.json
+              FILE ${OUT}/rmgf.json MATCH "\"device\": \"gpu \\(")
+  render_test(mesh_device_gpu_surface_layers FAIL ARGS pathtrace mesh
+              --scene ${PROJECT_SOURCE_DIR}/data/scenes/head-layered-skin.json
               --photons 4000 --device gpu --exr ${OUT}/x.exr
-              MATCH "--device gpu: heterogeneous materials are traced on the CPU only")
+              MATCH "--device gpu: layers below the surface")
+  render_test(mesh_device_gpu_deformed_field FAIL ARGS pathtrace mesh
+              --scene ${PROJECT_SOURCE_DIR}/data/scenes/bunny-bend.json
+              --photons 4000 --device gpu --exr ${OUT}/x.exr
+              MATCH "--device gpu: a deformed heterogeneous material is traced on the CPU only")
   render_test(integrate_json ARGS integrate sphere --model dipole --preset Ketchup ${SMALL}
               --samples 4 --sampling uniform --exr ${OUT}/ri.exr --json ${OUT}/ri.json
               FILE ${OUT}/ri.json MATCH "\"samples_per_pixel\": 4")

@@ -1,8 +1,9 @@
 // The mesh tracer's GPU walk (reference/gpu/mesh_gpu.h) against analytic fluxes (a cube under a
 // beam, three index-matched cubes in a row) and against the CPU tracer pixel by pixel on a cube
 // (two directional lights; an environment light) and on the bunny (non-convex: exits, flights
-// in air, re-entries; a point light); same seed, same images whatever the pass split; the
-// refusals. GL runs on whatever EGL offers
+// in air, re-entries; a point light); heterogeneous media (delta tracking through the majorant
+// grid, the fields of fields.glsl) against the CPU's delta tracking; same seed, same images
+// whatever the pass split; the refusals. GL runs on whatever EGL offers
 // (llvmpipe here): small images and photon counts, bounds from the standard errors.
 #include <gtest/gtest.h>
 
@@ -13,6 +14,12 @@
 
 #include "geometry/mesh.h"
 #include "gpu/gpu_test.h"
+#include "material/checker.h"
+#include "material/gradient.h"
+#include "material/layers.h"
+#include "material/medium_desc.h"
+#include "material/veins.h"
+#include "reference/gpu/device.h"
 #include "optics/fresnel.h"
 #include "reference/gpu/mesh_gpu.h"
 #include "reference/mesh_tracer.h"
@@ -296,6 +303,167 @@ TEST_F(MeshGpu, RefusesWhatItCannotTrace) {
               std::string::npos) << e.what();
   }
   EXPECT_EQ(t.device(), "cpu");
+}
+
+}  // namespace
+}  // namespace translucent::reference
+
+namespace translucent::reference {
+namespace {
+
+// ---- Heterogeneous media ----------------------------------------------------------------------
+
+material::Material volumeMaterial(std::shared_ptr<const material::VolumeField> field, double eta,
+                                  double coefficientScale) {
+  material::Material m;
+  m.kind = material::Material::Kind::Volume;
+  m.medium.eta = eta;
+  m.medium.scale = coefficientScale;
+  m.volume = std::move(field);
+  return m;
+}
+
+// Two media far apart in σt, albedo and g (a field evaluated in the wrong place, a wrong local
+// albedo or g shows), as the fields' descriptions take them.
+std::vector<material::MediumDesc> twoMedia() {
+  return {material::mediumDesc({0.3, 0.1, 0.05}, {2.0, 3.0, 4.0}, 0.2),
+          material::mediumDesc({0.02, 0.03, 0.4}, {9.0, 6.0, 2.5}, 0.75)};
+}
+
+// The mean and standard error of per-pass values.
+std::pair<double, double> meanAndError(const std::vector<double>& v) {
+  double mean = 0.0, ss = 0.0;
+  for (double x : v) mean += x;
+  mean /= static_cast<double>(v.size());
+  for (double x : v) ss += (x - mean) * (x - mean);
+  return {mean, std::sqrt(ss / static_cast<double>(v.size() - 1) / static_cast<double>(v.size()))};
+}
+
+// The GPU walk of a heterogeneous body against the CPU's, pixel by pixel and in flux, with no
+// majorant violation on either. The scattering counts (what a wrong local σs/σt, g or field
+// position changes most) are compared over `passes` independent passes each: their means within
+// 5 combined standard errors (Student's t with 2 (passes − 1) degrees of freedom, 14 at 8
+// passes: 5 is beyond its 0.02% tail).
+void expectHeteroAgree(const geometry::TriangleMesh& mesh, const material::Material& m,
+                       const std::vector<Light>& lights, const Camera& cam, uint64_t blocks,
+                       int minPixels, int passes = 8) {
+  MeshPathTracer gpu(mesh, m, lights, cam, 30.0, {21, 1}), cpu(mesh, m, lights, cam, 30.0, {22, 2});
+  EXPECT_EQ(meshGpuRefusal(gpu), "");
+  useGpu(gpu, mesh);
+  std::vector<double> g, c;
+  for (int p = 0; p < passes; ++p) {
+    const uint64_t g0 = gpu.stats().scattering_events, c0 = cpu.stats().scattering_events;
+    gpu.addPass(blocks / static_cast<uint64_t>(passes) * kBlockPhotons);
+    cpu.addPass(blocks / static_cast<uint64_t>(passes) * kBlockPhotons);
+    g.push_back(static_cast<double>(gpu.stats().scattering_events - g0));
+    c.push_back(static_cast<double>(cpu.stats().scattering_events - c0));
+  }
+  expectImagesAgree(gpu.images(), cpu.images(), minPixels);
+  expectFluxAgree(gpu.stats(), cpu.stats());
+  const auto [gm, ge] = meanAndError(g);
+  const auto [cm, ce] = meanAndError(c);
+  EXPECT_NEAR(gm, cm, 5.0 * std::hypot(ge, ce)) << "scatterings per pass: GPU " << gm << " ± " << ge
+                                                << ", CPU " << cm << " ± " << ce;
+  EXPECT_LT(std::hypot(ge, ce), 0.02 * cm);  // the comparison has power
+  EXPECT_EQ(gpu.majorantViolations(), 0u);
+  EXPECT_EQ(cpu.majorantViolations(), 0u);
+}
+
+TEST_F(MeshGpu, CheckerCubeMatchesTheCpuTracerPixelByPixel) {
+  // A 3D checker of unequal cells, the material frame rotated, moved and scaled (q = s Rᵀ (x − t))
+  // and coefficients per 2 scene units: the frame, the units and the cell parity all count.
+  material::CheckerDesc d;
+  d.cell = {0.7, 0.5, 0.9};
+  d.media = twoMedia();
+  material::Material m = volumeMaterial(std::make_shared<material::CheckerField>(d), 1.4, 0.5);
+  const double a = 0.5;
+  m.frame.rotation = glm::dmat3(std::cos(a), 0.0, -std::sin(a), 0.0, 1.0, 0.0, std::sin(a), 0.0, std::cos(a));
+  m.frame.translate = {0.1, -0.2, 0.15};
+  m.frame.scale = 1.6;
+  const geometry::TriangleMesh cube = geometry::makeBox(glm::dvec3(-1.0), glm::dvec3(1.0));
+  expectHeteroAgree(cube, m,
+                    {directional({0.3, 1.0, 0.5}, 1.0, {1.0, 0.8, 0.6}),
+                     directional({-1.0, 0.2, 0.4}, 0.4, {0.5, 0.7, 1.0})},
+                    orthographic({2.0, 1.5, 3.0}, 4.0, 12), 64, 200);
+}
+
+TEST_F(MeshGpu, PlaneLayersAndGradientCubesMatchTheCpuTracer) {
+  // Three layers below a tilted plane (the top one thin and dense, the last semi-infinite), and
+  // a gradient along a diagonal: a wrong depth, layer or blend shows in the images.
+  material::LayersDesc l;
+  l.from = material::LayersDesc::From::Plane;
+  l.normal = glm::normalize(glm::dvec3(0.2, 1.0, 0.1));
+  l.offset = 0.8;
+  const auto media = twoMedia();
+  l.layers = {{media[1], 0.3}, {media[0], 0.6}, {material::mediumDesc({0.1, 0.2, 0.1}, {1.0, 1.5, 2.0}, 0.0), std::nullopt}};
+  const geometry::TriangleMesh cube = geometry::makeBox(glm::dvec3(-1.0), glm::dvec3(1.0));
+  const std::vector<Light> lights = {directional({0.2, 1.0, 0.3}, 1.0)};
+  const Camera cam = orthographic({1.5, 2.0, 2.5}, 4.0, 12);
+  expectHeteroAgree(cube, volumeMaterial(std::make_shared<material::LayersField>(l, nullptr), 1.3, 0.5),
+                    lights, cam, 48, 200);
+  material::GradientDesc g;
+  g.from = {-0.8, -0.6, -0.9};
+  g.to = {0.9, 0.7, 0.5};
+  g.media = media;
+  expectHeteroAgree(cube, volumeMaterial(std::make_shared<material::GradientField>(g), 1.3, 0.5),
+                    lights, cam, 48, 200);
+}
+
+TEST_F(MeshGpu, VeinedBunnyMatchesTheCpuTracerPixelByPixel) {
+  // Marble veins (turbulent Perlin noise, 4 octaves) in the non-convex bunny under a point light:
+  // the noise, exits, re-entries and the tracking restarted after each.
+  material::VeinsDesc v;
+  v.media = twoMedia();
+  v.period = 0.6;
+  v.direction = glm::normalize(glm::dvec3(1.0, 0.3, 0.2));
+  v.noise_size = 0.5;
+  v.octaves = 4;
+  v.turbulence = 1.5;
+  v.sharpness = 4.0;
+  Camera cam;
+  cam.position = {0.3, 0.4, 3.2};
+  cam.fov = 40.0;
+  cam.width = cam.height = 20;
+  expectHeteroAgree(bunny(), volumeMaterial(std::make_shared<material::VeinsField>(v), 1.3, 2.0),
+                    {Light{PointLight{{1.5, 2.0, 2.5}, 6.0}, {1.0, 1.0, 1.0}},
+                     directional({-0.5, 0.3, 1.0}, 0.5, {0.8, 0.9, 1.0})},
+                    cam, 48, 250);
+}
+
+// A field that fields.glsl does not know.
+struct OpaqueField final : material::VolumeField {
+  material::LocalMedium at(const glm::dvec3&) const override { return {{0.1, 0.1, 0.1}, {1.0, 1.0, 1.0}, 0.0}; }
+  Rgb majorant(const glm::dvec3&, const glm::dvec3&) const override { return {1.1, 1.1, 1.1}; }
+};
+
+TEST_F(MeshGpu, HeterogeneousRefusals) {
+  // A field without a GLSL twin, and a deformed heterogeneous body: useDevice refuses them with
+  // "gpu" and keeps the CPU with "auto".
+  const geometry::TriangleMesh cube = geometry::makeBox(glm::dvec3(-1.0), glm::dvec3(1.0));
+  const Camera cam = orthographic({0.0, 0.0, 4.0}, 3.0, 8);
+  const TraceDevice dev{Device::Gpu, nullptr};
+  MeshPathTracer opaque(cube, volumeMaterial(std::make_shared<OpaqueField>(), 1.3, 1.0),
+                        {directional({0.0, 1.0, 0.0}, 1.0)}, cam, 5.0, {1, 1});
+  EXPECT_NE(meshGpuRefusal(opaque), "");
+  EXPECT_THROW(useDevice(dev, "gpu", opaque, cube, "cube"), ParameterError);
+  useDevice(dev, "auto", opaque, cube, "cube");
+  EXPECT_EQ(opaque.device(), "cpu");
+
+  material::CheckerDesc d;
+  d.cell = glm::dvec3(0.5);
+  d.media = twoMedia();
+  material::Material m = volumeMaterial(std::make_shared<material::CheckerField>(d), 1.3, 1.0);
+  m.frame.deform = {geometry::Deformation{}};
+  m.frame.deform[0].type = geometry::Deformation::Type::Twist;
+  m.frame.deform[0].amount = 30.0;
+  MeshPathTracer deformed(cube, m, {directional({0.0, 1.0, 0.0}, 1.0)}, cam, 5.0, {1, 1});
+  EXPECT_EQ(meshGpuRefusal(deformed), "a deformed heterogeneous material is traced on the CPU only");
+  try {
+    useDevice(dev, "gpu", deformed, cube, "cube");
+    ADD_FAILURE() << "a deformed field was accepted";
+  } catch (const ParameterError& e) {
+    EXPECT_EQ(std::string(e.what()), "--device gpu: a deformed heterogeneous material is traced on the CPU only");
+  }
 }
 
 }  // namespace

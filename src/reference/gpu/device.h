@@ -33,6 +33,9 @@ TraceDevice openTraceDevice(const std::string& choice, const std::string& option
 // (MeshPathTracer::walkerRefusal), so auto keeps the CPU for the rest; with "gpu" a run it
 // cannot trace is a ParameterError "<option> gpu: <why>".
 void useDevice(const TraceDevice& device, SpherePathTracer& tracer);
+// Why the GPU walk cannot trace this mesh run ("" when it can): the tracer's own refusal
+// (MeshPathTracer::walkerRefusal: lights, deformation) or a 3D field fields.glsl lacks.
+std::string meshGpuRefusal(const MeshPathTracer& tracer);
 void useDevice(const TraceDevice& device, const std::string& choice, MeshPathTracer& tracer,
                const geometry::TriangleMesh& mesh, const std::string& what,
                const std::string& option = "--device");

@@ -3,10 +3,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <optional>
 #include <variant>
 
 #include "geometry/flat_bvh.h"
 #include "gpu/compute.h"
+#include "reference/gpu/field_gpu.h"
+#include "reference/majorant_grid.h"
 #include "gpu/program.h"
 #include "reference/gpu/walk_program.h"
 #include "reference/philox.h"
@@ -96,7 +100,7 @@ using namespace gpu_walk;
 class GpuMeshWalker final : public MeshWalker {
  public:
   GpuMeshWalker(gpu::Context& context, const geometry::TriangleMesh& mesh, const std::string& what)
-      : context_(context), program_(build(context)) {
+      : context_(context), program_(build(context, false)) {
     const geometry::FlatBvh bvh = geometry::FlatBvh::build(mesh, what);
     nodes_ = gpu::makeStorageBuffer(std::span<const geometry::FlatBvhNode>(bvh.nodes));
     triangles_ = gpu::makeStorageBuffer(std::span<const geometry::FlatBvhTriangle>(bvh.triangles));
@@ -110,7 +114,8 @@ class GpuMeshWalker final : public MeshWalker {
              WalkedBatch& out) override {
     context_.makeCurrent();
     const WalkChannel& ch = setup.channels.at(static_cast<size_t>(channel));
-    const gpu::ShaderProgram& p = program_;
+    if (setup.volume && !volumeProgram_) volumeProgram_.emplace(build(context_, true));
+    const gpu::ShaderProgram& p = setup.volume ? *volumeProgram_ : program_;
     const std::vector<GpuLight> lights = gpuLights(setup, ch);
     gpu::Buffer lightBuffer = gpu::makeStorageBuffer(std::span<const GpuLight>(lights));
     setChannel(p, ch, setup.seed, setup.long_path_roulette);
@@ -120,6 +125,7 @@ class GpuMeshWalker final : public MeshWalker {
     p.set("Matched", ch.eta == 1.0);
     p.set("Eta", static_cast<float>(ch.eta));
     p.set("Epsilon", static_cast<float>(setup.epsilon));
+    setVolume(p, setup.volume, channel);
 
     const uint64_t n = count * kBlockPhotons, firstPhoton = first * kBlockPhotons;
     if (n > photonCapacity_) {
@@ -136,6 +142,7 @@ class GpuMeshWalker final : public MeshWalker {
     for (;;) {
       const uint32_t zero = 0;
       gpu::uploadBytes(counter_, 0, sizeof(zero), &zero);
+      gpu::uploadBytes(violations_, 0, sizeof(zero), &zero);
       p.set("ExitCapacity", static_cast<unsigned>(exitCapacity_));
       gpu::bindStorage(0, photons_);
       gpu::bindStorage(1, nodes_);
@@ -144,6 +151,9 @@ class GpuMeshWalker final : public MeshWalker {
       gpu::bindStorage(4, counter_);
       gpu::bindStorage(5, lightBuffer);
       gpu::bindStorage(6, envDirs_);
+      gpu::bindStorage(7, fieldWords_);
+      gpu::bindStorage(8, majorants_[static_cast<size_t>(std::min(channel, 2))]);
+      gpu::bindStorage(9, violations_);
       gpu::dispatch1D(p, n);
       gpu::downloadBytes(counter_, 0, sizeof(exitCount), &exitCount);
       if (exitCount <= exitCapacity_) break;
@@ -151,6 +161,13 @@ class GpuMeshWalker final : public MeshWalker {
     }
     hostPhotons_.resize(n);
     gpu::downloadBytes(photons_, 0, n * sizeof(PhotonOut), hostPhotons_.data());
+    if (setup.volume) {
+      // Of the dispatch that fit (the counter is zeroed before each).
+      uint32_t violations = 0;
+      gpu::downloadBytes(violations_, 0, sizeof(violations), &violations);
+      if (violations)
+        setup.volume->majorant_violations->fetch_add(violations, std::memory_order_relaxed);
+    }
     hostExits_.resize(exitCount);
     if (exitCount) gpu::downloadBytes(exits_, 0, exitCount * sizeof(ExitOut), hostExits_.data());
 
@@ -184,9 +201,10 @@ class GpuMeshWalker final : public MeshWalker {
   std::string name() const override { return name_; }
 
  private:
-  static gpu::ShaderProgram build(const gpu::Context& context) {
+  static gpu::ShaderProgram build(const gpu::Context& context, bool volume) {
     context.makeCurrent();
-    return gpu::ShaderProgram::compute("reference/mesh_walk.comp");
+    return gpu::ShaderProgram::compute("reference/mesh_walk.comp",
+                                       volume ? gpu::Defines{{"VOLUME", "1"}} : gpu::Defines{});
   }
   // The directions towards the scene's environment light (at most one: setWalker) of photons
   // firstPhoton .. firstPhoton + n - 1 of `channel`, drawn by the map's sampler (exact, texel by
@@ -229,13 +247,60 @@ class GpuMeshWalker final : public MeshWalker {
     gpu::uploadBytes(envDirs_, 0, n * 4 * sizeof(float), hostDirs_.data());
   }
 
+  // The heterogeneous medium's uniforms and buffers (mesh_walk.comp with VOLUME): the field packed
+  // once per medium (fields.glsl), the majorant grid's bounds per channel rounded up to float
+  // (a bound below σt would bias the tracking), the violation counter zeroed per batch.
+  void setVolume(const gpu::ShaderProgram& p, const VolumeMedium* v, int channel) {
+    if (!violations_) violations_ = gpu::makeStorageBuffer(sizeof(uint32_t));
+    if (v == nullptr) {
+      if (!fieldWords_) fieldWords_ = gpu::makeStorageBuffer(16);  // bound, never read
+      for (gpu::Buffer& b : majorants_)
+        if (!b) b = gpu::makeStorageBuffer(16);
+      return;
+    }
+    if (v != volume_) {
+      const std::vector<uint32_t> words = gpu_field::pack(*v->field);
+      fieldWords_ = gpu::makeStorageBuffer(std::span<const uint32_t>(words));
+      const MajorantGrid& g = *v->grid;
+      const glm::ivec3 n = g.cells();
+      for (int c = 0; c < 3; ++c) {
+        std::vector<float> bounds;
+        bounds.reserve(static_cast<size_t>(n.x) * static_cast<size_t>(n.y) * static_cast<size_t>(n.z));
+        for (int k = 0; k < n.z; ++k)
+          for (int j = 0; j < n.y; ++j)
+            for (int i = 0; i < n.x; ++i) bounds.push_back(roundUp(g.bound(i, j, k, c)));
+        majorants_[static_cast<size_t>(c)] = gpu::makeStorageBuffer(std::span<const float>(bounds));
+      }
+      volume_ = v;
+    }
+    const MajorantGrid& g = *v->grid;
+    const glm::dvec3 cell = (g.upper() - g.lower()) / glm::dvec3(g.cells());
+    p.set("GridLower", glm::vec3(g.lower()));
+    p.set("GridUpper", glm::vec3(g.upper()));
+    p.set("GridCell", glm::vec3(cell));
+    p.set("GridCells", g.cells());
+    p.set("GridOuterBound", roundUp(g.maxBound(std::min(channel, 2))));
+    p.set("CoefficientScale", static_cast<float>(v->coefficient_scale));
+    p.set("FrameRotationT", glm::mat3(glm::transpose(v->frame.rotation)));
+    setDvec3(p, "FrameTranslate", v->frame.translate);
+    p.set("FrameScale", static_cast<float>(v->frame.scale));
+  }
+  static float roundUp(double b) {
+    float f = static_cast<float>(b);
+    if (static_cast<double>(f) < b) f = std::nextafter(f, std::numeric_limits<float>::infinity());
+    return f;
+  }
+
   void growExits(uint64_t capacity) {
     exits_ = gpu::makeStorageBuffer(capacity * sizeof(ExitOut));
     exitCapacity_ = capacity;
   }
   gpu::Context& context_;
-  gpu::ShaderProgram program_;
+  gpu::ShaderProgram program_;                      // homogeneous media
+  std::optional<gpu::ShaderProgram> volumeProgram_;  // VOLUME: made on first use
   gpu::Buffer nodes_, triangles_, counter_, photons_, exits_, envDirs_;
+  gpu::Buffer fieldWords_, violations_, majorants_[3];
+  const VolumeMedium* volume_ = nullptr;  // the medium fieldWords_ and majorants_ hold
   uint64_t photonCapacity_ = 0, exitCapacity_ = 0, dirCapacity_ = 0;
   std::vector<float> hostDirs_;
   std::vector<PhotonOut> hostPhotons_;

@@ -4,8 +4,9 @@
 // scores the walker's photons as its own (exits, re-entries, flux statistics, run states, shard
 // merges); only the random numbers differ (Philox4x32-10 per photon and channel), so the result
 // is a function of (scene, seed) on a given device and agrees with the CPU tracer within the
-// standard errors. Homogeneous media under directional, point, beam and at most one environment
-// light (setWalker refuses the rest).
+// standard errors. Homogeneous media and the 3D fields of fields.glsl (delta tracking through
+// the tracer's majorant grid) under directional, point, beam and at most one environment light
+// (useDevice and setWalker refuse the rest: device.h, meshGpuRefusal).
 #pragma once
 
 #include <memory>
