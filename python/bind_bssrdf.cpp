@@ -274,8 +274,10 @@ Radial sampling is not bound for .bssrdf models (the CPU models have it: Profile
       [](const std::string& model, const py::object& r, const std::optional<std::string>& preset,
          const py::object& sigma_a, const py::object& sigma_s, std::optional<double> g,
          std::optional<double> eta, double scale, const std::optional<Medium>& medium) {
-        if (medium && (preset || !sigma_a.is_none() || !sigma_s.is_none() || g || eta ||
-                       scale != 1.0))
+        // g and eta default to 0 and 1.3 (the signature the issue fixes): with medium= only
+        // those defaults are accepted, as for scale.
+        if (medium && (preset || !sigma_a.is_none() || !sigma_s.is_none() || g.value_or(0.0) != 0.0 ||
+                       eta.value_or(1.3) != 1.3 || scale != 1.0))
           throw ParameterError("medium= excludes preset, sigma_a, sigma_s, g, eta and scale");
         const Medium med = medium ? *medium : mediumFromArgs(preset, sigma_a, sigma_s, g, eta, scale);
         if (isBssrdfFile(model)) {

@@ -69,6 +69,25 @@ def test_profile_signature_is_the_documented_one():
                               translucent.profile("dipole", r, preset="Skin1"))
 
 
+@pytest.mark.parametrize("name", ["dipole", "better-dipole", "normalized-diffusion",
+                                  "normalized-diffusion-fit", "quantized-diffusion", "photon-beam"])
+def test_every_model_rd_and_radius_agree_with_quadrature_of_its_profile(name):
+    # Profiles.Rd (each model's own total, analytic or tabulated in C++) against 2π ∫ R(r) r dr
+    # by quadrature of Profiles.R here (an independent computation, to 1%: the tail beyond
+    # 200 mean free paths and the grid's error are below that), and radius() in order.
+    assert name in translucent.model_names()
+    medium = translucent.preset("Skin1").medium()
+    p = translucent.model(name).profiles(medium)
+    rd = p.Rd
+    x = np.geomspace(1e-7, 400.0, 400001)
+    R = p.R(x)
+    for c in range(3):
+        y = 2 * np.pi * x * R[:, c]
+        assert np.trapz(y, x) == pytest.approx(rd[c], rel=1e-2), (name, c)
+    r50 = p.radius(0.5)
+    assert np.all(r50 > 0) and np.all(r50 < p.radius(0.95))
+
+
 def test_profile_array_layout():
     r = np.linspace(0.1, 3.0, 12).reshape(3, 4)
     R = translucent.profile("dipole", r)
