@@ -574,8 +574,9 @@ void addCompareCommand(CLI::App& app) {
       ->allow_extra_args(false);
   cmd->add_option("--reference-device", a->reference_device,
                   "Physical reference: cpu (Embree, the default) or gpu (the GL compute-shader "
-                  "walk, issue 16: homogeneous materials, at most one environment light; its "
-                  "own random streams, so its own cache entries)")
+                  "walk, issue 16: homogeneous materials and 3D fields but surface layers, "
+                  "undeformed, at most one environment light; its own random streams, so its "
+                  "own cache entries)")
       ->check(CLI::IsMember({"cpu", "gpu"}))
       ->capture_default_str();
   cmd->add_option("--samples", a->samples, "Model reference: surface samples (e.g. 2e5)")
