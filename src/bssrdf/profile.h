@@ -80,6 +80,9 @@ class Model {
   // Rd as a function of the reduced albedo α' and η alone (all models here are scale invariant).
   // Default: Rd() of a profile with σt' = 1, g = 0. Models with closed forms override.
   virtual double totalReflectance(double alpha_prime, double eta) const;
+  // True for a tabulated profile (bssrdf/tabulated.h): one fixed R(r) per RGB channel that ignores
+  // σa, σs and g, so it has no profile for a scalar medium and no Rd(α').
+  virtual bool tabulated() const { return false; }
 };
 
 // Integrates 2π r R(r) over [a, b] with one 8-point Gauss-Legendre panel.

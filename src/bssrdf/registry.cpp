@@ -3,7 +3,11 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <map>
+#include <mutex>
+
 #include "bssrdf/models.h"
+#include "bssrdf/tabulated.h"
 
 namespace translucent::bssrdf {
 namespace {
@@ -32,10 +36,22 @@ const std::vector<std::unique_ptr<Model>>& all() {
 }  // namespace
 
 const Model& model(std::string_view name) {
+  if (isTabulatedFile(name)) {
+    // Loaded once per path and kept for the program's lifetime, like the registered models.
+    static std::mutex mutex;
+    static std::map<std::string, std::unique_ptr<Model>, std::less<>> loaded;
+    const std::lock_guard lock(mutex);
+    auto it = loaded.find(name);
+    if (it == loaded.end())
+      it = loaded.emplace(std::string(name), std::make_unique<TabulatedModel>(
+                                                 readProfileTable(std::string(name)))).first;
+    return *it->second;
+  }
   for (const auto& m : all())
     if (m->name() == name) return *m;
-  throw UnknownModelError(
-      fmt::format("unknown model '{}': valid models are {}", name, fmt::join(modelNames(), ", ")));
+  throw UnknownModelError(fmt::format(
+      "unknown model '{}': valid models are {} (or a tabulated profile, a .csv file)", name,
+      fmt::join(modelNames(), ", ")));
 }
 
 std::vector<std::string> modelNames() {

@@ -17,7 +17,9 @@ class UnknownModelError : public std::invalid_argument {
   using std::invalid_argument::invalid_argument;
 };
 
-// The registered model with this name (models live for the whole program).
+// The registered model with this name, or the tabulated profile a .csv path names (loaded once
+// per path, bssrdf/tabulated.h; throws ParameterError naming the file and line). Models live for
+// the whole program.
 const Model& model(std::string_view name);
 // Registered names in registration order.
 std::vector<std::string> modelNames();

@@ -29,14 +29,14 @@ void checkShared(double g, double eta) {
 
 }  // namespace
 
-void ScalarMedium::validate(const std::string& channel) const {
-  checkCoefficient("sigma_a", sigma_a, channel);
-  checkCoefficient("sigma_s", sigma_s, channel);
+void ScalarMedium::validate(const std::string& channel_name) const {
+  checkCoefficient("sigma_a", sigma_a, channel_name);
+  checkCoefficient("sigma_s", sigma_s, channel_name);
   checkShared(g, eta);
   if (!(sigmaTPrime() > 0.0))
     throw ParameterError(fmt::format(
         "sigma_t'{} is {}: the medium neither absorbs nor scatters (need sigma_a + sigma_s' > 0)",
-        where(channel), sigmaTPrime()));
+        where(channel_name), sigmaTPrime()));
 }
 
 void Medium::validate() const {

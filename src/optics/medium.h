@@ -29,6 +29,11 @@ struct ScalarMedium {
   double sigma_s = 1.0;  // scattering coefficient σs [1/length]
   double g = 0.0;        // Henyey-Greenstein mean cosine
   double eta = 1.3;      // relative index of refraction n_medium / n_outside
+  // Where the channel came from (Medium::channel): its RGB index (-1: a scalar medium of its own)
+  // and the medium units per scene unit. Analytic models ignore both; a tabulated profile
+  // (bssrdf/tabulated.h) is a measured R(r) per RGB channel in millimetres and needs them.
+  int channel = -1;
+  double scale = 1.0;
 
   double sigmaT() const { return sigma_a + sigma_s; }                   // σt
   double sigmaSPrime() const { return (1.0 - g) * sigma_s; }            // Eq. 2.24, σs'
@@ -42,8 +47,8 @@ struct ScalarMedium {
   double diffuseMeanFreePath() const { return 1.0 / sigmaTr(); }        // ℓd = 1/σtr (inf if σa=0)
 
   // Throws ParameterError unless all coefficients are finite, σa, σs >= 0, σt' > 0, |g| < 1 and
-  // η > 0. `channel` is used in the message ("" for a scalar medium).
-  void validate(const std::string& channel = "") const;
+  // η > 0. `channel_name` is used in the message ("" for a scalar medium).
+  void validate(const std::string& channel_name = "") const;
 };
 
 // A medium with per-RGB coefficients (seed 3.1.1: "material parameters").
@@ -57,7 +62,7 @@ struct Medium {
   // The channel with coefficients per scene unit (σ · scale).
   ScalarMedium channel(int c) const {
     return {sigma_a[static_cast<size_t>(c)] * scale, sigma_s[static_cast<size_t>(c)] * scale, g,
-            eta};
+            eta, c, scale};
   }
   // Throws ParameterError naming parameter, channel and value (also checks scale > 0).
   void validate() const;

@@ -1,0 +1,161 @@
+// Tabulated profiles (bssrdf/tabulated.h): a dense table of an analytic model is that model
+// (R between samples, Rd, the 95% radius and the sampler, at two scales), both file formats load,
+// and bad files are refused naming file and line.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+
+#include <fmt/format.h>
+
+#include "analysis/profile_curves.h"
+#include "bssrdf/registry.h"
+#include "bssrdf/tabulated.h"
+#include "optics/presets.h"
+
+namespace translucent::bssrdf {
+namespace {
+
+std::string tempPath(const std::string& name) {
+  return (std::filesystem::temp_directory_path() /
+          ("translucent_tab_" + std::to_string(::getpid()) + "_" + name))
+      .string();
+}
+
+void writeText(const std::string& path, const std::string& text) {
+  std::ofstream(path, std::ios::binary) << text;
+}
+
+// The analytic model's R(r) of each channel of `medium` (scale 1: mm) on a log grid of radii.
+ProfileTable tableOf(const Model& m, const Medium& medium, int n) {
+  ProfileTable t;
+  const auto ps = profiles(m, medium);
+  const double rMax = ps[0]->radiusForFraction(0.99999);
+  for (int i = 0; i < n; ++i) {
+    const double r = 1e-4 * std::pow(rMax / 1e-4, double(i) / (n - 1));
+    t.r_mm.push_back(r);
+    for (int c = 0; c < 3; ++c) t.R_mm[size_t(c)].push_back(ps[size_t(c)]->R(r));
+  }
+  t.eta = medium.eta;
+  return t;
+}
+
+std::string messageOf(const std::string& path) {
+  try {
+    (void)readProfileTable(path);
+  } catch (const ParameterError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+TEST(Tabulated, DenseTableOfTheDipoleIsTheDipole) {
+  Medium medium = preset("Skin1").medium();
+  const Model& dipole = model("dipole");
+  const std::string path = tempPath("dipole.csv");
+  writeProfileTable(path, tableOf(dipole, medium, 2000), {"dense table of the dipole, Skin1"});
+  const Model& tab = model(path);
+  EXPECT_TRUE(tab.tabulated());
+  EXPECT_FALSE(dipole.tabulated());
+  EXPECT_EQ(&tab, &model(path)) << "loaded once per path";
+  for (double scale : {1.0, 10.0}) {  // 10: one scene unit is a centimetre
+    medium.scale = scale;
+    const auto a = profiles(dipole, medium), b = profiles(tab, medium);
+    for (size_t c = 0; c < 3; ++c) {
+      SCOPED_TRACE(::testing::Message() << "scale " << scale << " channel " << c);
+      // 2000 log-spaced samples: the log-log interpolant is within ~1e-4 of the dipole.
+      for (double r : {0.003, 0.0171, 0.1, 0.377, 1.0, 2.9}) {
+        const double rs = r / scale;
+        EXPECT_NEAR(b[c]->R(rs) / a[c]->R(rs), 1.0, 1e-3) << "r " << r << " mm";
+      }
+      EXPECT_NEAR(b[c]->Rd() / a[c]->Rd(), 1.0, 1e-3);
+      EXPECT_NEAR(b[c]->radiusForFraction(0.95) / a[c]->radiusForFraction(0.95), 1.0, 1e-3);
+      // The sampler inverts its own cumulative: the median sample holds half of Rd.
+      const double median = b[c]->sample(0.5).r;
+      EXPECT_NEAR(median / b[c]->radiusForFraction(0.5), 1.0, 1e-6);
+      EXPECT_NEAR(b[c]->pdf(median), 2.0 * std::numbers::pi * median * b[c]->R(median) / b[c]->Rd(), 1e-9 * b[c]->pdf(median));
+    }
+  }
+  std::filesystem::remove(path);
+}
+
+TEST(Tabulated, ReadsTheCurvesCsvOfProfileAndConvertsUnits) {
+  const Medium medium = preset("Marble").medium();
+  const Model& dipole = model("better-dipole");
+  const ProfileTable t = tableOf(dipole, medium, 400);
+  // The CSV of `translucent profile --channel all --reference`: r in cm here (# units: cm), so
+  // R is per cm² (100 × per mm²).
+  std::string text = "# units: cm\nmodel,channel,r,value,stderr\n";
+  for (int c = 0; c < 3; ++c)
+    for (size_t i = 0; i < t.r_mm.size(); ++i)
+      text += fmt::format("reference,{},{:.17g},{:.17g},0.1\n", "rgb"[c], t.r_mm[i] / 10.0,
+                          t.R_mm[size_t(c)][i] * 100.0);
+  text += "better-dipole,r,0.1,5,\n";  // another model's rows are ignored
+  const std::string path = tempPath("curves.csv");
+  writeText(path, text);
+  const ProfileTable back = readProfileTable(path);
+  ASSERT_EQ(back.r_mm.size(), t.r_mm.size());
+  for (size_t i = 0; i < t.r_mm.size(); i += 37) {
+    EXPECT_NEAR(back.r_mm[i] / t.r_mm[i], 1.0, 1e-12);
+    for (size_t c = 0; c < 3; ++c) EXPECT_NEAR(back.R_mm[c][i] / t.R_mm[c][i], 1.0, 1e-12);
+  }
+  const auto a = profiles(dipole, medium), b = profiles(model(path), medium);
+  for (size_t c = 0; c < 3; ++c) EXPECT_NEAR(b[c]->Rd() / a[c]->Rd(), 1.0, 3e-3);
+  std::filesystem::remove(path);
+}
+
+TEST(Tabulated, NeedsAChannelAndHasNoRdOfAlbedo) {
+  const std::string path = tempPath("small.csv");
+  writeText(path, "# units: mm\nr,R_r,R_g,R_b\n0.1,1,2,3\n1,0.1,0.2,0.3\n2,0.01,0.02,0.03\n");
+  const Model& tab = model(path);
+  EXPECT_THROW((void)tab.profile(ScalarMedium{0.1, 1.0, 0.0, 1.3}), ParameterError);
+  EXPECT_THROW((void)tab.totalReflectance(0.9, 1.3), ParameterError);
+  // Below the first sample R is held; beyond the last it decays with the fitted slope.
+  const auto& t = dynamic_cast<const TabulatedModel&>(tab);
+  EXPECT_DOUBLE_EQ(t.Rmm(1, 0.0), 2.0);
+  EXPECT_NEAR(t.Rmm(0, 3.0), 0.01 * std::exp(std::log(0.1) * 1.0), 1e-12);
+  EXPECT_NEAR(t.Rmm(2, std::sqrt(0.1 * 1.0)), std::sqrt(3.0 * 0.3), 1e-12) << "log-log midpoint";
+  std::filesystem::remove(path);
+}
+
+TEST(Tabulated, BadFilesNameFileAndLine) {
+  struct Case {
+    const char* text;
+    const char* expected;
+  };
+  const Case cases[] = {
+      {"r,R_r,R_g,R_b\n0.1,1,2,3\n1,1,1,1\n", "no '# units: mm' line"},
+      {"# units: furlong\nr,R_r,R_g,R_b\n", ":1: units 'furlong'"},
+      {"# units: mm\nradius,a,b,c\n", ":2: header 'radius,a,b,c'"},
+      {"# units: mm\nr,R_r,R_g,R_b\n0.1,1,2,3\n0.05,1,2,3\n", ":4: r 0.05 after 0.1"},
+      {"# units: mm\nr,R_r,R_g,R_b\n0.1,1,2,3\n0.2,1,x,3\n", ":4: R 'x'"},
+      {"# units: mm\nr,R_r,R_g,R_b\n0.1,1,2,3\n0.2,1,-2,3\n", ":4: R (green channel) -2"},
+      {"# units: mm\nr,R_r,R_g,R_b\n0.1,1,2\n", ":3: 3 values: expected 4"},
+      {"# units: mm\nr,R_r,R_g,R_b\n0.1,1,2,3\n", "1 samples: expected at least 2"},
+      {"# units: mm\nr,R_r,R_g,R_b\n0.1,0,2,3\n0.2,0,2,3\n", "red channel is 0 everywhere"},
+      {"model,channel,r,value\na,r,0.1,1\nb,r,0.1,1\n", "none named 'reference'"},
+      {"model,channel,r,value\nreference,r,0.1,1\nreference,r,0.2,1\n", "no 'g' channel rows"},
+      {"", "no header"},
+  };
+  const std::string path = tempPath("bad.csv");
+  for (const auto& c : cases) {
+    writeText(path, c.text);
+    const std::string msg = messageOf(path);
+    EXPECT_NE(msg.find(path), std::string::npos) << msg;
+    EXPECT_NE(msg.find(c.expected), std::string::npos) << "expected '" << c.expected << "' in: " << msg;
+  }
+  std::filesystem::remove(path);
+  EXPECT_NE(messageOf(path).find("cannot read"), std::string::npos);
+  try {
+    (void)model("no-such-model");
+    ADD_FAILURE();
+  } catch (const UnknownModelError& e) {
+    EXPECT_NE(std::string(e.what()).find(".csv"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace translucent::bssrdf
