@@ -24,11 +24,7 @@ namespace translucent::python {
 namespace {
 
 // apps/cli/bssrdf_models.cpp isBssrdfFile: a name ending in .bssrdf or an existing file.
-bool isBssrdfFile(const std::string& entry) {
-  if (bssrdf::hasBssrdfExtension(entry)) return true;
-  std::error_code ec;
-  return std::filesystem::is_regular_file(entry, ec);
-}
+bool isBssrdfFile(const std::string& entry) { return bssrdf::isPluginFile(entry); }
 
 // A .bssrdf plug-in model (seed appendix A.2), evaluated on the GPU through the module's context.
 class BssrdfModel {

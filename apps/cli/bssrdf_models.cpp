@@ -34,11 +34,7 @@ double parseNumber(const std::string& text, const std::string& what) {
 
 }  // namespace
 
-bool isBssrdfFile(const std::string& entry) {
-  if (bssrdf::hasBssrdfExtension(entry)) return true;
-  std::error_code ec;
-  return std::filesystem::is_regular_file(entry, ec);
-}
+bool isBssrdfFile(const std::string& entry) { return bssrdf::isPluginFile(entry); }
 
 std::unique_ptr<gpu::Context> bssrdfContext(const std::string& what) {
   try {

@@ -15,6 +15,7 @@
 #include "analysis/profile_curves.h"
 #include "bssrdf_models.h"
 #include "bssrdf/registry.h"
+#include "bssrdf/tabulated.h"
 #include "commands.h"
 #include "output_guard.h"
 #include "gpu/bssrdf_profiles.h"
@@ -39,6 +40,7 @@ struct ProfileArgs {
   std::string y = "log";
   bool times_r = false;
   std::string out;
+  std::string save_profile;  // the reference as a tabulated model (bssrdf/tabulated.h)
   int width = plot::PlotOptions{}.width;
   int height = plot::PlotOptions{}.height;
   std::string title;
@@ -80,12 +82,11 @@ std::string defaultTitle(const ProfileArgs& a) {
 // models' R(r) is per unit flux *entering* the medium (Eq. 2.16 applies Ft(ωi) separately), so
 // the tally per incident photon is divided by 1 - Rsp, the exact entry transmittance. Channels
 // use independent seeds so the luminance error combines in quadrature.
-analysis::Curve referenceCurve(const Medium& medium, analysis::Channel ch, double r_max,
-                               const ProfileArgs& a) {
+std::array<reference::SlabResult, 3> traceReference(const Medium& medium,
+                                                    const std::array<bool, 3>& needed,
+                                                    double r_max, int bins,
+                                                    const ProfileArgs& a) {
   std::array<reference::SlabResult, 3> results;
-  std::array<bool, 3> needed{ch == analysis::Channel::Red || ch == analysis::Channel::Luminance,
-                             ch == analysis::Channel::Green || ch == analysis::Channel::Luminance,
-                             ch == analysis::Channel::Blue || ch == analysis::Channel::Luminance};
   const reference::TraceDevice device = reference::openTraceDevice(a.device);
   for (size_t c = 0; c < 3; ++c) {
     if (!needed[c]) continue;
@@ -99,7 +100,7 @@ analysis::Curve referenceCurve(const Medium& medium, analysis::Channel ch, doubl
     o.photons = static_cast<uint64_t>(a.photons);
     o.seed = a.seed + c;
     o.threads = a.threads;
-    o.radial_bins = a.points;
+    o.radial_bins = bins;
     o.radial_max = r_max;
     InterruptGuard guard;
     ProgressBar bar(fmt::format("reference ({})", kChannelNames[c]), "photons");
@@ -108,10 +109,71 @@ analysis::Curve referenceCurve(const Medium& medium, analysis::Channel ch, doubl
     bar.end();
     if (results[c].partial) printStderr("profile: reference stopped early, partial\n");
   }
-  return analysis::pencilReferenceCurve({needed[0] ? &results[0] : nullptr,
-                                        needed[1] ? &results[1] : nullptr,
-                                        needed[2] ? &results[2] : nullptr},
-                                       ch, a.times_r);
+  return results;
+}
+
+analysis::Curve referenceCurve(const std::array<reference::SlabResult, 3>& results,
+                               const std::array<bool, 3>& traced, analysis::Channel ch,
+                               const ProfileArgs& a) {
+  const auto ptr = [&](size_t c) { return traced[c] ? &results[c] : nullptr; };
+  return analysis::pencilReferenceCurve({ptr(0), ptr(1), ptr(2)}, ch, a.times_r);
+}
+
+// Diffuse reflectance per unit flux entering the medium, as the models' Rd (pencil_reference.h).
+double enteringRd(const reference::SlabResult& r) {
+  return r.diffuse_reflectance.value / (1.0 - r.specular_reflectance.value);
+}
+
+// --save-profile: the path-traced R(r) of the three channels as a tabulated model in
+// millimetres (r_mm = r · scale, R_mm = R / scale², the medium's units being mm). The tally's
+// annuli are kFineBins times finer than --points asks, then merged (area-weighted, so each merged
+// annulus keeps its energy exactly) into annuli no wider than 5% of their radius and no wider than
+// the --points spacing: the steep R(r) near the source (single scattering, ~1/r) is resolved
+// where the table's interpolation between annulus centres would otherwise lose energy (with
+// --points 200 alone Skin1's blue Rd came out 10% low), and the tail keeps --points' noise level.
+constexpr int kFineBins = 32;
+
+void saveReferenceProfile(const std::string& path, const Medium& medium, double r_max,
+                          const ProfileArgs& a) {
+  const auto res = traceReference(medium, {true, true, true}, r_max, a.points * kFineBins, a);
+  bssrdf::ProfileSamples t;
+  t.eta = medium.eta;
+  std::array<analysis::Curve, 3> rgb;
+  for (size_t c = 0; c < 3; ++c) {
+    std::array<const reference::SlabResult*, 3> one{nullptr, nullptr, nullptr};
+    one[c] = &res[c];
+    rgb[c] = analysis::pencilReferenceCurve(one, static_cast<analysis::Channel>(c), false);
+  }
+  const size_t n = rgb[0].r.size();
+  const double dr = r_max / static_cast<double>(n);
+  for (size_t i = 0; i < n;) {
+    const double ra = dr * static_cast<double>(i);
+    const size_t width = std::clamp<size_t>(static_cast<size_t>(0.05 * ra / dr), 1, kFineBins);
+    const size_t j = std::min(n, i + width);
+    const double rb = dr * static_cast<double>(j);
+    std::array<double, 3> energy{};
+    for (size_t k = i; k < j; ++k) {
+      const double area = (2.0 * static_cast<double>(k) + 1.0) * dr * dr;  // / π, as below
+      for (size_t c = 0; c < 3; ++c) energy[c] += std::max(0.0, rgb[c].value[k]) * area;
+    }
+    const double area = rb * rb - ra * ra;
+    t.r_mm.push_back(0.5 * (ra + rb) * medium.scale);
+    for (size_t c = 0; c < 3; ++c) t.R_mm[c].push_back(energy[c] / area / (medium.scale * medium.scale));
+    i = j;
+  }
+  std::vector<std::string> comment{
+      "tabulated profile: path-traced pencil beam on a semi-infinite slab (translucent profile "
+      "--reference --save-profile)",
+      fmt::format("medium: sigma_a {} sigma_s {} [1/mm] g {} eta {}",
+                  fmt::join(medium.sigma_a, ","), fmt::join(medium.sigma_s, ","), medium.g,
+                  medium.eta),
+      fmt::format("photons per channel: {}, seed {}; R on [0, {:.6g}] mm, {} annuli (centres)",
+                  res[0].photons, a.seed, r_max * medium.scale, t.r_mm.size()),
+      fmt::format("traced Rd per unit flux entering (as the table's R; incl. beyond the table): "
+                  "{:.6g}, {:.6g}, {:.6g}", enteringRd(res[0]), enteringRd(res[1]),
+                  enteringRd(res[2]))};
+  writeOutput(path, [&](const std::string& p) { bssrdf::writeProfileSamples(p, t, comment); });
+  printStderr("wrote {} (tabulated profile, {} radii per channel)\n", path, t.r_mm.size());
 }
 
 // --study: every model against the path-traced reference for every traceable preset and RGB
@@ -164,7 +226,14 @@ void runStudy(const ProfileArgs& a, const std::string& command) {
 
 void runProfile(const ProfileArgs& a) {
   const std::string ext = extensionOf(a.out);
-  if (ext != ".csv" && ext != ".png" && ext != ".svg")
+  if (!a.save_profile.empty()) {
+    if (!a.reference)
+      throw ParameterError("--save-profile: needs --reference (it saves the path-traced profile)");
+    if (extensionOf(a.save_profile) != ".csv")
+      throw ParameterError(fmt::format("--save-profile '{}': expected a .csv file",
+                                       a.save_profile));
+  }
+  if (!a.out.empty() && ext != ".csv" && ext != ".png" && ext != ".svg")
     throw ParameterError(
         fmt::format("--out '{}': expected a file ending in .csv, .png or .svg", a.out));
   const Medium medium = a.medium.medium();
@@ -174,7 +243,10 @@ void runProfile(const ProfileArgs& a) {
   for (const auto& m : entries) (isBssrdfFile(m) ? files : models).push_back(m);
   OutputSet outputs;
   outputs.output("--out", a.out);
+  outputs.output("--save-profile", a.save_profile);
   for (const auto& f : files) outputs.input("a BSSRDF model file (--model)", f);
+  for (const auto& m : models)
+    if (bssrdf::isTabulatedFile(m)) outputs.input("a tabulated profile (--model)", m);
   outputs.check();
   for (const auto& m : models) (void)bssrdf::model(m);  // unknown names fail before any work
   // .bssrdf files: evaluated on the GPU; the context exists only when one is requested.
@@ -235,9 +307,20 @@ void runProfile(const ProfileArgs& a) {
                                a.times_r);
     curves.insert(curves.end(), c.begin(), c.end());
   }
-  if (a.reference)
+  for (auto& c : curves)  // a tabulated profile's curves are labelled with its file's stem
+    if (bssrdf::isTabulatedFile(c.model)) c.model = std::filesystem::path(c.model).stem().string();
+  if (a.reference && !a.out.empty()) {
+    std::array<bool, 3> needed{};
     for (analysis::Channel ch : channels)
-      curves.push_back(referenceCurve(medium, ch, rMax, a));
+      for (size_t c = 0; c < 3; ++c)
+        if (ch == analysis::Channel::Luminance || static_cast<size_t>(ch) == c) needed[c] = true;
+    const auto results = traceReference(medium, needed, rMax, a.points, a);
+    for (analysis::Channel ch : channels) curves.push_back(referenceCurve(results, needed, ch, a));
+  }
+  // The saved model should hold (nearly) all of the energy: without --rmax its table reaches
+  // 3x the plotted default (the 95% radius), where ~0.1% of Rd is left for the fitted tail.
+  if (!a.save_profile.empty()) saveReferenceProfile(a.save_profile, medium, a.r_max ? rMax : 3.0 * rMax, a);
+  if (a.out.empty()) return;
   if (ext == ".csv") {
     writeOutput(a.out, [&](const std::string& p) { analysis::writeCurvesCsv(p, curves); });
   } else {
@@ -261,8 +344,8 @@ void addProfileCommand(CLI::App& app) {
       "profile", "Radial diffuse reflectance profiles R(r) of BSSRDF models (pencil beam on a "
                  "semi-infinite slab), as CSV, PNG or SVG");
   cmd->add_option("--model", args->models,
-                  "Comma-separated model names or .bssrdf files (evaluated on the GPU), or "
-                  "'all': " +
+                  "Comma-separated model names, .bssrdf files (evaluated on the GPU) or .csv "
+                  "tabulated profiles (r,R_r,R_g,R_b with a '# units: mm' line), or 'all': " +
                       fmt::format("{}", fmt::join(bssrdf::modelNames(), ", ")))
       ->capture_default_str();
   cmd->add_option("--param", args->params,
@@ -280,6 +363,10 @@ void addProfileCommand(CLI::App& app) {
   outputOption(cmd->add_option("--out", args->out,
                   "Output file: .csv (model,channel,r,value), .png or .svg; with --study a .md "
                   "report"));
+  outputOption(cmd->add_option(
+      "--save-profile", args->save_profile,
+      "With --reference: save the path-traced R(r) of the three channels as a tabulated model "
+      "(.csv, r in mm), usable as --model FILE.csv"));
   cmd->add_option("--width", args->width, "Plot width [pixels] (.png/.svg)")->capture_default_str();
   cmd->add_option("--height", args->height, "Plot height [pixels] (.png/.svg)")
       ->capture_default_str();
@@ -320,7 +407,8 @@ void addProfileCommand(CLI::App& app) {
     }
     if (!args->csv.empty() || !args->json.empty() || !args->study_presets.empty())
       throw ParameterError("--csv, --json and --study-presets need --study");
-    if (args->out.empty()) throw ParameterError("--out is required");
+    if (args->out.empty() && args->save_profile.empty())
+      throw ParameterError("--out is required (or --save-profile with --reference)");
     runProfile(*args);
   });
 }

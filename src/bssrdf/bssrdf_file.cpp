@@ -1,4 +1,5 @@
 #include "bssrdf/bssrdf_file.h"
+#include "bssrdf/tabulated.h"
 
 #include <fmt/format.h>
 
@@ -6,6 +7,7 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <sstream>
@@ -341,6 +343,13 @@ std::vector<std::string_view> splitLines(std::string_view text) {
     start = end + 1;
   }
   return lines;
+}
+
+bool isPluginFile(const std::string& entry) {
+  if (hasBssrdfExtension(entry)) return true;
+  if (isTabulatedFile(entry)) return false;
+  std::error_code ec;
+  return std::filesystem::is_regular_file(entry, ec);
 }
 
 bool hasBssrdfExtension(std::string_view path) {

@@ -112,6 +112,9 @@ std::vector<std::string_view> splitLines(std::string_view text);
 // True when `path` names a .bssrdf file by its extension (any case, e.g. "Skin.BSSRDF"): how the
 // command line, scenes and the explorer tell a plug-in file from a registered model name.
 bool hasBssrdfExtension(std::string_view path);
+// Whether a model entry (--model, a scene's model) names a .bssrdf plug-in: it ends in .bssrdf,
+// or it is an existing file that is not a tabulated profile (.csv, bssrdf/tabulated.h).
+bool isPluginFile(const std::string& entry);
 
 // The first line of `message` that names a .bssrdf line ("file.bssrdf:12: ..."), else the whole
 // message: a GLSL driver log can span many lines, and this is the one to show a user.

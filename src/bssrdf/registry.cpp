@@ -44,7 +44,7 @@ const Model& model(std::string_view name) {
     auto it = loaded.find(name);
     if (it == loaded.end())
       it = loaded.emplace(std::string(name), std::make_unique<TabulatedModel>(
-                                                 readProfileTable(std::string(name)))).first;
+                                                 readProfileSamples(std::string(name)))).first;
     return *it->second;
   }
   for (const auto& m : all())

@@ -62,12 +62,12 @@ bool isTabulatedFile(std::string_view name) {
   return name.size() > 4 && lower(name.substr(name.size() - 4)) == ".csv";
 }
 
-ProfileTable readProfileTable(const std::string& path) {
+ProfileSamples readProfileSamples(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in)
     throw ParameterError(fmt::format("{}: cannot read the tabulated profile (no such file, or "
                                      "not readable)", path));
-  ProfileTable t;
+  ProfileSamples t;
   t.source = path;
   std::string unit;
   enum class Format { None, Rgb, Curves } format = Format::None;
@@ -202,7 +202,7 @@ ProfileTable readProfileTable(const std::string& path) {
   return t;
 }
 
-void writeProfileTable(const std::string& path, const ProfileTable& table,
+void writeProfileSamples(const std::string& path, const ProfileSamples& table,
                        const std::vector<std::string>& comment) {
   std::FILE* f = std::fopen(path.c_str(), "w");
   if (!f) throw std::runtime_error(fmt::format("cannot write '{}'", path));
@@ -241,7 +241,7 @@ class TabulatedProfile final : public RadialProfile {
 
 }  // namespace
 
-TabulatedModel::TabulatedModel(ProfileTable table) : table_(std::move(table)) {
+TabulatedModel::TabulatedModel(ProfileSamples table) : table_(std::move(table)) {
   name_ = table_.source;
   description_ = fmt::format("tabulated profile from {} ({} radii, {:.4g} to {:.4g} mm{})",
                              std::filesystem::path(table_.source).filename().string(),

@@ -32,7 +32,7 @@ namespace translucent::bssrdf {
 // True when `name` names a tabulated profile (ends in .csv, any case).
 bool isTabulatedFile(std::string_view name);
 
-struct ProfileTable {
+struct ProfileSamples {
   std::vector<double> r_mm;                 // strictly increasing radii >= 0 [mm]
   std::array<std::vector<double>, 3> R_mm;  // R per RGB channel [1/mm²], >= 0
   double eta = 0.0;                         // 0: not stated
@@ -40,15 +40,15 @@ struct ProfileTable {
 };
 
 // Reads and validates a table; throws ParameterError naming the file and line.
-ProfileTable readProfileTable(const std::string& path);
+ProfileSamples readProfileSamples(const std::string& path);
 // Writes `table` in the first format above (units mm) with `comment` lines (each prefixed "# ").
 // Throws std::runtime_error naming the file when it cannot be written.
-void writeProfileTable(const std::string& path, const ProfileTable& table,
+void writeProfileSamples(const std::string& path, const ProfileSamples& table,
                        const std::vector<std::string>& comment = {});
 
 class TabulatedModel : public Model {
  public:
-  explicit TabulatedModel(ProfileTable table);
+  explicit TabulatedModel(ProfileSamples table);
   std::string_view name() const override { return name_; }
   std::string_view description() const override { return description_; }
   // Needs a channel of a Medium (ScalarMedium::channel in 0..2); throws ParameterError otherwise.
@@ -57,12 +57,12 @@ class TabulatedModel : public Model {
   double totalReflectance(double alpha_prime, double eta) const override;
   bool tabulated() const override { return true; }
 
-  const ProfileTable& table() const { return table_; }
+  const ProfileSamples& table() const { return table_; }
   // R of channel c at r_mm [1/mm²], interpolated and extrapolated as described above.
   double Rmm(int c, double r_mm) const;
 
  private:
-  ProfileTable table_;
+  ProfileSamples table_;
   std::string name_, description_;
   std::array<double, 3> tailSlope_{};  // d ln R / dr beyond the last sample [1/mm], <= 0
 };

@@ -107,6 +107,10 @@ PointProfiles PointProfiles::build(const Material& material, std::span<const Loc
     if (inserted) unique.push_back(media[i]);
     of[i] = it->second;
   }
+  if (model.tabulated() && unique.size() > 1)
+    throw ParameterError(fmt::format("point profiles: model '{}' is a tabulated profile, the R(r) "
+                                     "of one material: {} different media need an analytic model",
+                                     material.model, unique.size()));
 
   PointProfiles out;
   out.count_ = media.size();

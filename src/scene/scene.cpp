@@ -18,6 +18,7 @@
 #include <glm/mat3x3.hpp>
 
 #include "geometry/point_cloud.h"  // defaultCacheDirectory
+#include "bssrdf/tabulated.h"
 #include "geometry/ray_scene.h"
 #include "material/json_reader.h"
 #include "material/material_desc.h"
@@ -329,7 +330,13 @@ Scene parseScene(const std::string& text, const std::filesystem::path& base_dir,
   if (mat.contains("model")) {
     const std::string m = r.string(mat, "model", "material");
     if (m.empty()) r.fail("material.model", "expected a model name or a .bssrdf file");
-    s.model = std::filesystem::path(m).extension() == ".bssrdf" ? resolve(m, base_dir).string() : m;
+    // Files (.bssrdf plug-ins, .csv tabulated profiles) are relative to the scene file.
+    const bool file = std::filesystem::path(m).extension() == ".bssrdf" || bssrdf::isTabulatedFile(m);
+    s.model = file ? resolve(m, base_dir).string() : m;
+    if (bssrdf::isTabulatedFile(m) && materialType != "homogeneous")
+      r.fail("material.model", fmt::format("'{}' is a tabulated profile, the R(r) of one material: "
+                                           "a {} material needs an analytic model whose profile "
+                                           "follows the local coefficients", m, materialType));
   }
   if (materialType != "homogeneous") {
     // The field's own keys; the object's η and scale, and the representative medium as

@@ -30,8 +30,8 @@ void writeText(const std::string& path, const std::string& text) {
 }
 
 // The analytic model's R(r) of each channel of `medium` (scale 1: mm) on a log grid of radii.
-ProfileTable tableOf(const Model& m, const Medium& medium, int n) {
-  ProfileTable t;
+ProfileSamples tableOf(const Model& m, const Medium& medium, int n) {
+  ProfileSamples t;
   const auto ps = profiles(m, medium);
   const double rMax = ps[0]->radiusForFraction(0.99999);
   for (int i = 0; i < n; ++i) {
@@ -45,7 +45,7 @@ ProfileTable tableOf(const Model& m, const Medium& medium, int n) {
 
 std::string messageOf(const std::string& path) {
   try {
-    (void)readProfileTable(path);
+    (void)readProfileSamples(path);
   } catch (const ParameterError& e) {
     return e.what();
   }
@@ -56,7 +56,7 @@ TEST(Tabulated, DenseTableOfTheDipoleIsTheDipole) {
   Medium medium = preset("Skin1").medium();
   const Model& dipole = model("dipole");
   const std::string path = tempPath("dipole.csv");
-  writeProfileTable(path, tableOf(dipole, medium, 2000), {"dense table of the dipole, Skin1"});
+  writeProfileSamples(path, tableOf(dipole, medium, 2000), {"dense table of the dipole, Skin1"});
   const Model& tab = model(path);
   EXPECT_TRUE(tab.tabulated());
   EXPECT_FALSE(dipole.tabulated());
@@ -85,7 +85,7 @@ TEST(Tabulated, DenseTableOfTheDipoleIsTheDipole) {
 TEST(Tabulated, ReadsTheCurvesCsvOfProfileAndConvertsUnits) {
   const Medium medium = preset("Marble").medium();
   const Model& dipole = model("better-dipole");
-  const ProfileTable t = tableOf(dipole, medium, 400);
+  const ProfileSamples t = tableOf(dipole, medium, 400);
   // The CSV of `translucent profile --channel all --reference`: r in cm here (# units: cm), so
   // R is per cm² (100 × per mm²).
   std::string text = "# units: cm\nmodel,channel,r,value,stderr\n";
@@ -96,7 +96,7 @@ TEST(Tabulated, ReadsTheCurvesCsvOfProfileAndConvertsUnits) {
   text += "better-dipole,r,0.1,5,\n";  // another model's rows are ignored
   const std::string path = tempPath("curves.csv");
   writeText(path, text);
-  const ProfileTable back = readProfileTable(path);
+  const ProfileSamples back = readProfileSamples(path);
   ASSERT_EQ(back.r_mm.size(), t.r_mm.size());
   for (size_t i = 0; i < t.r_mm.size(); i += 37) {
     EXPECT_NEAR(back.r_mm[i] / t.r_mm[i], 1.0, 1e-12);

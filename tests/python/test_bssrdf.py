@@ -175,3 +175,64 @@ def test_bssrdf_model_parameters_and_invert(cli, source_dir):
     assert e["Rd"].shape == (3,) and np.all(e["radius"] > 0)
     with pytest.raises(ValueError, match="declares no parameter 'Nope'"):
         b.set(Nope=1.0)
+
+
+def read_table(path):
+    """(header comments, r, R[n, 3]) of a tabulated-profile CSV (r,R_r,R_g,R_b)."""
+    comments, rows = [], []
+    with open(path) as f:
+        for line in f:
+            if line.startswith("#"):
+                comments.append(line[1:].strip())
+            elif not line.startswith("r,"):
+                rows.append([float(x) for x in line.split(",")])
+    rows = np.array(rows)
+    return comments, rows[:, 0], rows[:, 1:]
+
+
+def test_tabulated_profile_from_the_path_tracer(cli, tmp_path):
+    # `profile --reference --save-profile` turns the path-traced R(r) into a model (issue 14 §2,
+    # issue 18: tabulated files wherever a model is named).
+    saved = tmp_path / "skin1.csv"
+    cli("profile", "--preset", "Skin1", "--reference", "--photons", 200000, "--device", "cpu",
+        "--save-profile", saved)
+    comments, r, R = read_table(saved)
+    assert "units: mm" in comments and len(r) > 100
+    # At its samples the model is the table; at scale 10 (scene units of 1 cm) r and R convert.
+    assert np.allclose(translucent.profile(str(saved), r, preset="Skin1"), R, rtol=1e-12, atol=0)
+    # (r / 10 · 10 is not always r: next to an empty annulus R is then ~1e-19, not 0)
+    assert np.allclose(translucent.profile(str(saved), r / 10, preset="Skin1", scale=10), R * 100,
+                       rtol=1e-9, atol=1e-12 * R.max())
+    # Its Rd (quadrature of the interpolated table and its fitted tail) is the tracer's own total
+    # diffuse reflectance, which the file records: the merged annuli keep each annulus's energy,
+    # so what is lost is the interpolation near the source and the tail beyond 3x the 95% radius.
+    traced = next(c for c in comments if c.startswith("traced Rd"))
+    traced = np.array([float(x) for x in traced.split(":")[1].split(",")])
+    medium = translucent.preset("Skin1").medium()
+    rd = translucent.model(str(saved)).profiles(medium).Rd
+    assert rd == pytest.approx(traced, rel=0.01)
+    # The CLI plots it under its file's stem, with the values profile() gives.
+    out = tmp_path / "p.csv"
+    points, r_max = 40, 6.0
+    cli("profile", "--model", f"dipole,{saved}", "--channel", "all", "--points", points, "--rmax",
+        r_max, "--preset", "Skin1", "--out", out)
+    curves = read_curves(out)
+    grid = np.array([r_max * (i + 1) / points for i in range(points)])
+    ours = translucent.profile(str(saved), grid, preset="Skin1")
+    for c, ch in enumerate("rgb"):
+        assert [f"{v:.9g}" for v in ours[:, c]] == curves[("skin1", ch)][1], ch
+
+
+def test_tabulated_profile_errors_name_the_file(cli_error, tmp_path):
+    bad = tmp_path / "bad.csv"
+    bad.write_text("# units: mm\nr,R_r,R_g,R_b\n0.1,1,2,3\n0.05,1,2,3\n")
+    expected = cli_error("profile", "--model", bad, "--out", tmp_path / "x.csv")
+    assert f"{bad}:4: r 0.05 after 0.1" in expected
+    with pytest.raises(ValueError) as e:
+        translucent.profile(str(bad), [1.0])
+    assert str(e.value) == expected
+    # A table has no Rd(α') and no profile of a scalar medium.
+    good = tmp_path / "good.csv"
+    good.write_text("# units: mm\nr,R_r,R_g,R_b\n0.1,1,2,3\n1,0.1,0.2,0.3\n")
+    with pytest.raises(ValueError, match="tabulated profile"):
+        translucent.model(str(good)).total_reflectance(0.9, 1.3)

@@ -14,6 +14,7 @@
 
 #include "bssrdf/bssrdf_file.h"
 #include "bssrdf/registry.h"
+#include "bssrdf/tabulated.h"
 #include "geometry/ambient_occlusion.h"
 #include "geometry/atlas.h"
 #include "gpu/compute.h"
@@ -158,8 +159,11 @@ struct EmpiricalTechnique::Impl {
           uvs[v] = glm::dvec2(cached.atlas.uv(f, c));
         }
     }
-    const bool file = bssrdf::hasBssrdfExtension(mat.model);
+    bool file = bssrdf::hasBssrdfExtension(mat.model);
     if (file) notes.push_back("empirical: per-vertex colours from the dipole's Rd (the material's model is a .bssrdf file)");
+    // A tabulated profile has no Rd(α'); its material is homogeneous (scene.cpp refuses others),
+    // so every vertex's ratio to the reference medium is 1 with any model: the dipole's is used.
+    if (bssrdf::isTabulatedFile(mat.model)) file = true;
     const bssrdf::Model& model = bssrdf::model(file ? std::string("dipole") : mat.model);
     const double eta = mat.medium.eta, scale = mat.medium.scale;
     const auto rd = [&](const material::LocalMedium& m) {
