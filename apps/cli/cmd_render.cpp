@@ -436,7 +436,7 @@ void addRenderCommand(CLI::App& app) {
                               fmt::join(techniques::names(), ", ")));
   cmd->add_option("--width", a->width, "Image width [pixels] (default: the scene camera's)");
   cmd->add_option("--height", a->height, "Image height [pixels] (default: the scene camera's)");
-  cmd->add_option("--model", a->model, "BSSRDF model name or .bssrdf file (default: the scene's)");
+  cmd->add_option("--model", a->model, "BSSRDF model name, .bssrdf file or tabulated profile .csv (default: the scene's)");
   outputOption(cmd->add_option(
       "--out", a->out,
       "PNG output (tone mapped with --exposure and --gamma); without --out and --exr: "

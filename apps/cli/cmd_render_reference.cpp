@@ -633,7 +633,7 @@ void addRenderReferenceCommands(CLI::App& app) {
         "sphere", "A model's radiant exitance on the lit sphere by integrating its profile over "
                   "the surface (seed 3.5), same scene and pixels as `pathtrace sphere`");
     s->add(*cmd, false);
-    cmd->add_option("--model", *model, "Model name: " + fmt::format("{}", fmt::join(bssrdf::modelNames(), ", ")))
+    cmd->add_option("--model", *model, "Model name (" + fmt::format("{}", fmt::join(bssrdf::modelNames(), ", ")) + ") or a tabulated profile FILE.csv")
         ->capture_default_str();
     cmd->add_option("--sampling", *sampling,
                     "uniform: points uniform on the lit hemisphere (the seed's method); "

@@ -769,3 +769,29 @@ TEST(SceneDeform, TheMaterialFrameMapsTheDeformedSurfaceToTheRestPose) {
 
 }  // namespace
 }  // namespace translucent::scene
+
+namespace translucent::scene {
+namespace {
+
+// A tabulated profile (bssrdf/tabulated.h) named by a scene is found next to the scene, as a
+// .bssrdf file is; a heterogeneous material refuses it (the table is one material's R(r)).
+TEST(Scene, TabulatedModelsAreRelativeToTheSceneAndHomogeneousOnly) {
+  TempDir dir;
+  dir.write("m.obj", "");
+  dir.write("skin.csv", "# units: mm\nr,R_r,R_g,R_b\n0.1,1,2,3\n1,0.1,0.2,0.3\n");
+  const std::string base = R"({"mesh": {"file": "m.obj"}, "camera": {"position": [0, 0, 5]},
+    "lights": [{"type": "directional", "direction": [0, 0, 1]}], )";
+  const Scene s = loadScene(dir.write("a.json", base + R"("material": {"preset": "Marble", "model": "skin.csv"}})"));
+  EXPECT_EQ(std::filesystem::path(s.model), dir.path() / "skin.csv");
+  try {
+    (void)loadScene(dir.write("b.json", base + R"("material": {"type": "surface_checker",
+      "cells": 8, "media": [{"preset": "Marble"}, {"preset": "Skin1"}], "model": "skin.csv"}})"));
+    ADD_FAILURE() << "expected an error";
+  } catch (const ParameterError& e) {
+    EXPECT_NE(std::string(e.what()).find("material.model"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("tabulated profile"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace translucent::scene

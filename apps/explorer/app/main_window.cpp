@@ -16,6 +16,7 @@
 
 #include <exception>
 
+#include "bssrdf/tabulated.h"
 #include "app/command_line.h"
 #include "app/console_dock.h"
 #include "app/technique_views_dock.h"
@@ -211,7 +212,8 @@ bool MainWindow::openScene(const QString& path) {
 scene::Scene MainWindow::sceneForCli(const scene::Scene& scene, int width, int height) {
   scene::Scene s = scene;
   s.mesh_file = absolutePath(s.mesh_file);
-  if (s.model.ends_with(".bssrdf")) s.model = absolutePath(s.model).string();
+  if (s.model.ends_with(".bssrdf") || bssrdf::isTabulatedFile(s.model))
+    s.model = absolutePath(s.model).string();
   for (auto& l : s.lights) {
     if (auto* f = std::get_if<scene::FilteredDirectionalLight>(&l.emitter)) f->texture = absolutePath(f->texture);
     if (auto* e = std::get_if<scene::EnvironmentLight>(&l.emitter)) e->file = absolutePath(e->file);

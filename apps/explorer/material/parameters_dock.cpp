@@ -27,6 +27,7 @@
 #include "gpu/bssrdf_profiles.h"
 #include "material/material_worker.h"
 #include "material/value_slider.h"
+#include "bssrdf/tabulated.h"
 #include "optics/inversion.h"
 #include "optics/presets.h"
 
@@ -37,15 +38,22 @@ const char* kChannelLetters[3] = {"r", "g", "b"};
 
 QString q(const std::string& s) { return QString::fromStdString(s); }
 
-// Label of a model entry in lists: a registered name, or a file name for a .bssrdf path.
+// Label of a model entry in lists: a registered name, or a file name for a .bssrdf or .csv path.
 QString modelLabel(const std::string& entry) {
-  return isBssrdfPath(entry) ? QFileInfo(q(entry)).fileName() : q(entry);
+  return isBssrdfPath(entry) || bssrdf::isTabulatedFile(entry) ? QFileInfo(q(entry)).fileName()
+                                                               : q(entry);
 }
 
-// Rd per channel of a registered model (Rd(α', η), seed 3.4).
+// Rd per channel of a registered model (Rd(α', η), seed 3.4), or a tabulated profile's own Rd
+// (fixed: the table ignores σa, σs and g).
 Rgb registeredRd(const std::string& name, const Medium& m) {
   const bssrdf::Model& model = bssrdf::model(name);
   Rgb rd{};
+  if (model.tabulated()) {
+    const auto ps = bssrdf::profiles(model, m);
+    for (size_t c = 0; c < 3; ++c) rd[c] = ps[c]->Rd();
+    return rd;
+  }
   for (int c = 0; c < 3; ++c)
     rd[static_cast<size_t>(c)] = model.totalReflectance(m.channel(c).reducedAlbedo(), m.eta);
   return rd;
@@ -194,6 +202,21 @@ ParametersDock::ParametersDock(ExplorerState& state, QWidget* parent)
   buttons->addWidget(reload);
   filesLayout_->addLayout(buttons);
   layout->addWidget(files);
+
+  // Tabulated (measured or path-traced) profiles: CSV models (bssrdf/tabulated.h), seed 3.1.1's
+  // list of loaded analytic and measured models.
+  auto* tables = new QGroupBox(tr("Measured profiles (.csv)"));
+  auto* tablesLayout = new QVBoxLayout(tables);
+  auto* loadTable = new QPushButton(tr("Load profile…"));
+  loadTable->setObjectName(QStringLiteral("load_profile"));
+  loadTable->setToolTip(tr("A tabulated R(r): r,R_r,R_g,R_b with a '# units: mm' line, or the CSV "
+                           "of translucent profile --reference --save-profile"));
+  tablesLayout->addWidget(loadTable);
+  tablesList_ = new QLabel(tr("(none)"));
+  tablesList_->setObjectName(QStringLiteral("profile_list"));
+  tablesList_->setWordWrap(true);
+  tablesLayout->addWidget(tablesList_);
+  layout->addWidget(tables);
   layout->addStretch(1);
 
   auto* scroll = new QScrollArea;
@@ -207,6 +230,11 @@ ParametersDock::ParametersDock(ExplorerState& state, QWidget* parent)
     const QString path = QFileDialog::getOpenFileName(this, tr("Load a .bssrdf model"), QString(),
                                                       tr("BSSRDF models (*.bssrdf)"));
     if (!path.isEmpty()) loadBssrdf(path);
+  });
+  connect(loadTable, &QPushButton::clicked, this, [this] {
+    const QString path = QFileDialog::getOpenFileName(this, tr("Load a tabulated profile"),
+                                                      QString(), tr("Profiles (*.csv)"));
+    if (!path.isEmpty()) loadProfile(path);
   });
   connect(reload, &QPushButton::clicked, this, [this] {
     for (const auto& f : files_) reloadBssrdf(q(f));
@@ -277,6 +305,7 @@ void ParametersDock::refreshModels() {
   model_->clear();
   for (const auto& name : bssrdf::modelNames()) model_->addItem(q(name), q(name));
   for (const auto& f : files_) model_->addItem(modelLabel(f), q(f));
+  for (const auto& f : tables_) model_->addItem(modelLabel(f), q(f));
   const int i = model_->findData(q(state_.scene().model));
   if (i < 0 && !state_.scene().model.empty())
     model_->addItem(modelLabel(state_.scene().model), q(state_.scene().model));
@@ -357,8 +386,11 @@ void ParametersDock::updateReflectance() {
   if (!isBssrdfPath(model)) {
     try {
       showRd(registeredRd(model, m));
-      rdNote_->setText(tr("Inverted with %1's Rd(α')").arg(q(model)));
-      pages_->widget(1)->setEnabled(true);
+      const bool table = bssrdf::isTabulatedFile(model);
+      rdNote_->setText(table ? tr("%1 is a measured profile: its Rd is fixed, nothing to invert")
+                                   .arg(modelLabel(model))
+                             : tr("Inverted with %1's Rd(α')").arg(q(model)));
+      pages_->widget(1)->setEnabled(!table);
     } catch (const std::exception& e) {
       state_.error(QStringLiteral("parameters: %1").arg(e.what()));
     }
@@ -488,6 +520,32 @@ void ParametersDock::loadBssrdf(const QString& qpath) {
         state_.error(why);
         emit bssrdfLoaded(qpath, false);
       });
+}
+
+void ParametersDock::loadProfile(const QString& qpath) {
+  const std::string path = QFileInfo(qpath).absoluteFilePath().toStdString();
+  try {
+    // Read and validated on this thread: a table is a small CSV (bssrdf::model caches it).
+    const bssrdf::Model& m = bssrdf::model(path);
+    (void)bssrdf::profiles(m, state_.medium());
+  } catch (const std::exception& e) {
+    state_.error(QStringLiteral("profile: %1").arg(e.what()));
+    emit profileLoaded(qpath, false);
+    return;
+  }
+  if (std::find(tables_.begin(), tables_.end(), path) == tables_.end()) tables_.push_back(path);
+  QStringList names;
+  for (const auto& t : tables_) names << modelLabel(t);
+  tablesList_->setText(names.join(QStringLiteral(", ")));
+  auto models = state_.plotModels();
+  if (std::find(models.begin(), models.end(), path) == models.end()) {
+    models.push_back(path);
+    state_.setPlotModels(std::move(models));
+  }
+  refreshModels();
+  state_.info(QStringLiteral("loaded %1 (%2)")
+                  .arg(q(path), q(std::string(bssrdf::model(path).description()))));
+  emit profileLoaded(qpath, true);
 }
 
 void ParametersDock::reloadBssrdf(const QString& qpath) {

@@ -60,12 +60,17 @@ class ParametersDock : public QDockWidget {
   // Re-reads a loaded file (the Reload button reloads all of them).
   void reloadBssrdf(const QString& path);
   const std::vector<std::string>& loadedFiles() const { return files_; }
+  // Loads a tabulated profile (.csv, bssrdf/tabulated.h) as a model: it joins the plot and the
+  // model list; on failure the console says why (file:line). profileLoaded(path, ok) either way.
+  void loadProfile(const QString& path);
+  const std::vector<std::string>& loadedProfiles() const { return tables_; }
 
   // The swatch colour (sRGB, 8 bits) and the linear RGB it encodes.
   Rgb swatchLinear() const { return swatch_; }
 
  signals:
   void bssrdfLoaded(const QString& path, bool ok);
+  void profileLoaded(const QString& path, bool ok);
   void bssrdfReloaded(const QString& path, bool ok);
 
  private:
@@ -108,6 +113,8 @@ class ParametersDock : public QDockWidget {
   QVBoxLayout* filesLayout_;
   QFileSystemWatcher* watcher_;
   std::vector<std::string> files_;
+  std::vector<std::string> tables_;  // loaded tabulated profiles (absolute paths)
+  QLabel* tablesList_ = nullptr;
   std::set<std::string> attempted_;  // files loaded or tried (the scene's model loads once)
   std::map<std::string, QGroupBox*> fileBoxes_;
   Rgb swatch_{};

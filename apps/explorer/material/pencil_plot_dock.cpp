@@ -18,6 +18,7 @@
 #include <map>
 
 #include "bssrdf/registry.h"
+#include "bssrdf/tabulated.h"
 #include "core/explorer_state.h"
 #include "core/trace_device_box.h"
 #include "gpu/bssrdf_profiles.h"
@@ -49,6 +50,7 @@ bool sameMedium(const Medium& a, const Medium& b) {
 // Label of a model's curves: a registered name, or a .bssrdf file's stem (as `translucent
 // profile` labels it), with ".bssrdf" where the stem is also a registered name.
 std::string curveLabel(const std::string& entry) {
+  if (bssrdf::isTabulatedFile(entry)) return QFileInfo(q(entry)).completeBaseName().toStdString();
   if (!isBssrdfPath(entry)) return entry;
   std::string stem = QFileInfo(q(entry)).completeBaseName().toStdString();
   const auto names = bssrdf::modelNames();
@@ -219,7 +221,7 @@ void PencilPlotDock::requestModels() {
                 continue;
               }
               for (Channel ch : chans) {
-                Curve c{m, analysis::channelName(ch), grid, {}, {}};
+                Curve c{curveLabel(m), analysis::channelName(ch), grid, {}, {}};
                 c.value.reserve(grid.size());
                 for (double r : grid) {
                   const Rgb v{ps[0]->R(r), ps[1]->R(r), ps[2]->R(r)};

@@ -22,6 +22,8 @@
 #include <map>
 
 #include "analysis/profile_curves.h"
+#include "bssrdf/registry.h"
+#include "bssrdf/tabulated.h"
 #include "core/explorer_state.h"
 #include "material/parameters_dock.h"
 #include "material/pencil_plot_dock.h"
@@ -271,6 +273,55 @@ class MaterialDocksTest : public QObject {
   // A user's .bssrdf file (a copy of the shipped normalized diffusion): its curve joins the plot
   // and equals the C++ model's, its declared parameter gets a widget that changes the curve, a
   // GLSL error and a failed reload are reported by file:line and the last good version stays.
+  // A tabulated profile (issue 14 §2): a dense table of the dipole for the fixture's medium
+  // joins the plot under its file's stem, on the dipole's curve, and the model list; a bad table
+  // is reported by file:line and changes nothing.
+  void tabulatedProfilesLoadAndFail() {
+    Fixture f(false);
+    QSignalSpy curves(&f.plot, &PencilPlotDock::modelCurvesUpdated);
+    QVERIFY(f.waitCurves(curves));
+    QTemporaryDir dir;
+    const QString table = dir.filePath("table.csv");
+    {
+      Medium mm = f.state.medium();
+      mm.scale = 1.0;  // the table is in mm
+      const auto ps = bssrdf::profiles(bssrdf::model("dipole"), mm);
+      bssrdf::ProfileSamples t;
+      for (int i = 0; i < 3000; ++i) {
+        t.r_mm.push_back(1e-4 * std::pow(1e6, i / 2999.0));
+        for (size_t c = 0; c < 3; ++c) t.R_mm[c].push_back(ps[c]->R(t.r_mm.back()));
+      }
+      bssrdf::writeProfileSamples(table.toStdString(), t);
+    }
+    QSignalSpy loaded(&f.params, &ParametersDock::profileLoaded);
+    curves.clear();
+    f.params.loadProfile(table);
+    QCOMPARE(loaded.size(), 1);
+    QVERIFY2(loaded.at(0).at(1).toBool(), qPrintable(f.console.lines.back().second));
+    QCOMPARE(f.state.plotModels().size(), size_t{3});
+    QCOMPARE(f.params.loadedProfiles().size(), size_t{1});
+    QVERIFY(f.params.findChild<QComboBox*>("model")->findText("table.csv") >= 0);
+    QVERIFY(curves.wait(20000));
+    while (curves.wait(500)) {}
+    const auto dip = linePoints(f.plot.chart(), "dipole"), tab = linePoints(f.plot.chart(), "table");
+    QCOMPARE(tab.size(), dip.size());
+    for (const auto& [r, v] : dip)
+      QVERIFY2(std::abs(tab.at(r) - v) <= 1e-3 * v,
+               qPrintable(QString("r=%1: %2 vs %3").arg(r).arg(tab.at(r)).arg(v)));
+
+    const QString bad = dir.filePath("bad.csv");
+    {
+      QFile file(bad);
+      QVERIFY(file.open(QIODevice::WriteOnly));
+      file.write("# units: mm\nr,R_r,R_g,R_b\n0.1,1,2,3\n0.2,1,nan?,3\n");
+    }
+    f.params.loadProfile(bad);
+    QCOMPARE(loaded.size(), 2);
+    QCOMPARE(loaded.at(1).at(1).toBool(), false);
+    QVERIFY2(f.console.hasError("bad.csv:4"), "the console names bad.csv:4");
+    QCOMPARE(f.state.plotModels().size(), size_t{3});
+  }
+
   void bssrdfFilesLoadReloadAndFail() {
     Fixture f(false);
     QSignalSpy curves(&f.plot, &PencilPlotDock::modelCurvesUpdated);
