@@ -343,8 +343,13 @@ bool ClosedMeshState::loadClosedMesh(const scene::Scene& s, bool gpuDeform) {
   bool loaded = false;
   if (key != meshKey || !gpuMesh) {
     geometry::TriangleMesh m = gpuDeform ? scene::loadRestMesh(s) : scene::loadSceneMesh(s);
-    m.requireClosed(fmt::format("mesh file '{}'", s.mesh_file.string()));
-    m.orientOutwards();
+    openEdges = allowOpen ? m.openEdgeCount() : 0;
+    if (!allowOpen)
+      m.requireClosed(fmt::format("mesh file '{}' (the pointcloud technique renders open meshes)",
+                                  s.mesh_file.string()));
+    // An open surface has no inside whose signed volume could say which way is out: its winding
+    // (and its normals) are used as the file gives them.
+    if (openEdges == 0) m.orientOutwards();
     mesh = std::move(m);
     gpuMesh.emplace(mesh);
     meshKey = key;

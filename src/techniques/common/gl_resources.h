@@ -200,9 +200,13 @@ struct ClosedMeshState {
   std::optional<GpuMesh> gpuMesh;
   glm::dvec3 center{0.0};
   double radius = 1.0;
+  // Techniques that need no interior (the point cloud: seed 3.6, a surface integral) accept open
+  // meshes; openEdges is then their count (0: closed).
+  bool allowOpen = false;
+  size_t openEdges = 0;
   // Loads the scene's mesh unless it is the one loaded (same key); true when it did (a GPU
   // deformation to a new time alone returns false). Throws geometry::MeshError naming the file
-  // for an open mesh.
+  // for an open mesh unless allowOpen.
   bool loadClosedMesh(const scene::Scene& s, bool gpuDeform = false);
 };
 

@@ -169,6 +169,9 @@ struct PointCloudTechnique::Impl : techniques::ClosedMeshState {
     // The rest mesh once (GpuMesh deforms it on the GPU for the G-buffer and shadow maps);
     // `mesh` is the CPU-deformed copy at the scene's time.
     const std::string before = deformState;
+    // Points need no interior (Eq. 3.5 sums over the surface): open meshes (a face mask, a patch
+    // of terrain) are rendered with their winding as given.
+    allowOpen = true;
     if (loadClosedMesh(s, /*gpuDeform=*/true)) geometryDirty = true;
     else if (deformState != before) motionDirty = true;
   }
@@ -277,6 +280,11 @@ struct PointCloudTechnique::Impl : techniques::ClosedMeshState {
       opt.seed = static_cast<uint64_t>(params.getInt("seed"));
       opt.method = geometry::parseSamplingMethod(params.getEnum("sampling"));
       geometry::CachedPointCloud cached = geometry::loadOrSamplePointCloud(rest, opt);
+      if (openEdges > 0)
+        notes.push_back(fmt::format("pointcloud: the mesh is open ({} edges not shared by two "
+                                    "triangles): its winding is taken as outward as given, and "
+                                    "light reaches its back only through the surface",
+                                    openEdges));
       notes.push_back(fmt::format("point cloud: {} points {} {}", opt.count,
                                   cached.fromCache ? "read from" : "sampled, cached in",
                                   cached.file.string()));
