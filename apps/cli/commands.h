@@ -14,6 +14,7 @@ void addRenderCommand(CLI::App& app);            // render (real-time techniques
 void addCompareCommand(CLI::App& app);           // compare (techniques vs references, report)
 void addConventionStudyCommand(CLI::App& app);   // convention-study (exit-radiance conventions)
 void addAtlasCommand(CLI::App& app);             // atlas (surface parameterisation, statistics)
+void addPointCloudCommand(CLI::App& app);        // pointcloud (surface samples as PLY)
 void addMergeCommand(CLI::App& app);             // merge (the shards of a path-traced run)
 
 // Every subcommand above, on a new app (main(), and `merge` when it runs a recorded command).

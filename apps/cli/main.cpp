@@ -34,6 +34,7 @@ void addAllCommands(CLI::App& app) {
   addCompareCommand(app);
   addConventionStudyCommand(app);
   addAtlasCommand(app);
+  addPointCloudCommand(app);
   addMergeCommand(app);
 }
 }  // namespace translucent::cli

@@ -106,8 +106,8 @@ uint64_t meshHash(const TriangleMesh& mesh);
 void writePointCloudPly(const PointCloud& cloud, const std::filesystem::path& path);
 
 // Reads ascii or binary (either endianness) PLY: the `vertex` element must have x, y, z, nx, ny,
-// nz and area (any scalar type, in any order); face and irradiance_r/g/b are optional; other
-// properties and elements are skipped. The result is validate()d. Throws PointCloudError naming
+// nz and area, or radius for a surfel disc of area π r² (any scalar type, in any order); face and
+// irradiance_r/g/b are optional; other properties and elements are skipped. The result is validate()d. Throws PointCloudError naming
 // the file and what was expected.
 PointCloud readPointCloudPly(const std::filesystem::path& path);
 // The same for a cache file: the header must hold the content hash that writePointCloudPly

@@ -10,6 +10,7 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <numbers>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
@@ -327,9 +328,9 @@ PointCloud readPly(const fs::path& path, bool requireHash) {
     }
 
     // The vertex element: map property names to fields.
-    enum Field { X, Y, Z, NX, NY, NZ, AREA, FACE, ER, EG, EB, NONE };
+    enum Field { X, Y, Z, NX, NY, NZ, AREA, FACE, ER, EG, EB, RADIUS, NONE };
     static const char* fieldNames[] = {"x", "y", "z", "nx", "ny", "nz", "area", "face",
-                                       "irradiance_r", "irradiance_g", "irradiance_b"};
+                                       "irradiance_r", "irradiance_g", "irradiance_b", "radius"};
     std::vector<int> field(e.properties.size(), NONE);
     std::array<bool, NONE> present{};
     for (size_t k = 0; k < e.properties.size(); ++k)
@@ -338,10 +339,14 @@ PointCloud readPly(const fs::path& path, bool requireHash) {
           field[k] = f;
           present[static_cast<size_t>(f)] = true;
         }
+    // Surfel files give a disc radius instead of an area: p_a = π r² (an area wins if both).
+    const bool areaFromRadius = !present[AREA] && present[RADIUS];
+    if (areaFromRadius) present[AREA] = true;
     for (int f = X; f <= AREA; ++f)
       if (!present[static_cast<size_t>(f)])
         throw PointCloudError(fmt::format("PLY file '{}' has no vertex property '{}': expected "
-                                          "x, y, z, nx, ny, nz and area", file, fieldNames[f]));
+                                          "x, y, z, nx, ny, nz and area (or radius)", file,
+                                          fieldNames[f]));
     const bool haveFaces = present[FACE];
     const bool haveIrradiance = present[ER] || present[EG] || present[EB];
     if (haveIrradiance && !(present[ER] && present[EG] && present[EB]))
@@ -382,6 +387,13 @@ PointCloud readPly(const fs::path& path, bool requireHash) {
           case NY: cloud.normals[i].y = f; break;
           case NZ: cloud.normals[i].z = f; break;
           case AREA: cloud.areas[i] = f; break;
+          case RADIUS:
+            if (!areaFromRadius) break;
+            if (!(v > 0.0) || !std::isfinite(v))
+              throw PointCloudError(fmt::format("PLY file '{}': vertex {} has radius {}: expected "
+                                                "a positive finite radius", file, i, v));
+            cloud.areas[i] = static_cast<float>(std::numbers::pi * v * v);
+            break;
           case FACE:
             if (!(v >= 0.0 && v <= double(std::numeric_limits<uint32_t>::max())) ||
                 v != std::floor(v))

@@ -312,6 +312,28 @@ TEST(PointCloudPly, ReadsAsciiAndBigEndianWithOtherPropertiesAndElements) {
   EXPECT_EQ(b.faces[0], 42u);
 }
 
+// Surfel clouds give a disc radius instead of an area: p_a = π r²; an area wins when both are there.
+TEST(PointCloudPly, RadiusGivesTheDiscArea) {
+  TempDir dir("ply-radius");
+  {
+    std::ofstream f(dir.path() / "r.ply");
+    f << "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
+         "property float z\nproperty float nx\nproperty float ny\nproperty float nz\n"
+         "property double radius\nend_header\n0 0 0 0 0 1 0.5\n1 0 0 1 0 0 2\n";
+  }
+  const PointCloud a = readPointCloudPly(dir.path() / "r.ply");
+  ASSERT_EQ(a.size(), 2u);
+  EXPECT_FLOAT_EQ(a.areas[0], static_cast<float>(std::numbers::pi * 0.25));
+  EXPECT_FLOAT_EQ(a.areas[1], static_cast<float>(std::numbers::pi * 4.0));
+  {
+    std::ofstream f(dir.path() / "both.ply");
+    f << "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+         "property float z\nproperty float nx\nproperty float ny\nproperty float nz\n"
+         "property float radius\nproperty float area\nend_header\n0 0 0 0 0 1 0.5 3\n";
+  }
+  EXPECT_FLOAT_EQ(readPointCloudPly(dir.path() / "both.ply").areas[0], 3.0f);
+}
+
 TEST(PointCloudPly, BadFilesGiveClearErrors) {
   TempDir dir("ply-errors");
   const auto expectError = [](const fs::path& path, const std::string& text) {
@@ -344,6 +366,11 @@ TEST(PointCloudPly, BadFilesGiveClearErrors) {
                                "property float ny\nproperty float nz\nproperty float area\n"
                                "end_header\n0 0 0 0 0 1 abc\n"),
               "'abc' is not a number");
+  expectError(write("badradius.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\n"
+                                     "property float y\nproperty float z\nproperty float nx\n"
+                                     "property float ny\nproperty float nz\nproperty float radius\n"
+                                     "end_header\n0 0 0 0 0 1 -0.5\n"),
+              "vertex 0 has radius -0.5");
   expectError(write("badtype.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty half x\n"
                                    "end_header\n"),
               "property type 'half'");
