@@ -93,9 +93,12 @@ void runSlab(const PathtraceArgs& a) {
   }
   if (options.long_path_roulette > 0)
     printStderr(
-               "pathtrace: note: long-path roulette keeps estimates unbiased, but each roulette "
+               "pathtrace: warning: long-path roulette keeps estimates unbiased, but each roulette "
                "multiplies the second moment by 10 x (chance to continue); where that exceeds "
-               "1 the variance is infinite and the standard errors are not reliable\n");
+               "1 the variance is infinite and the standard errors are not reliable: with little "
+               "absorption a run is typically LOW by the share of light in walks longer than N "
+               "events, and its ± does not show it (sigma_a = 0, eta 1.3: Rd 0.749, 0.904, 0.959 "
+               "at N = 100, 1000, 10^4 against the true 0.983; README, 'Long-path roulette')\n");
 
   SlabResult r;
   if (const MergedRun* merged = mergedRun()) {
