@@ -156,7 +156,9 @@ Models are stateless; model.profiles(medium) makes the per-channel radial profil
             const_cast<bssrdf::Model*>(&bssrdf::model(name)));
       },
       py::arg("name"),
-      "The registered model of this name; ValueError listing the names otherwise.");
+      "The registered model of this name, or the tabulated profile a .csv path names (loaded "
+      "once per path; .profiles(medium) gives its Rd, sample(u), radius(f)); ValueError listing "
+      "the names, or naming the file and line, otherwise.");
   m.def("model_names", &bssrdf::modelNames,
         "Registered model names in registration order (what `--model all` plots).");
 
@@ -300,8 +302,11 @@ the diffuse reflectance per unit area at distance r from the beam, per unit flux
 medium [1/unit²]. The numbers are those `translucent profile --channel all --out x.csv` writes
 (the CSV prints them to 9 significant digits).
 
-model: a registered model name (translucent.model_names()), or a .bssrdf file (evaluated on
-  the GPU, at its parameters' defaults; translucent.BssrdfModel sets them).
+model: a registered model name (translucent.model_names()), a .bssrdf file (evaluated on
+  the GPU, at its parameters' defaults; translucent.BssrdfModel sets them), or a tabulated
+  profile FILE.csv (r,R_r,R_g,R_b with a '# units: mm' line, or what `translucent profile
+  --reference --save-profile` writes): a measured R(r) that ignores sigma_a, sigma_s and g;
+  scale converts its millimetres to scene units.
 r: radii [scene units], any array-like; the result has shape r.shape + (3,), float64,
   C-contiguous, the last axis red, green, blue.
 preset: a measured material (translucent.presets(); default "Marble" unless sigma_a and

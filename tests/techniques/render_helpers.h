@@ -89,4 +89,12 @@ inline std::unique_ptr<PointCloudTechnique> technique(int points) {
   return t;
 }
 
+// Prepares `t` for `s` on the test context and renders one converged frame.
+inline techniques::Frame renderConverged(techniques::Technique& t, const scene::Scene& s) {
+  t.prepare(s, gpu::testing::context());
+  techniques::FrameRequest req;
+  req.converge = true;
+  return t.render(req);
+}
+
 }  // namespace translucent::pointcloud::testing

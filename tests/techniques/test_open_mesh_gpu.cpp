@@ -21,10 +21,7 @@ class OpenMeshGpu : public gpu::testing::GpuTest {};
 Frame renderWith(const std::string& technique, const scene::Scene& s, int points) {
   auto t = make(technique);
   if (points > 0) t->setParameter("points", points);
-  t->prepare(s, gpu::testing::context());
-  FrameRequest req;
-  req.converge = true;
-  return t->render(req);
+  return renderConverged(*t, s);
 }
 
 TEST_F(OpenMeshGpu, PointCloudRendersAnOpenBoxAsTheClosedOneOthersRefuseIt) {

@@ -560,11 +560,10 @@ TEST_F(PointCloudGpu, BadMeshesGiveClearErrors) {
   EXPECT_NE(prepareError(*t, s).find("missing.obj"), std::string::npos) << prepareError(*t, s);
   s.mesh_file = dir.write("empty.obj", "");
   EXPECT_NE(prepareError(*t, s).find("empty"), std::string::npos) << prepareError(*t, s);
-  // An open surface (a single square): not closed, no inside for the light to scatter in.
+  // An open surface (a single square) is not an error for points, which need no interior
+  // (issue 14 §5; test_open_mesh_gpu.cpp renders one and checks the others' refusal).
   s.mesh_file = dir.write("open.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 3 4\n");
-  const std::string open = prepareError(*t, s);
-  EXPECT_NE(open.find("open.obj"), std::string::npos) << open;
-  EXPECT_NE(open.find("closed"), std::string::npos) << open;
+  EXPECT_EQ(prepareError(*t, s), "no error");
   // The technique still works after the failures.
   s.mesh_file = writeObj(geometry::makeIcosphere(2, 1.0), dir.path() / "ok.obj");
   EXPECT_EQ(prepareError(*t, s), "no error");

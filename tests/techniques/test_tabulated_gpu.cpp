@@ -36,11 +36,7 @@ bssrdf::ProfileSamples denseDipole(Medium medium) {
 }
 
 Frame renderWith(const std::string& technique, const scene::Scene& s) {
-  auto t = make(technique);
-  t->prepare(s, gpu::testing::context());
-  FrameRequest req;
-  req.converge = true;
-  return t->render(req);
+  return renderConverged(*make(technique), s);
 }
 
 TEST_F(TabulatedGpu, EveryTechniqueRendersATableOfTheDipoleAsTheDipole) {
