@@ -13,7 +13,8 @@
 namespace translucent::cli {
 
 // A --model entry names a .bssrdf file when it ends in ".bssrdf" (any case) or is an existing
-// regular file; otherwise it is a registered model name.
+// regular file other than a tabulated .csv profile (bssrdf::isPluginFile); otherwise it is a
+// registered model name or a tabulated profile.
 bool isBssrdfFile(const std::string& entry);
 
 // The headless OpenGL 4.5 context; without one, a ParameterError saying that `what` needs it and

@@ -31,6 +31,8 @@
 #include "analysis/compare.h"  // referenceKey: `compare --reference-from` takes these runs
 #include "analysis/image_io.h"
 #include "bssrdf/registry.h"
+#include "bssrdf_models.h"
+#include "gpu/bssrdf_profiles.h"
 #include "commands.h"
 #include "output_guard.h"
 #include "shard.h"
@@ -386,7 +388,19 @@ void runIntegrateSphere(const SphereArgs& s, const RunArgs& a, const std::string
   o.defensive = defensive;
   o.seed = a.seed;
   o.threads = a.threads;
-  reference::SphereIntegrator integrator(bssrdf::model(model), scene, medium, o);
+  // A radial .bssrdf plug-in is integrated through its GPU values tabulated for this medium
+  // (gpu::bssrdfTabulatedModel): the integrator samples and evaluates R(r) on the CPU.
+  std::unique_ptr<bssrdf::TabulatedModel> plugin;
+  if (isBssrdfFile(model)) {
+    const auto gl = bssrdfContext("--model " + model);
+    const auto evaluator = loadBssrdfModel(model, {});
+    if (!evaluator->file().attributes.radial)
+      throw ParameterError(fmt::format(
+          "--model {}: not a radial BSSRDF (line 1 lacks `radial`): the sphere integration "
+          "evaluates R(r); directional files are not integrated yet", model));
+    plugin = gpu::bssrdfTabulatedModel(*evaluator, medium, model);
+  }
+  reference::SphereIntegrator integrator(plugin ? *plugin : bssrdf::model(model), scene, medium, o);
   auto pass = [&](const reference::ProgressCallback& cb) {
     return integrator.addPass(samples, cb).partial;
   };
@@ -633,7 +647,7 @@ void addRenderReferenceCommands(CLI::App& app) {
         "sphere", "A model's radiant exitance on the lit sphere by integrating its profile over "
                   "the surface (seed 3.5), same scene and pixels as `pathtrace sphere`");
     s->add(*cmd, false);
-    cmd->add_option("--model", *model, "Model name (" + fmt::format("{}", fmt::join(bssrdf::modelNames(), ", ")) + ") or a tabulated profile FILE.csv")
+    cmd->add_option("--model", *model, "Model name (" + fmt::format("{}", fmt::join(bssrdf::modelNames(), ", ")) + "), a radial .bssrdf file (tabulated on the GPU for the medium) or a tabulated profile FILE.csv")
         ->capture_default_str();
     cmd->add_option("--sampling", *sampling,
                     "uniform: points uniform on the lit hemisphere (the seed's method); "

@@ -53,6 +53,27 @@ std::vector<Rgb> bssrdfProfile(BssrdfEvaluator& evaluator, const Medium& medium,
   return evaluate(evaluator, radii);
 }
 
+std::unique_ptr<bssrdf::TabulatedModel> bssrdfTabulatedModel(BssrdfEvaluator& evaluator,
+                                                             const Medium& medium,
+                                                             const std::string& name, int n) {
+  const BssrdfEnergy energy = bssrdfRadiusForFraction(evaluator, medium, 1.0 - 1e-7);
+  const double rMax = std::max({energy.radius[0], energy.radius[1], energy.radius[2]});
+  std::vector<double> radii(static_cast<size_t>(std::max(n, 2)));
+  for (size_t i = 0; i < radii.size(); ++i)
+    radii[i] = 1e-6 * rMax * std::pow(1e6, double(i) / double(radii.size() - 1));
+  const auto values = bssrdfProfile(evaluator, medium, radii);
+  bssrdf::ProfileSamples t;
+  t.source = name;
+  t.eta = medium.eta;
+  for (size_t i = 0; i < radii.size(); ++i) {
+    t.r_mm.push_back(radii[i] * medium.scale);
+    // Tiny negative float values far out (cancellation in a shader) are clamped to 0.
+    for (size_t c = 0; c < 3; ++c)
+      t.R_mm[c].push_back(std::max(0.0, values[i][c]) / (medium.scale * medium.scale));
+  }
+  return std::make_unique<bssrdf::TabulatedModel>(std::move(t));
+}
+
 std::vector<analysis::Curve> bssrdfCurves(BssrdfEvaluator& evaluator, const std::string& label,
                                           const Medium& medium,
                                           const std::vector<analysis::Channel>& channels,

@@ -12,11 +12,13 @@
 #pragma once
 
 #include <array>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "analysis/profile_curves.h"
 #include "bssrdf/profile_table.h"
+#include "bssrdf/tabulated.h"
 #include "gpu/bssrdf_kernels.h"
 #include "optics/medium.h"
 
@@ -50,6 +52,16 @@ BssrdfEnergy bssrdfRadiusForFraction(BssrdfEvaluator& evaluator, const Medium& m
 // table interval.
 bssrdf::ProfileTable tabulateBssrdf(BssrdfEvaluator& evaluator, const Medium& medium, int channel,
                                     size_t n = 1024, double fraction = 0.999);
+
+// A radial .bssrdf file for one medium as a tabulated model (bssrdf/tabulated.h), named `name`:
+// R(r) from the GPU at `n` log-spaced radii from 1e-6 to 1 of the largest radius holding
+// 1 − 1e-7 of Rd over the channels, stored in mm (r · scale, R / scale²). It is that medium's
+// profile only (a file's R depends on the medium): what the sphere integration of a plug-in
+// (seed 3.5) samples and integrates on the CPU. Throws ParameterError as bssrdfRadiusForFraction.
+std::unique_ptr<bssrdf::TabulatedModel> bssrdfTabulatedModel(BssrdfEvaluator& evaluator,
+                                                             const Medium& medium,
+                                                             const std::string& name,
+                                                             int n = 4000);
 
 // Inverts the file's Rdr(α') per channel (seed 3.4) and returns the medium (coefficients per mm,
 // σs from σs' and g). Throws ParameterError when the file has no diffuseReflectance section, when

@@ -42,6 +42,27 @@ TEST_F(BssrdfProfiles, CurvesMatchCppDipole) {
   }
 }
 
+// The sphere integration's path for plug-ins (`integrate sphere --model F.bssrdf`): the file's
+// GPU values tabulated as a model for one medium (at scale 10, so the mm conversion is exercised)
+// have the C++ dipole's R(r) between the table's radii, Rd and 95% radius, to the table's
+// interpolation (4000 log-spaced radii) and float precision.
+TEST_F(BssrdfProfiles, TabulatedModelOfAFileIsItsProfile) {
+  auto e = BssrdfEvaluator::builtin("dipole");
+  Medium medium = preset("Skin1").medium();
+  medium.scale = 10.0;
+  const auto table = bssrdfTabulatedModel(e, medium, "dipole.bssrdf");
+  EXPECT_TRUE(table->tabulated());
+  const auto a = bssrdf::profiles(bssrdf::model("dipole"), medium);
+  const auto b = bssrdf::profiles(*table, medium);
+  for (size_t c = 0; c < 3; ++c) {
+    SCOPED_TRACE(c);
+    for (double r : {0.0013, 0.01, 0.0537, 0.2, 0.61})
+      EXPECT_NEAR(b[c]->R(r) / a[c]->R(r), 1.0, 2e-5) << "r " << r;
+    EXPECT_NEAR(b[c]->Rd() / a[c]->Rd(), 1.0, 1e-5);
+    EXPECT_NEAR(b[c]->radiusForFraction(0.95) / a[c]->radiusForFraction(0.95), 1.0, 1e-5);
+  }
+}
+
 // Tables from GPU values against the C++ dipole: r_max (the 99.9% radius, found from GPU values)
 // and Rd within 1e-4 / 1e-5 relative (float values integrated in double); each entry above 1e-6
 // of the peak within 1e-4 of the C++ R at the table's own radius (tabulate() at a radius 1e-5
