@@ -43,6 +43,7 @@
 #include "reference/mesh_tracer.h"
 #include "reference/model_reference.h"
 #include "reference/gpu/device.h"
+#include "reference/gpu/sphere_integration_gpu.h"
 #include "reference/sphere.h"
 #include "reference/sphere_integration.h"
 
@@ -389,42 +390,61 @@ void runIntegrateSphere(const SphereArgs& s, const RunArgs& a, const std::string
   o.seed = a.seed;
   o.threads = a.threads;
   // A radial .bssrdf plug-in is integrated through its GPU values tabulated for this medium
-  // (gpu::bssrdfTabulatedModel): the integrator samples and evaluates R(r) on the CPU.
+  // (gpu::bssrdfTabulatedModel): the integrator samples and evaluates R(r) on the CPU. A
+  // directional one (line 1 without `radial`) is integrated on the GPU with the light's and the
+  // camera's directions (GpuSphereIntegrator: uniform sampling).
   std::unique_ptr<bssrdf::TabulatedModel> plugin;
+  std::unique_ptr<gpu::Context> gl;
+  std::unique_ptr<gpu::BssrdfEvaluator> evaluator;
+  std::string used = sampling;
   if (isBssrdfFile(model)) {
-    const auto gl = bssrdfContext("--model " + model);
-    const auto evaluator = loadBssrdfModel(model, {});
-    if (!evaluator->file().attributes.radial)
-      throw ParameterError(fmt::format(
-          "--model {}: not a radial BSSRDF (line 1 lacks `radial`): the sphere integration "
-          "evaluates R(r); directional files are not integrated yet", model));
-    plugin = gpu::bssrdfTabulatedModel(*evaluator, medium, model);
+    gl = bssrdfContext("--model " + model);
+    evaluator = loadBssrdfModel(model, {});
+    if (evaluator->file().attributes.radial) {
+      plugin = gpu::bssrdfTabulatedModel(*evaluator, medium, model);
+    } else {
+      if (sampling != "uniform")
+        printStderr("integrate sphere: --model {} is directional: integrated on the GPU with "
+                    "uniform sampling (the importance sampler needs a radial profile)\n",
+                    model);
+      used = "uniform";
+    }
+  }
+  auto run = [&](auto& integrator, const std::string& where) {
+    auto pass = [&](const reference::ProgressCallback& cb) {
+      return integrator.addPass(samples, cb).partial;
+    };
+    auto write = [&](bool partial) {
+      const auto& st = integrator.stats();
+      const McImage& img =
+          a.quantity == "radiance" ? integrator.images().radiance : integrator.images().exitance;
+      writeImage(a, img,
+                 {{"exitance", &integrator.images().exitance},
+                  {"radiance", &integrator.images().radiance}},
+                 fmt::format("translucent integrate sphere --model {} --sampling {}", model, used),
+                 partial, fmt::format("{} samples per pixel", st.samples));
+      nlohmann::json j = {{"command", "integrate sphere"}, {"model", model},
+                          {"sampling", used}, {"defensive", used == "uniform" ? 1.0 : defensive},
+                          {"device", where},
+                          {"scene", sceneJson(s, medium)}, {"samples_per_pixel", st.samples},
+                          {"seconds", st.seconds}, {"threads", st.threads}, {"partial", partial}};
+      writeJson(a, j);
+    };
+    runPasses(a, "integrate sphere", "samples", pass, write);
+    const auto& st = integrator.stats();
+    printStderr("integrate sphere: {}{} ({} sampling), {} samples per pixel in {:.2f} s "
+                "({}); wrote {}{}\n",
+                st.partial ? "stopped early, partial result: " : "", model, used, st.samples,
+                st.seconds, where == "cpu" ? fmt::format("{} threads", st.threads) : where, a.exr,
+                a.png.empty() ? "" : " and " + a.png);
+  };
+  if (evaluator && !plugin) {
+    reference::GpuSphereIntegrator integrator(*evaluator, scene, medium, a.seed);
+    run(integrator, "gpu (" + gl->info().renderer + ")");
+    return;
   }
   reference::SphereIntegrator integrator(plugin ? *plugin : bssrdf::model(model), scene, medium, o);
-  auto pass = [&](const reference::ProgressCallback& cb) {
-    return integrator.addPass(samples, cb).partial;
-  };
-  auto write = [&](bool partial) {
-    const auto& st = integrator.stats();
-    const McImage& img =
-        a.quantity == "radiance" ? integrator.images().radiance : integrator.images().exitance;
-    writeImage(a, img,
-               {{"exitance", &integrator.images().exitance},
-                {"radiance", &integrator.images().radiance}},
-               fmt::format("translucent integrate sphere --model {} --sampling {}", model, sampling),
-               partial, fmt::format("{} samples per pixel", st.samples));
-    nlohmann::json j = {{"command", "integrate sphere"}, {"model", model},
-                        {"sampling", sampling}, {"defensive", sampling == "uniform" ? 1.0 : defensive},
-                        {"scene", sceneJson(s, medium)}, {"samples_per_pixel", st.samples},
-                        {"seconds", st.seconds}, {"threads", st.threads}, {"partial", partial}};
-    writeJson(a, j);
-  };
-  runPasses(a, "integrate sphere", "samples", pass, write);
-  const auto& st = integrator.stats();
-  printStderr("integrate sphere: {}{} ({} sampling), {} samples per pixel in {:.2f} s "
-                     "({} threads); wrote {}{}\n",
-             st.partial ? "stopped early, partial result: " : "", model, sampling, st.samples,
-             st.seconds, st.threads, a.exr, a.png.empty() ? "" : " and " + a.png);
+  run(integrator, "cpu");
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -10,3 +10,10 @@ uniform float G;      // Henyey-Greenstein mean cosine g; sigma_s' = (1 - g) sig
 uniform float IOR;    // relative index of refraction eta = n_medium / n_outside
 
 const float PI = 3.14159265358979323846;
+
+// Outward unit normals at Xi and Xo, set by the kernel before each Bssrdf() call (an extension of
+// the seed's interface, whose Bssrdf(Xi, Wi, Xo, Wo) has no normals): a directional model (line 1
+// without `radial`, e.g. data/bssrdf/directional-dipole.bssrdf) needs them besides Wi and Wo.
+// The profile kernel sets both to the plane's normal, where Wi = Wo = N as well.
+vec3 Ni = vec3(0.0, 0.0, 1.0);
+vec3 No = vec3(0.0, 0.0, 1.0);

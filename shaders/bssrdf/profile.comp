@@ -27,5 +27,7 @@ void main() {
   const vec3 n = vec3(0.0, 0.0, 1.0);
   vec3 xi = vec3(0.0);
   vec3 xo = vec3(bssrdfRadius[i], 0.0, 0.0);
+  Ni = n;
+  No = n;
   bssrdfProfile[i] = vec4(Bssrdf(xi, n, xo, n), 0.0);
 }

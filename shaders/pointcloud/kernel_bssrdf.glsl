@@ -6,4 +6,8 @@
 
 void pcKernelInit() { init(); }
 
-vec3 pcKernel(vec3 xo, vec3 no, vec3 xi, vec3 ni) { return Bssrdf(xi, ni, xo, no); }
+vec3 pcKernel(vec3 xo, vec3 no, vec3 xi, vec3 ni) {
+  Ni = ni;
+  No = no;
+  return Bssrdf(xi, ni, xo, no);
+}

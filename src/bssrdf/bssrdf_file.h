@@ -98,7 +98,7 @@ struct BssrdfFile {
 
 // Names the GPU layer declares for every model (seed listing A.2 uses them); a parameter may not
 // reuse them.
-inline constexpr const char* kBssrdfStandardNames[] = {"SigmaA", "SigmaS", "G", "IOR", "PI"};
+inline constexpr const char* kBssrdfStandardNames[] = {"SigmaA", "SigmaS", "G", "IOR", "PI", "Ni", "No"};
 
 // Parses the text of a .bssrdf file; `path` is used in error messages only.
 BssrdfFile parseBssrdf(std::string_view text, const std::string& path);

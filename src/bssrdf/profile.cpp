@@ -114,4 +114,8 @@ double Model::totalReflectance(double alpha_prime, double eta) const {
   return profile(m)->Rd();
 }
 
+std::unique_ptr<DirectionalProfile> Model::directional(const ScalarMedium&) const {
+  return nullptr;
+}
+
 }  // namespace translucent::bssrdf

@@ -17,6 +17,8 @@
 #include <string_view>
 #include <vector>
 
+#include <glm/vec3.hpp>
+
 #include "optics/medium.h"
 
 namespace translucent::bssrdf {
@@ -69,6 +71,23 @@ class RadialProfile {
   mutable Cumulative cumulative_;
 };
 
+// A BSSRDF that depends on where light enters and leaves, on the surface normals there and on
+// the incident direction, beyond the distance alone (the directional dipole). Evaluated as the
+// exitance kernel of the radial profiles, generalised:
+//   R(x_i, n_i, ω_i; x_o, n_o)  [1/length²]
+// the radiant exitance leaving through the surface at x_o (normal n_o) per unit flux that enters
+// the medium at x_i (normal n_i) from the direction ω_i, so that a renderer computes
+//   B(x_o) = ∫ R(x_i, n_i, ω_i; x_o, n_o) Ft(η, n_i·ω_i) (n_i·ω_i) E dA(x_i)
+// exactly as with R(|x_o - x_i|), and the exit radiance from B by bssrdf/exit_radiance.h.
+// Directions point away from the surface (ω_i towards the light, n_i·ω_i > 0) and all vectors are
+// unit length except the positions; coefficients per unit of the positions.
+class DirectionalProfile {
+ public:
+  virtual ~DirectionalProfile() = default;
+  virtual double R(const glm::dvec3& x_i, const glm::dvec3& n_i, const glm::dvec3& w_i,
+                   const glm::dvec3& x_o, const glm::dvec3& n_o) const = 0;
+};
+
 class Model {
  public:
   virtual ~Model() = default;
@@ -83,6 +102,9 @@ class Model {
   // True for a tabulated profile (bssrdf/tabulated.h): one fixed R(r) per RGB channel that ignores
   // σa, σs and g, so it has no profile for a scalar medium and no Rd(α').
   virtual bool tabulated() const { return false; }
+  // The directional kernel of a model that has one (null for radial models). profile() then gives
+  // its radial restriction: R(r) of the kernel at normal incidence on a plane (the pencil beam).
+  virtual std::unique_ptr<DirectionalProfile> directional(const ScalarMedium& medium) const;
 };
 
 // Integrates 2π r R(r) over [a, b] with one 8-point Gauss-Legendre panel.

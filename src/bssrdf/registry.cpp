@@ -22,6 +22,7 @@ constexpr Factory kFactories[] = {
     &makeNormalizedDiffusionFit,
     &makeQuantizedDiffusion,
     &makePhotonBeam,
+    &makeDirectionalDipole,
 };
 
 const std::vector<std::unique_ptr<Model>>& all() {

@@ -14,7 +14,12 @@ namespace translucent::gpu {
 namespace {
 
 const char* kernelFile(BssrdfKernel kernel) {
-  return kernel == BssrdfKernel::Profile ? "bssrdf/profile.comp" : "bssrdf/diffuse_reflectance.comp";
+  switch (kernel) {
+    case BssrdfKernel::Profile: return "bssrdf/profile.comp";
+    case BssrdfKernel::DiffuseReflectance: return "bssrdf/diffuse_reflectance.comp";
+    case BssrdfKernel::Directional: return "bssrdf/directional.comp";
+  }
+  return "";
 }
 
 }  // namespace
@@ -162,23 +167,33 @@ void BssrdfEvaluator::applyUniforms(const ShaderProgram& program) const {
 }
 
 std::vector<std::array<float, 3>> BssrdfEvaluator::run(ShaderProgram& program,
-                                                      std::span<const float> input) {
+                                                      std::span<const float> input, size_t count) {
+  if (count == 0) return {};
   const Buffer in = makeStorageBuffer(input);
-  const Buffer out = makeStorageBuffer(input.size() * 4 * sizeof(float));
+  const Buffer out = makeStorageBuffer(count * 4 * sizeof(float));
   bindStorage(0, in);
   bindStorage(1, out);
   applyUniforms(program);
-  program.set("BssrdfCount", static_cast<unsigned>(input.size()));
-  dispatch1D(program, input.size());
-  const auto raw = download<float>(out, input.size() * 4);
-  std::vector<std::array<float, 3>> result(input.size());
-  for (size_t i = 0; i < input.size(); ++i)
-    result[i] = {raw[4 * i], raw[4 * i + 1], raw[4 * i + 2]};
+  program.set("BssrdfCount", static_cast<unsigned>(count));
+  dispatch1D(program, count);
+  const auto raw = download<float>(out, count * 4);
+  std::vector<std::array<float, 3>> result(count);
+  for (size_t i = 0; i < count; ++i) result[i] = {raw[4 * i], raw[4 * i + 1], raw[4 * i + 2]};
   return result;
 }
 
 std::vector<std::array<float, 3>> BssrdfEvaluator::profile(std::span<const float> radii) {
-  return run(*profile_, radii);
+  return run(*profile_, radii, radii.size());
+}
+
+std::vector<std::array<float, 3>> BssrdfEvaluator::evaluate(std::span<const BssrdfQuery> queries) {
+  if (!directional_) directional_.emplace(buildBssrdfKernel(*file_, BssrdfKernel::Directional));
+  std::vector<float> packed;
+  packed.reserve(queries.size() * 24);
+  for (const BssrdfQuery& q : queries)
+    for (const glm::vec3& v : {q.x_i, q.n_i, q.w_i, q.x_o, q.n_o, q.w_o})
+      packed.insert(packed.end(), {v.x, v.y, v.z, 0.0f});
+  return run(*directional_, packed, queries.size());
 }
 
 std::vector<std::array<float, 3>> BssrdfEvaluator::diffuseReflectance(
@@ -186,7 +201,7 @@ std::vector<std::array<float, 3>> BssrdfEvaluator::diffuseReflectance(
   if (!rd_)
     throw GlError(fmt::format("{}: no 'diffuseReflectance' section: Rdr(alpha') is unavailable",
                               file_->path));
-  return run(*rd_, alpha_prime);
+  return run(*rd_, alpha_prime, alpha_prime.size());
 }
 
 bool BssrdfEvaluator::reload() {
@@ -211,6 +226,7 @@ bool BssrdfEvaluator::reload() {
 
     profile_.emplace(std::move(profile));
     rd_ = std::move(rd);
+    directional_.reset();  // rebuilt from the new file by the next evaluate()
     overrides_ = std::move(overrides);
     file_ = std::move(parsed);
     last_error_.clear();

@@ -3,6 +3,8 @@
 // The GLSL sections of a parsed file are pieced together with the kernels in shaders/bssrdf/:
 //   profile.comp              R(r) = Bssrdf(Xi = 0, Wi = N, Xo = (r, 0, 0), Wo = N) per radius
 //   diffuse_reflectance.comp  Rdr(α') = DiffuseReflectance(vec3(α')) per albedo (seed 3.4)
+//   directional.comp          Bssrdf(Xi, Wi, Xo, Wo) at given points, normals and directions
+//                             (directional models: the globals Ni, No carry the normals)
 // The standard inputs (shaders/bssrdf/interface.glsl) are SigmaA, SigmaS (vec3, per scene unit),
 // G, IOR and the constant PI; every declared parameter becomes a uniform of its own name
 // (float -> float, bool -> bool, color -> vec3). A file without an initializer gets an empty
@@ -21,6 +23,8 @@
 #include <variant>
 #include <vector>
 
+#include <glm/vec3.hpp>
+
 #include "bssrdf/bssrdf_file.h"
 #include "gpu/program.h"
 #include "optics/medium.h"
@@ -36,7 +40,15 @@ std::filesystem::path bssrdfDirectory();
 // Shaders that call Bssrdf() include them after "bssrdf/interface.glsl", as profile.comp does.
 ShaderPreprocessor bssrdfPreprocessor(const bssrdf::BssrdfFile& file);
 
-enum class BssrdfKernel { Profile, DiffuseReflectance };
+enum class BssrdfKernel { Profile, DiffuseReflectance, Directional };
+
+// One evaluation of Bssrdf() at arbitrary geometry (BssrdfEvaluator::evaluate): points, outward
+// unit normals, and unit directions pointing away from the surface (w_i towards the light, w_o
+// towards the viewer), in scene units.
+struct BssrdfQuery {
+  glm::vec3 x_i{0.0f}, n_i{0.0f, 0.0f, 1.0f}, w_i{0.0f, 0.0f, 1.0f};
+  glm::vec3 x_o{0.0f}, n_o{0.0f, 0.0f, 1.0f}, w_o{0.0f, 0.0f, 1.0f};
+};
 
 // The assembled compute shader for one kernel (the file must have a diffuseReflectance section
 // for BssrdfKernel::DiffuseReflectance; GlError otherwise).
@@ -68,6 +80,10 @@ class BssrdfEvaluator {
 
   // R(r) for every radius, RGB; one compute dispatch.
   std::vector<std::array<float, 3>> profile(std::span<const float> radii);
+  // Bssrdf() for every query, RGB; one dispatch (the directional kernel is compiled on first use).
+  // For a directional file this is the kernel R(x_i, n_i, w_i; x_o, n_o) of bssrdf/profile.h's
+  // DirectionalProfile; a radial file gives R(|x_o - x_i|) whatever the directions.
+  std::vector<std::array<float, 3>> evaluate(std::span<const BssrdfQuery> queries);
   // Rdr(α') for every reduced albedo, RGB (depends on IOR and parameters through init()).
   // Throws GlError if the file has no diffuseReflectance section.
   std::vector<std::array<float, 3>> diffuseReflectance(std::span<const float> alpha_prime);
@@ -81,14 +97,19 @@ class BssrdfEvaluator {
 
   const ShaderProgram& profileProgram() const { return *profile_; }
 
- private:
+  // Sets the standard inputs and the parameters on another program built from this file's
+  // sections (bssrdfPreprocessor), e.g. the sphere integration kernel.
   void applyUniforms(const ShaderProgram& program) const;
-  std::vector<std::array<float, 3>> run(ShaderProgram& program, std::span<const float> input);
+
+ private:
+  std::vector<std::array<float, 3>> run(ShaderProgram& program, std::span<const float> input,
+                                        size_t count);
 
   std::filesystem::path path_;
   std::shared_ptr<const bssrdf::BssrdfFile> file_;
   std::optional<ShaderProgram> profile_;
   std::optional<ShaderProgram> rd_;
+  std::optional<ShaderProgram> directional_;  // built by the first evaluate()
   std::map<std::string, ParameterValue, std::less<>> overrides_;  // set by setParameter()
   Medium medium_;
   std::string last_error_;

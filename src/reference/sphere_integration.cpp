@@ -47,6 +47,7 @@ void SphereIntegrator::init(const bssrdf::Model& model) {
   if (options_.sampling == SurfaceSampling::Uniform) options_.defensive = 1.0;
   for (const auto& m : channels_) {
     profiles_.push_back(model.profile(m));
+    directional_.push_back(model.directional(m));
     const auto& table = profiles_.back()->cumulative();
     rdTable_.push_back(table.total());
     rMax_.push_back(table.edges.back());
@@ -61,6 +62,7 @@ double SphereIntegrator::sampleExitance(const glm::dvec3& x_o, int c, Rng& rng) 
   const double R = scene_.radius;
   const double eta = channels_[static_cast<size_t>(c)].eta;
   const bssrdf::RadialProfile& profile = *profiles_[static_cast<size_t>(c)];
+  const bssrdf::DirectionalProfile* directional = directional_[static_cast<size_t>(c)].get();
   const double rdTable = rdTable_[static_cast<size_t>(c)], rMax = rMax_[static_cast<size_t>(c)];
   const double q = options_.defensive;
   const double uniformDensity = 1.0 / (2.0 * std::numbers::pi * R * R);
@@ -70,12 +72,18 @@ double SphereIntegrator::sampleExitance(const glm::dvec3& x_o, int c, Rng& rng) 
   tangentFrame(n_o, axes[1], axes[2]);
   constexpr double kAxisProbability[3] = {0.5, 0.25, 0.25};
 
-  // Integrand: R(|x_o - x_i|) E(x_i), irradiance transmitted into the lit side.
+  // Integrand: R(|x_o - x_i|) E(x_i), irradiance transmitted into the lit side; a directional
+  // model's kernel R(x_i, n_i, l; x_o, n_o) in place of R(r) (bssrdf/profile.h). The radial
+  // sampler below then draws from the model's normal-incidence restriction: still unbiased (the
+  // uniform share covers the whole lit side), only less efficient where the kernel leans forward.
   auto integrand = [&](const glm::dvec3& x) {
-    const double cosI = glm::dot(x / R, light_);
+    const glm::dvec3 n_i = x / R;
+    const double cosI = glm::dot(n_i, light_);
     if (!(cosI > 0.0)) return 0.0;
     const double ft = eta == 1.0 ? 1.0 : fresnelTransmittance(cosI, eta);
-    return profile.R(glm::length(x - x_o)) * scene_.irradiance * ft * cosI;
+    const double kernel =
+        directional ? directional->R(x, n_i, light_, x_o, n_o) : profile.R(glm::length(x - x_o));
+    return kernel * scene_.irradiance * ft * cosI;
   };
   // Expected number of hits per unit area at x of the mixture (see the header).
   auto density = [&](const glm::dvec3& x) {

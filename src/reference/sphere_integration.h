@@ -30,6 +30,9 @@
 //     above, and every hit is weighted with the mixture density (the balance heuristic):
 //       p̂(x) = q / (2π R²) [x lit] + (1 - q) Σ_a P(a) p_a(x).
 // Both strategies are unbiased for the same integral; the tests check that they agree.
+// Directional models (bssrdf::Model::directional, the directional dipole) integrate their kernel
+// R(x_i, n_i, l; x_o, n_o) with the light's true direction l and the sphere's normals in place of
+// R(|x_o - x_i|); the importance sampler uses their normal-incidence profile.
 #pragma once
 
 #include <memory>
@@ -91,6 +94,7 @@ class SphereIntegrator {
   std::vector<ScalarMedium> channels_;
   IntegrationOptions options_;
   std::vector<std::unique_ptr<bssrdf::RadialProfile>> profiles_;
+  std::vector<std::unique_ptr<bssrdf::DirectionalProfile>> directional_;  // null: radial model
   std::vector<double> rdTable_, rMax_;
   CameraModel camera_;
   glm::dvec3 light_{};

@@ -89,8 +89,11 @@ TEST_P(EveryModelAndPreset, EnergyIntegralEqualsTotalReflectance) {
   const double rd = p->Rd();
   ASSERT_GT(rd, 0.0);
   // At most 1, or the model's own non-absorbing limit where that exceeds 1: photon-beam adds single
-  // scattering to a diffusion term that already returns all light at α' = 1 (≈1.035 at η = 1.3).
-  ASSERT_LE(rd, std::max(1.0, model(GetParam().model).totalReflectance(1.0, p->medium().eta)));
+  // scattering to a diffusion term that already returns all light at α' = 1 (≈1.035 at η = 1.3);
+  // the directional dipole over-reflects as published (see ConservesEnergy). The slack covers
+  // the two quadratures of a channel with α' = 1 exactly (Spectralon).
+  ASSERT_LE(rd, std::max(1.0, model(GetParam().model).totalReflectance(1.0, p->medium().eta)) *
+                    (1.0 + 1e-9));
   EXPECT_NEAR(integrateEnergy(*p, rd), rd, 1e-4 * rd);
   // The model's Rd(α', η) used by inversion is the same quantity.
   const auto& m = p->medium();
@@ -202,17 +205,27 @@ TEST_P(EveryModel, ConservesEnergy) {
   // α'-only form that inversion solves and the profile's own Rd (with anisotropy, which the
   // single-scattering term of photon beam diffusion sees) are checked. The slack 1e-12 is
   // rounding of quadratures whose exact value is 1 at α' = 1.
+  //
+  // One registered model is known not to conserve energy, and is bounded instead by its own
+  // non-absorbing limit: the directional dipole as published (Frisvad et al. 2014) reflects 1.34
+  // at α' = 1, η = 1 and 1.24 at η = 1.3 (directional_dipole.cpp), measured against the path
+  // tracer in the README. Below α' = 1 it must stay under that limit, and the limit under 1.4.
   const auto& m = model(GetParam());
+  const bool overReflects = GetParam() == "directional-dipole";
   for (double eta : {0.8, 1.0, 1.1, 1.3, 1.5, 1.8}) {
+    const double limit = overReflects ? m.totalReflectance(1.0, eta) * (1.0 + 1e-9) : 1.0;
+    if (overReflects) {
+      EXPECT_LT(limit, 1.4) << "eta " << eta;
+    }
     EXPECT_EQ(m.totalReflectance(0.0, eta), 0.0) << "eta " << eta;
     for (double a : {1e-4, 0.01, 0.1, 0.3, 0.5, 0.7, 0.8, 0.9, 0.95, 0.99, 0.999, 0.9999, 1.0})
-      EXPECT_LE(m.totalReflectance(a, eta), 1.0 + 1e-12) << "alpha' " << a << " eta " << eta;
+      EXPECT_LE(m.totalReflectance(a, eta), limit + 1e-12) << "alpha' " << a << " eta " << eta;
     // Profiles (the slower path) where an excess would show first: high albedo, and forward or
     // backward scattering (σt' = 1: σs' = α', σs = σs'/(1 - g)).
     for (double a : {0.99, 1.0})
       for (double g : {0.0, 0.5, -0.3}) {
         const ScalarMedium med{1.0 - a, a / (1.0 - g), g, eta};
-        EXPECT_LE(m.profile(med)->Rd(), 1.0 + 1e-12)
+        EXPECT_LE(m.profile(med)->Rd(), limit + 1e-12)
             << "alpha' " << a << " eta " << eta << " g " << g;
       }
     EXPECT_EQ(m.profile(ScalarMedium{1.0, 0.0, 0.0, eta})->Rd(), 0.0) << "eta " << eta;

@@ -56,6 +56,15 @@ if(TARGET translucent_cli)
   render_test(integrate_json ARGS integrate sphere --model dipole --preset Ketchup ${SMALL}
               --samples 4 --sampling uniform --exr ${OUT}/ri.exr --json ${OUT}/ri.json
               FILE ${OUT}/ri.json MATCH "\"samples_per_pixel\": 4")
+  # Directional models (issue 14 §1): the C++ directional dipole on the CPU, its .bssrdf twin on
+  # the GPU with the light's direction (uniform sampling, said in the JSON).
+  render_test(integrate_directional ARGS integrate sphere --model directional-dipole
+              --preset Skin1 --light-dir 1,0,1 ${SMALL} --samples 8 --exr ${OUT}/rid.exr
+              --json ${OUT}/rid.json FILE ${OUT}/rid.json MATCH "\"device\": \"cpu\"")
+  render_test(integrate_directional_bssrdf ARGS integrate sphere
+              --model ${PROJECT_SOURCE_DIR}/data/bssrdf/directional-dipole.bssrdf
+              --preset Skin1 --light-dir 1,0,1 ${SMALL} --samples 64 --exr ${OUT}/ridb.exr
+              --json ${OUT}/ridb.json FILE ${OUT}/ridb.json MATCH "\"sampling\": \"uniform\"")
   render_test(mesh_json ARGS pathtrace mesh --scene ${PROJECT_SOURCE_DIR}/data/scenes/cube.json
               --photons 2000 --threads 2 --quantity radiance --exr ${OUT}/rm.exr
               --json ${OUT}/rm.json FILE ${OUT}/rm.json MATCH "\"triangles\": 12")
