@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <random>
 
@@ -101,6 +102,7 @@ TEST(DirectionalDipole, ObliqueLightLeavesForward) {
     ASSERT_GT(backward, 0.0);
     EXPECT_NEAR(side1, side2, 1e-12 * side1) << thetaDeg;  // mirror symmetry in the plane of incidence
     const double ratio = forward / backward;
+    std::printf("Marble green, %2.0f deg: forward/backward exitance at 2 l' = %.3f\n", thetaDeg, ratio);
     if (thetaDeg == 0.0) {
       EXPECT_NEAR(ratio, 1.0, 1e-12);
     } else {
@@ -108,7 +110,7 @@ TEST(DirectionalDipole, ObliqueLightLeavesForward) {
     }
     previousRatio = ratio;
   }
-  EXPECT_GT(previousRatio, 1.5);  // at 80 degrees the forward side is clearly brighter
+  EXPECT_GT(previousRatio, 2.0);  // at 80 degrees the forward side is clearly brighter (2.64)
 }
 
 // Light from below the surface does not enter at x_i.
