@@ -261,9 +261,11 @@ void runProfile(const ProfileArgs& a) {
     for (const auto& f : files) {
       evaluators.push_back(loadBssrdfModel(f, a.params));
       loaded.push_back(evaluators.back().get());
+      // A directional file's R(r) is its normal-incidence restriction (gpu/bssrdf_profiles.h),
+      // as for the registered directional-dipole.
       if (!evaluators.back()->file().attributes.radial)
-        throw ParameterError(fmt::format(
-            "--model {}: not a radial BSSRDF (line 1 lacks `radial`): profile plots R(r)", f));
+        printStderr("profile: {} is directional (line 1 lacks `radial`): plotted at normal "
+                    "incidence\n", f);
     }
   }
   checkParamsUsed(a.params, loaded);

@@ -22,6 +22,10 @@ layout(local_size_x = 64) in;
 layout(std430, binding = 2) readonly buffer PcPoints { PcPoint pcPoint[]; };
 layout(std430, binding = 3) buffer PcIrradiance { vec4 pcIrradiance[]; };  // E (RGB), slot order
 layout(std430, binding = 4) buffer PcEnvAccum { vec4 pcEnvAccum[]; };      // Σ over env samples
+// Σ w l (xyz) and Σ w (w) over the direct lights, w the mean of the RGB irradiance e a light
+// transmits at the point: the direction of the light that lit it (directional BSSRDFs;
+// techniques/common/surface_irradiance.h). Environment modes add nothing.
+layout(std430, binding = 14) buffer PcLightDir { vec4 pcLightDir[]; };
 
 uniform uint PointCount;
 uniform int Mode;
@@ -89,6 +93,7 @@ void main() {
 
   if (Mode == 0) {
     pcIrradiance[i] = vec4(0.0);
+    pcLightDir[i] = vec4(0.0);
     return;
   }
   if (Mode == 8) {
@@ -130,8 +135,11 @@ void main() {
   vec3 e = value * (pcFresnelTransmittance(cosTheta, Eta) * cosTheta);
   if (all(equal(e, vec3(0.0)))) return;
   e *= visibility(p, n);
-  if (Mode == 6)
+  if (Mode == 6) {
     pcEnvAccum[i].rgb += e;
-  else
+  } else {
     pcIrradiance[i].rgb += e;
+    float w = (e.r + e.g + e.b) / 3.0;
+    pcLightDir[i] += vec4(w * l, w);
+  }
 }

@@ -11,3 +11,11 @@ vec3 pcKernel(vec3 xo, vec3 no, vec3 xi, vec3 ni) {
   No = no;
   return Bssrdf(xi, ni, xo, no);
 }
+
+// A directional file (line 1 without `radial`; PC_DIRECTIONAL): Bssrdf() with the direction wi
+// of the light that lit x_i (towards it) and the normals at both ends.
+vec3 pcKernelDirectional(vec3 xo, vec3 no, vec3 xi, vec3 ni, vec3 wi) {
+  Ni = ni;
+  No = no;
+  return Bssrdf(xi, wi, xo, no);
+}

@@ -43,6 +43,19 @@ layout(std430, binding = 7) writeonly buffer PcRadiance { vec4 pcRadiance[]; }; 
 layout(std430, binding = 8) writeonly buffer PcExitance { vec4 pcExitance[]; };
 
 #include "pointcloud:kernel"
+#ifdef PC_DIRECTIONAL
+// A directional .bssrdf file: the light direction and normal of each point and cluster
+// (irradiance.comp, refit.comp). A point lit only by environment light has no direction and is
+// taken as lit along its normal; a cluster takes the mean direction of its points' lights
+// (weighted by their irradiance and area) and the irradiance-weighted normal of its lit points.
+layout(std430, binding = 14) readonly buffer PcLightDir { vec4 pcLightDir[]; };
+layout(std430, binding = 15) readonly buffer PcNodeLight { vec4 pcNodeLight[]; };
+
+vec3 pcDirectionOr(vec4 sum, vec3 fallback) {
+  float len = length(sum.xyz);
+  return sum.w > 0.0 && len > 0.0 ? sum.xyz / len : fallback;
+}
+#endif
 #ifdef PC_HETERO
 // Heterogeneous material: Eq. 8 with per-point, per-node and shading-point profiles.
 #include "pointcloud/hetero.glsl"
@@ -93,6 +106,9 @@ vec3 contribute(uint node, vec3 x, vec3 n) {
       PcPoint q = pcPoint[p];
 #ifdef PC_HETERO
       sum += pcHeteroPoint(distance(x, q.positionArea.xyz), p) * (pcIrradiance[p].rgb * q.positionArea.w);
+#elif defined(PC_DIRECTIONAL)
+      vec3 wi = pcDirectionOr(pcLightDir[p], q.normal.xyz);
+      sum += pcKernelDirectional(x, n, q.positionArea.xyz, q.normal.xyz, wi) * (pcIrradiance[p].rgb * q.positionArea.w);
 #else
       sum += pcKernel(x, n, q.positionArea.xyz, q.normal.xyz) * (pcIrradiance[p].rgb * q.positionArea.w);
 #endif
@@ -101,6 +117,11 @@ vec3 contribute(uint node, vec3 x, vec3 n) {
   }
 #ifdef PC_HETERO
   return pcHeteroNode(distance(x, pcNode[node].average.xyz), node) * pa.xyz;
+#elif defined(PC_DIRECTIONAL)
+  vec3 nodeNormal = pcDirectionOr(vec4(pcNodeLight[3u * node + 1u].xyz, 1.0),
+                                  pcDirectionOr(vec4(pcNodeLight[3u * node + 2u].xyz, 1.0), n));
+  vec3 wi = pcDirectionOr(pcNodeLight[3u * node], nodeNormal);
+  return pcKernelDirectional(x, n, pcNode[node].average.xyz, nodeNormal, wi) * pa.xyz;
 #else
   return pcKernel(x, n, pcNode[node].average.xyz, n) * pa.xyz;
 #endif

@@ -15,6 +15,12 @@ layout(std430, binding = 1) buffer PcNodes { PcNode pcNode[]; };
 layout(std430, binding = 2) readonly buffer PcPoints { PcPoint pcPoint[]; };
 layout(std430, binding = 3) readonly buffer PcIrradiance { vec4 pcIrradiance[]; };
 layout(std430, binding = 6) readonly buffer PcLevels { uint pcLevelNode[]; };  // deepest first
+// Directional BSSRDFs: per point the lights' Σ w l, Σ w (irradiance.comp); per node three sums
+// over its points, each point weighted by its area A: (Σ A w l, Σ A w), Σ A w n (the lit
+// points' normal) and Σ A n (all points' normal). The traversal takes a cluster's light
+// direction and normal from them (radiance.comp, PC_DIRECTIONAL).
+layout(std430, binding = 14) readonly buffer PcLightDir { vec4 pcLightDir[]; };
+layout(std430, binding = 15) buffer PcNodeLight { vec4 pcNodeLight[]; };  // 3 per node
 
 #ifdef PC_HETERO
 // Heterogeneous material (cpu_traversal.h refitNodeProfiles): the node's representative profile,
@@ -34,10 +40,15 @@ void main() {
   uint d = pcDescriptor[v];
   vec3 power = vec3(0.0), weighted = vec3(0.0), areaPos = vec3(0.0);
   float area = 0.0, weight = 0.0;
+  vec4 light = vec4(0.0), litNormal = vec4(0.0), normal = vec4(0.0);
   if (pcChildCount(d) == 0u) {
     for (uint p = pcIndex(d), e = p + pcPointCount(d); p < e; ++p) {
       vec3 pos = pcPoint[p].positionArea.xyz;
       float a = pcPoint[p].positionArea.w;
+      vec4 l = pcLightDir[p];
+      light += a * l;
+      litNormal.xyz += a * l.w * pcPoint[p].normal.xyz;
+      normal.xyz += a * pcPoint[p].normal.xyz;
       vec3 phi = pcIrradiance[p].rgb * a;
       float w = (phi.r + phi.g + phi.b) / 3.0;
       power += phi;
@@ -51,6 +62,9 @@ void main() {
       vec3 phi = pcNode[c].powerArea.xyz;
       float a = pcNode[c].powerArea.w;
       float w = (phi.r + phi.g + phi.b) / 3.0;
+      light += pcNodeLight[3u * c];
+      litNormal += pcNodeLight[3u * c + 1u];
+      normal += pcNodeLight[3u * c + 2u];
       power += phi;
       area += a;
       weight += w;
@@ -59,6 +73,9 @@ void main() {
     }
   }
   pcNode[v].powerArea = vec4(power, area);
+  pcNodeLight[3u * v] = light;
+  pcNodeLight[3u * v + 1u] = litNormal;
+  pcNodeLight[3u * v + 2u] = normal;
   pcNode[v].average = vec4(weight > 0.0 ? weighted / weight : areaPos / area, 0.0);
 #ifdef PC_HETERO
   const uint m = uint(PC_PROFILE_NODES);

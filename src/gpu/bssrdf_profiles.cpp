@@ -13,12 +13,6 @@
 namespace translucent::gpu {
 namespace {
 
-void requireRadial(const BssrdfEvaluator& e) {
-  if (!e.file().attributes.radial)
-    throw ParameterError(fmt::format(
-        "{}: not a radial BSSRDF (line 1 lacks `radial`): its profile is not a function of r alone",
-        e.file().path));
-}
 
 std::vector<Rgb> evaluate(BssrdfEvaluator& e, const std::vector<double>& radii) {
   std::vector<float> r(radii.size());
@@ -48,7 +42,6 @@ double panelIntegral(const std::vector<double>& nodes, const std::vector<Rgb>& v
 
 std::vector<Rgb> bssrdfProfile(BssrdfEvaluator& evaluator, const Medium& medium,
                                const std::vector<double>& radii) {
-  requireRadial(evaluator);
   evaluator.setMedium(medium);
   return evaluate(evaluator, radii);
 }
@@ -98,7 +91,6 @@ BssrdfEnergy bssrdfRadiusForFraction(BssrdfEvaluator& evaluator, const Medium& m
                                      double fraction) {
   if (!(fraction > 0.0 && fraction < 1.0))
     throw ParameterError(fmt::format("energy fraction is {}: expected in (0, 1)", fraction));
-  requireRadial(evaluator);
   evaluator.setMedium(medium);
   // Range: from 1e-6 of the shortest reduced mean free path ℓ' (the inner disc [0, lo] is one
   // linear panel) to well past the diffusion decay length 1/σtr of every channel: e^(-σtr r)

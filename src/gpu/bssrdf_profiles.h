@@ -24,8 +24,10 @@
 
 namespace translucent::gpu {
 
-// R(r) of `evaluator` for `medium` at the radii, per channel, in double (values from float).
-// Throws ParameterError if the file is not `radial` (R(r) then depends on more than r).
+// R(r) of `evaluator` for `medium` at the radii, per channel, in double (values from float): the
+// profile kernel's plane with the light along the normal. For a directional file (no `radial`)
+// that is its normal-incidence restriction (Ni = No = Wi = Wo = N), which the functions below
+// tabulate, integrate and sample as any radial profile.
 std::vector<Rgb> bssrdfProfile(BssrdfEvaluator& evaluator, const Medium& medium,
                                const std::vector<double>& radii);
 

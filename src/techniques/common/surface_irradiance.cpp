@@ -34,7 +34,7 @@ enum Mode : int {
 };
 
 // SSBO bindings of irradiance.comp.
-enum Binding : GLuint { kPoints = 2, kIrradiance = 3, kEnvAccum = 4 };
+enum Binding : GLuint { kPoints = 2, kIrradiance = 3, kEnvAccum = 4, kLightDirections = 14 };
 
 glm::vec3 toVec3(const glm::dvec3& v) { return glm::vec3(v); }
 glm::vec3 toVec3(const Rgb& c) {
@@ -268,11 +268,13 @@ bool SurfaceIrradiance::update(const GpuMesh& mesh, const gpu::Buffer& points, s
   if (count != count_ || !irradiance_) {
     count_ = count;
     irradiance_ = gpu::makeStorageBuffer(std::max<size_t>(count, 1) * sizeof(glm::vec4));
+    lightDirections_ = gpu::makeStorageBuffer(std::max<size_t>(count, 1) * sizeof(glm::vec4));
     envAccum_ = gpu::makeStorageBuffer(std::max<size_t>(occluded ? count : 1, 1) * sizeof(glm::vec4));
     envDirections_ = 0;
   }
   gpu::bindStorage(kPoints, points);
   gpu::bindStorage(kIrradiance, irradiance_);
+  gpu::bindStorage(kLightDirections, lightDirections_);
   gpu::bindStorage(kEnvAccum, envAccum_);
   const gpu::ShaderProgram& ip = *irradianceProgram_;
   ip.set("PointCount", static_cast<unsigned>(count_));

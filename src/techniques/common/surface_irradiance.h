@@ -74,12 +74,18 @@ class SurfaceIrradiance {
   // E of the `count` points of `points` into irradiance(): shadow maps ("shadow maps"), every
   // light ("irradiance"), and the budget's next directions of an occluded environment light
   // ("environment samples"), each timed in `timer` when not null. A change of `count` (a new
-  // point set) restarts the environment accumulation. Binds SSBOs 2, 3, 4 (irradiance.comp's).
+  // point set) restarts the environment accumulation. Binds SSBOs 2, 3, 4, 14 (irradiance.comp's).
   // Returns true when E is final (no occluded environment, or all its directions are in).
   bool update(const GpuMesh& mesh, const gpu::Buffer& points, size_t count, float eta,
               const ShadowLookup& lookup, const EnvironmentBudget& budget, gpu::PassTimer* timer);
 
   const gpu::Buffer& irradiance() const { return irradiance_; }
+  // Per point (vec4): xyz = Σ_l w_l ω_l, w = Σ_l w_l over the directional, filtered, beam and point
+  // lights, ω_l the unit direction towards light l and w_l the mean of its RGB transmitted
+  // irradiance at the point (after shadowing): the direction of the light that lit the point,
+  // for directional BSSRDFs (pointcloud). Environment light adds nothing (w = 0 where only it
+  // lit the point). SSBO 14 of irradiance.comp.
+  const gpu::Buffer& lightDirections() const { return lightDirections_; }
   const std::vector<scene::Light>& lights() const { return lightList_; }
 
  private:
@@ -100,7 +106,7 @@ class SurfaceIrradiance {
 
   std::unique_ptr<gpu::ShaderProgram> depthProgram_, irradianceProgram_;
   gpu::Texture dummyShadow_, dummyFilter_;
-  gpu::Buffer irradiance_, envAccum_;
+  gpu::Buffer irradiance_, envAccum_, lightDirections_;
   size_t count_ = 0;
 };
 

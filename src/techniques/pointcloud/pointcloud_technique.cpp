@@ -55,6 +55,10 @@ enum Binding : GLuint {
   kVertexProfiles = 11,
   kMeshVertices = 12,
   kMeshTriangles = 13,
+  // Directional .bssrdf files: the lights' directions per point (techniques::SurfaceIrradiance)
+  // and per node (refit.comp: light direction, lit normal, normal).
+  kLightDirections = 14,
+  kNodeLight = 15,
 };
 
 std::vector<ParameterInfo> parameterInfos() {
@@ -76,7 +80,8 @@ std::vector<ParameterInfo> parameterInfos() {
                                  "(conservative, seed 2.6.4) or to its centroid (Jensen & Buhler)"),
       ParameterInfo::enumeration("kernel", "table", {"table", "shader"},
                                  "BSSRDF evaluation: tabulated radial profile, or the model's "
-                                 ".bssrdf shader code in the traversal"),
+                                 ".bssrdf shader code in the traversal (a directional file with "
+                                 "the direction of the light that lit each point)"),
       techniques::tableSizeParameter(),
       techniques::radianceConventionParameter(),
       ParameterInfo::boolean("specular", false,
@@ -118,7 +123,7 @@ struct PointCloudTechnique::Impl : techniques::ClosedMeshState {
   geometry::Octree octree;
   std::vector<std::pair<uint32_t, uint32_t>> levels;  // (offset, count) deepest first
   uint32_t stackSize = 1;
-  gpu::Buffer descriptors, nodes, points, levelNodes;
+  gpu::Buffer descriptors, nodes, points, levelNodes, nodeLight;
 
   // Kernel.
   std::string kernelKey;
@@ -127,6 +132,7 @@ struct PointCloudTechnique::Impl : techniques::ClosedMeshState {
   std::optional<gpu::BssrdfEvaluator> evaluator;  // .bssrdf models
   std::optional<gpu::ShaderProgram> radianceProgram;
   bool shaderKernel = false;
+  bool directionalKernel = false;  // a .bssrdf file without `radial`, evaluated as a shader
 
   // Programs.
   std::optional<gpu::ShaderProgram> gbufferProgram, refitProgram;
@@ -341,6 +347,7 @@ struct PointCloudTechnique::Impl : techniques::ClosedMeshState {
 
     descriptors = gpu::makeStorageBuffer(std::span<const uint32_t>(d));
     nodes = gpu::makeStorageBuffer(std::span<const geometry::OctreeNode>(octree.nodes()));
+    nodeLight = gpu::makeStorageBuffer(std::max<size_t>(octree.nodes().size(), 1) * 3 * sizeof(glm::vec4));
     points = gpu::makeStorageBuffer(std::span<const geometry::OctreePoint>(octree.points()));
     levelNodes = gpu::makeStorageBuffer(std::span<const uint32_t>(order));
     geometryDirty = false;
@@ -393,14 +400,28 @@ struct PointCloudTechnique::Impl : techniques::ClosedMeshState {
     }
     tabulateKernel(s);
     shaderKernel = wantShader;
+    const bool directionalFile = evaluator && !evaluator->file().attributes.radial;
+    directionalKernel = wantShader && directionalFile;
+    if (directionalFile && !wantShader)
+      notes.push_back(fmt::format(
+          "pointcloud: {} is directional; kernel 'table' renders its normal-incidence profile "
+          "(kernel 'shader' evaluates it with the direction of the light that lit each point)",
+          evaluator->file().path));
+    else if (!evaluator && bssrdf::model(s.model).directional(s.medium.channel(0)))
+      notes.push_back(fmt::format(
+          "pointcloud: model '{}' is directional; kernel 'table' renders its normal-incidence "
+          "profile (kernel 'shader' evaluates its .bssrdf twin with the lights' directions)",
+          s.model));
 
     // The radiance program with the chosen kernel and the octree's stack size.
     const auto stack = stackSize;
     std::shared_ptr<const bssrdf::BssrdfFile> bssrdfFile;
     if (wantShader) bssrdfFile = std::make_shared<const bssrdf::BssrdfFile>(evaluator->file());
-    auto recipe = [stack, bssrdfFile, heteroNodes]() {
+    const bool directional = directionalKernel;
+    auto recipe = [stack, bssrdfFile, heteroNodes, directional]() {
       gpu::ShaderPreprocessor pp = bssrdfFile ? gpu::bssrdfPreprocessor(*bssrdfFile) : gpu::ShaderPreprocessor();
       pp.define("PC_STACK_SIZE", std::to_string(stack));
+      if (directional) pp.define("PC_DIRECTIONAL", "1");
       if (heteroNodes > 0) {
         pp.define("PC_HETERO", "1");
         pp.define("PC_PROFILE_NODES", std::to_string(heteroNodes));
@@ -459,6 +480,8 @@ struct PointCloudTechnique::Impl : techniques::ClosedMeshState {
                                      techniques::environmentBudget(params, request.converge), &*timer);
     if (lighting.hasOccludedEnvironment()) frame.converged = lit;
     gpu::bindStorage(kIrradiance, lighting.irradiance());
+    gpu::bindStorage(kLightDirections, lighting.lightDirections());
+    gpu::bindStorage(kNodeLight, nodeLight);
 
     // Refit, deepest level first.
     {
