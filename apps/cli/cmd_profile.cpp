@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <numbers>
 #include <filesystem>
 #include <memory>
 
@@ -52,6 +53,7 @@ struct ProfileArgs {
   uint64_t seed = 1;
   int threads = 0;
   std::string device = "auto";  // of the reference: cpu | gpu | auto (reference/gpu/device.h)
+  double theta = 0.0;  // incidence of the pencil beam [degrees]
 };
 
 std::string extensionOf(const std::string& path) {
@@ -74,11 +76,13 @@ std::string defaultTitle(const ProfileArgs& a) {
   const std::string material =
       !a.medium.sigma_a.empty() ? std::string("Custom medium")
                                 : (a.medium.preset.empty() ? kDefaultPreset : a.medium.preset);
+  if (a.theta != 0.0)
+    return fmt::format("{}: diffuse reflectance around a pencil beam at {:g}°", material, a.theta);
   return fmt::format("{}: diffuse reflectance around a pencil beam", material);
 }
 
-// The path-traced reference (seed 3.6.3): a pencil beam at normal incidence on a semi-infinite
-// slab of the medium, Rd(r) tallied in annuli on [0, r_max] (annulus centres as radii). The
+// The path-traced reference (seed 3.6.3): a pencil beam at normal incidence (or --theta) on a
+// semi-infinite slab of the medium, Rd(r) tallied in annuli on [0, r_max] (annulus centres as radii). The
 // models' R(r) is per unit flux *entering* the medium (Eq. 2.16 applies Ft(ωi) separately), so
 // the tally per incident photon is divided by 1 - Rsp, the exact entry transmittance. Channels
 // use independent seeds so the luminance error combines in quadrature.
@@ -104,7 +108,9 @@ std::array<reference::SlabResult, 3> traceReference(const Medium& medium,
     o.radial_max = r_max;
     InterruptGuard guard;
     ProgressBar bar(fmt::format("reference ({})", kChannelNames[c]), "photons");
-    results[c] = reference::traceSlab(device, reference::SlabSetup::semiInfinite(m), o,
+    reference::SlabSetup setup = reference::SlabSetup::semiInfinite(m);
+    setup.theta = a.theta * std::numbers::pi / 180.0;
+    results[c] = reference::traceSlab(device, setup, o,
                                       [&](const reference::TraceProgress& p) { return bar(p); });
     bar.end();
     if (results[c].partial) printStderr("profile: reference stopped early, partial\n");
@@ -279,6 +285,22 @@ void runProfile(const ProfileArgs& a) {
   if (a.points < 2)
     throw ParameterError(fmt::format("--points is {}: expected at least 2", a.points));
   analysis::CurveOptions opts{a.r_max, a.points, a.times_r};
+  if (!(a.theta >= 0.0 && a.theta < 90.0))
+    throw ParameterError(fmt::format("--theta is {}: expected a polar angle in [0, 90) degrees", a.theta));
+  if (a.theta != 0.0 && !a.save_profile.empty())
+    throw ParameterError("--save-profile with --theta: a tabulated model is a normal-incidence "
+                         "profile; trace it without --theta");
+  opts.incidence = a.theta * std::numbers::pi / 180.0;
+  if (a.theta != 0.0) {
+    std::vector<std::string> radial;
+    for (const auto& m : models)
+      if (bssrdf::model(m).tabulated() || !bssrdf::model(m).directional(medium.channel(0)))
+        radial.push_back(m);
+    if (!radial.empty())
+      printStderr("profile: {} {} radial: plotted for normal incidence whatever --theta (only a "
+                  "directional model and the reference see the incidence)\n",
+                  fmt::join(radial, ", "), radial.size() == 1 ? "is" : "are");
+  }
   if (a.reference && !(a.photons >= 1000.0 && a.photons <= 1e12))
     throw ParameterError(
         fmt::format("--photons is {}: expected between 1e3 and 1e12 per channel", a.photons));
@@ -387,6 +409,11 @@ void addProfileCommand(CLI::App& app) {
   cmd->add_option("--study-presets", args->study_presets,
                   "With --study: comma-separated presets (default: every traceable one)")
       ->delimiter(',');
+  cmd->add_option("--theta", args->theta,
+                  "Polar angle of the pencil beam [degrees, outside]: the reference is traced at "
+                  "it and directional models are averaged over the azimuth at it (radial models "
+                  "assume normal incidence)")
+      ->capture_default_str();
   cmd->add_option("--seed", args->seed, "Reference random seed")->capture_default_str();
   cmd->add_option("--threads", args->threads, "Reference threads (0: all)")->capture_default_str();
   cmd->add_option("--device", args->device,

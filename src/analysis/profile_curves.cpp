@@ -1,5 +1,8 @@
 #include "analysis/profile_curves.h"
 
+#include <array>
+#include <memory>
+
 #include <fmt/format.h>
 #include <fmt/os.h>
 
@@ -53,12 +56,19 @@ std::vector<Curve> profileCurves(const std::vector<std::string>& models, const M
   const auto grid = radiusGrid(rMax, opts.points);
   std::vector<Curve> curves;
   for (const auto& name : models) {
-    const auto ps = bssrdf::profiles(bssrdf::model(name), medium);
+    const bssrdf::Model& model = bssrdf::model(name);
+    const auto ps = bssrdf::profiles(model, medium);
+    std::array<std::unique_ptr<bssrdf::DirectionalProfile>, 3> kernels;
+    if (opts.incidence != 0.0 && !model.tabulated())
+      for (int c = 0; c < 3; ++c) kernels[static_cast<size_t>(c)] = model.directional(medium.channel(c));
+    auto value = [&](size_t c, double r) {
+      return kernels[c] ? bssrdf::azimuthalAverage(*kernels[c], r, opts.incidence) : ps[c]->R(r);
+    };
     for (Channel ch : channels) {
       Curve c{name, channelName(ch), grid, {}, {}};
       c.value.reserve(grid.size());
       for (double r : grid) {
-        const Rgb v{ps[0]->R(r), ps[1]->R(r), ps[2]->R(r)};
+        const Rgb v{value(0, r), value(1, r), value(2, r)};
         double y = ch == Channel::Luminance ? luminance(v) : v[static_cast<size_t>(ch)];
         if (opts.times_r) y *= r;
         c.value.push_back(y);

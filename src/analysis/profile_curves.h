@@ -29,6 +29,11 @@ struct CurveOptions {
   std::optional<double> r_max;  // default: largest 95% radius over models and channels
   int points = 200;
   bool times_r = false;  // plot r·R(r) (seed 3.6.3: damps the peak at the source)
+  // Polar angle of the incident pencil beam [radians, outside, in [0, π/2)]. A directional model
+  // (bssrdf::Model::directional) is plotted as its kernel's azimuthal average at that incidence
+  // (bssrdf::azimuthalAverage: what the path tracer's radial tally of an oblique beam measures);
+  // radial models do not depend on it (their R(r) assumes normal incidence).
+  double incidence = 0.0;
 };
 
 // Curves of the named models for `medium`, in scene units of length (Medium::channel).

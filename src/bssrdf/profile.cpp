@@ -118,4 +118,15 @@ std::unique_ptr<DirectionalProfile> Model::directional(const ScalarMedium&) cons
   return nullptr;
 }
 
+double azimuthalAverage(const DirectionalProfile& kernel, double r, double theta, int azimuths) {
+  const glm::dvec3 n(0.0, 0.0, 1.0), x_i(0.0);
+  const glm::dvec3 w(std::sin(theta), 0.0, std::cos(theta));
+  double sum = 0.0;
+  for (int k = 0; k < azimuths; ++k) {
+    const double phi = 2.0 * std::numbers::pi * (k + 0.5) / azimuths;
+    sum += kernel.R(x_i, n, w, glm::dvec3(r * std::cos(phi), r * std::sin(phi), 0.0), n);
+  }
+  return sum / azimuths;
+}
+
 }  // namespace translucent::bssrdf

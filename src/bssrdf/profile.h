@@ -107,6 +107,15 @@ class Model {
   virtual std::unique_ptr<DirectionalProfile> directional(const ScalarMedium& medium) const;
 };
 
+// The azimuthal average (1/2π) ∮ R(x_i, n, ω_i; x_i + r (cos φ, sin φ, 0), n) dφ of a
+// directional kernel on a plane (normal n = z) at distance r from the point of entry, the light
+// at polar angle `theta` [radians, outside, in [0, π/2)]: what the radial tally of a path-traced
+// pencil beam at that incidence measures (reference/slab.h, SlabSetup::theta). `azimuths`
+// equally spaced angles (the periodic trapezoidal rule, spectrally accurate for a smooth
+// integrand). At theta = 0 it is the kernel's normal-incidence profile.
+double azimuthalAverage(const DirectionalProfile& kernel, double r, double theta,
+                        int azimuths = 64);
+
 // Integrates 2π r R(r) over [a, b] with one 8-point Gauss-Legendre panel.
 double integratePanel(const RadialProfile& p, double a, double b);
 

@@ -121,5 +121,30 @@ TEST(DirectionalDipole, LightFromBelowGivesNothing) {
   EXPECT_EQ(kernel->R(glm::dvec3(0.0), n, glm::dvec3(0.0, 0.6, -0.8), glm::dvec3(0.5, 0.0, 0.0), n), 0.0);
 }
 
+// The azimuthal average that the pencil plot shows at oblique incidence: the profile at normal
+// incidence, converged with 64 azimuths (the periodic trapezoidal rule), between the backward and
+// forward values, and not the normal-incidence profile at 60°.
+TEST(DirectionalDipole, AzimuthalAverageAtObliqueIncidence) {
+  const ScalarMedium m = preset("Marble").medium().channel(1);
+  const auto radial = dd().profile(m);
+  const auto kernel = dd().directional(m);
+  const double l = m.reducedMeanFreePath();
+  const double th = 60.0 * std::numbers::pi / 180.0;
+  const glm::dvec3 n(0.0, 0.0, 1.0), w(std::sin(th), 0.0, std::cos(th));
+  bool differs = false;
+  for (const double r : {0.1 * l, l, 3.0 * l, 10.0 * l}) {
+    EXPECT_NEAR(azimuthalAverage(*kernel, r, 0.0), radial->R(r), 1e-12 * radial->R(r));
+    const double a64 = azimuthalAverage(*kernel, r, th), a1024 = azimuthalAverage(*kernel, r, th, 1024);
+    EXPECT_NEAR(a64, a1024, 1e-6 * a1024) << r;
+    // The light comes from +x, so the refracted ray heads to -x: forward is -x.
+    const double forward = kernel->R(glm::dvec3(0.0), n, w, glm::dvec3(-r, 0.0, 0.0), n);
+    const double backward = kernel->R(glm::dvec3(0.0), n, w, glm::dvec3(r, 0.0, 0.0), n);
+    EXPECT_LT(a64, forward);
+    EXPECT_GT(a64, backward);
+    if (std::abs(a64 - radial->R(r)) > 0.01 * radial->R(r)) differs = true;
+  }
+  EXPECT_TRUE(differs);
+}
+
 }  // namespace
 }  // namespace translucent::bssrdf
