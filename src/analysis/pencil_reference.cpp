@@ -140,8 +140,10 @@ bool tracePencilReference(const Medium& medium, Channel channel,
       o.threads = options.threads;
       o.radial_bins = options.bins;
       o.radial_max = options.r_max;
+      reference::SlabSetup setup = reference::SlabSetup::semiInfinite(medium.channel(static_cast<int>(c)));
+      setup.theta = options.theta;
       traced[c] = reference::traceSlab(
-          device, reference::SlabSetup::semiInfinite(medium.channel(static_cast<int>(c))), o,
+          device, setup, o,
           [&](const reference::TraceProgress&) { return !stopped(); });
       if (traced[c].partial) return false;
       state.device = traced[c].device;

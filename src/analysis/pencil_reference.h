@@ -51,6 +51,7 @@ struct PencilReferenceOptions {
   // Where it is traced (reference/gpu/device.h): "cpu", "gpu" (a GL 4.5 context of its own, made
   // on the calling thread) or "auto" (the GPU on a hardware GPU, else the CPU).
   std::string device = "auto";
+  double theta = 0.0;       // polar angle of the beam [radians, outside, in [0, π/2)]
 };
 
 struct PencilReferencePass {

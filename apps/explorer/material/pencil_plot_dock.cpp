@@ -15,6 +15,9 @@
 #include <QtWidgets/QVBoxLayout>
 
 #include <algorithm>
+#include <array>
+#include <memory>
+#include <numbers>
 #include <map>
 
 #include "bssrdf/registry.h"
@@ -99,6 +102,15 @@ PencilPlotDock::PencilPlotDock(ExplorerState& state, QWidget* parent)
   photons_->setValue(1e6);
   photons_->setToolTip(tr("Reference photons per channel (refined in passes of doubling counts)"));
   device_ = makeTraceDeviceBox(QStringLiteral("reference_device"), tr("the reference"));
+  theta_ = new QDoubleSpinBox;
+  theta_->setObjectName(QStringLiteral("incidence"));
+  theta_->setRange(0.0, 89.0);
+  theta_->setDecimals(1);
+  theta_->setSingleStep(5.0);
+  theta_->setSuffix(QStringLiteral("°"));
+  theta_->setToolTip(tr("Polar angle θL of the pencil beam: the reference is traced at it; a "
+                        "directional model (directional-dipole) is drawn as its azimuthal average "
+                        "there; radial models assume normal incidence"));
   status_ = new QLabel;
   status_->setObjectName(QStringLiteral("reference_status"));
   controls->addWidget(new QLabel(tr("y")), 0, 0);
@@ -111,7 +123,9 @@ PencilPlotDock::PencilPlotDock(ExplorerState& state, QWidget* parent)
   controls->addWidget(reference_, 1, 2);
   controls->addWidget(photons_, 1, 3);
   controls->addWidget(device_, 1, 4);
-  controls->addWidget(status_, 2, 0, 1, 5);
+  controls->addWidget(new QLabel(tr("θL")), 2, 0);
+  controls->addWidget(theta_, 2, 1);
+  controls->addWidget(status_, 3, 0, 1, 5);
   layout->addLayout(controls);
   view_ = new QChartView;
   view_->setRenderHint(QPainter::Antialiasing);
@@ -138,6 +152,7 @@ PencilPlotDock::PencilPlotDock(ExplorerState& state, QWidget* parent)
   connect(solo_, &QComboBox::currentIndexChanged, this, onMaterial);
   connect(channel_, &QComboBox::currentIndexChanged, this, [this] { requestModels(); });
   connect(timesR_, &QCheckBox::toggled, this, [this] { requestModels(); });
+  connect(theta_, &QDoubleSpinBox::valueChanged, this, onMaterial);
   connect(yScale_, &QComboBox::currentIndexChanged, this, [this] { redraw(); });
   connect(reference_, &QCheckBox::toggled, this, [this](bool on) {
     if (on)
@@ -168,6 +183,8 @@ std::vector<Channel> PencilPlotDock::channels() const {
 
 std::string PencilPlotDock::solo() const { return solo_->currentData().toString().toStdString(); }
 
+double PencilPlotDock::incidence() const { return theta_->value(); }
+
 void PencilPlotDock::requestModels() {
   since_change_.restart();
   const uint64_t gen = ++*generation_;
@@ -177,10 +194,11 @@ void PencilPlotDock::requestModels() {
   for (const auto& m : models) work.emplace_back(m, state_.mediumFor(m));
   const auto chans = channels();
   const bool timesR = timesR_->isChecked();
+  const double theta = theta_->value() * std::numbers::pi / 180.0;
   auto latest = generation_;
   worker_.post(
       this,
-      [this, gen, latest, work, chans, timesR](MaterialGl& gl) -> MaterialWorker::Continuation {
+      [this, gen, latest, work, chans, timesR, theta](MaterialGl& gl) -> MaterialWorker::Continuation {
         if (latest->load() != gen) return {};  // a newer request is queued: skip this one
         // The range: the largest 95% radius over models and channels (the CLI's default). A
         // registered model's three profiles are built once and serve both the range and the
@@ -215,16 +233,29 @@ void PencilPlotDock::requestModels() {
           const auto grid = analysis::radiusGrid(rMax, 200);
           for (const auto& [m, medium, ps] : ok) {
             try {
+              // At oblique incidence a directional model is its kernel's azimuthal average
+              // (analysis::profileCurves does the same); the others say what they assume.
+              const std::string normal = theta != 0.0 ? " (normal incidence)" : "";
               if (isBssrdfPath(m)) {
-                auto c = gpu::bssrdfCurves(gl.load(m), curveLabel(m), medium, chans, grid, timesR);
+                auto c = gpu::bssrdfCurves(gl.load(m), curveLabel(m) + normal, medium, chans, grid,
+                                           timesR);
                 curves.insert(curves.end(), c.begin(), c.end());
                 continue;
               }
+              std::array<std::unique_ptr<bssrdf::DirectionalProfile>, 3> kernels;
+              const bssrdf::Model& model = bssrdf::model(m);
+              if (theta != 0.0 && !model.tabulated())
+                for (int c = 0; c < 3; ++c)
+                  kernels[static_cast<size_t>(c)] = model.directional(medium.channel(c));
+              auto value = [&](size_t c, double r) {
+                return kernels[c] ? bssrdf::azimuthalAverage(*kernels[c], r, theta) : ps[c]->R(r);
+              };
+              const std::string label = curveLabel(m) + (kernels[0] ? "" : normal);
               for (Channel ch : chans) {
-                Curve c{curveLabel(m), analysis::channelName(ch), grid, {}, {}};
+                Curve c{label, analysis::channelName(ch), grid, {}, {}};
                 c.value.reserve(grid.size());
                 for (double r : grid) {
-                  const Rgb v{ps[0]->R(r), ps[1]->R(r), ps[2]->R(r)};
+                  const Rgb v{value(0, r), value(1, r), value(2, r)};
                   double y = ch == Channel::Luminance ? analysis::luminance(v)
                                                       : v[static_cast<size_t>(ch)];
                   if (timesR) y *= r;
@@ -251,7 +282,8 @@ void PencilPlotDock::requestModels() {
           emit modelCurvesUpdated();
           // The reference follows the range and the medium; start it when it does not match.
           const Medium& m = solo().empty() ? state_.medium() : state_.mediumFor(solo());
-          const bool current = ref_active_ && ref_r_max_ == r_max_ && sameMedium(ref_medium_, m);
+          const bool current = ref_active_ && ref_r_max_ == r_max_ && sameMedium(ref_medium_, m) &&
+                               ref_theta_ == theta_->value();
           if (reference_->isChecked() && r_max_ > 0.0 && !current)
             restartReference();
         };
@@ -288,6 +320,8 @@ void PencilPlotDock::restartReference() {
   o.first_pass = std::min<uint64_t>(16'384, o.photons);
   o.seed = 1;
   o.device = device_->currentData().toString().toStdString();
+  o.theta = theta_->value() * std::numbers::pi / 180.0;
+  ref_theta_ = theta_->value();
   // Leave a core to the interface and the model curves.
   o.threads = std::max(1, static_cast<int>(std::thread::hardware_concurrency()) - 1);
   ref_r_max_ = r_max_;

@@ -10,7 +10,9 @@
 //     and starts it again. All three channels are traced, so channel, solo and r·R(r) switches
 //     redraw without restarting it. It uses the shared medium, or the solo model's.
 //   - Options: y axis linear, log or square root; r·R(r); red, green, blue or luminance; "solo"
-//     one model to show its three channels; the reference on/off and its photon budget.
+//     one model to show its three channels; the reference on/off and its photon budget; the
+//     beam's incidence θL (the reference is traced at it, a directional model is drawn as its
+//     kernel's azimuthal average there, and radial models' curves say "normal incidence").
 #pragma once
 
 #include <QtCore/QElapsedTimer>
@@ -55,6 +57,8 @@ class PencilPlotDock : public QDockWidget {
   // Generation of the reference: grows at every stop and restart (a material change).
   int referenceRuns() const { return ref_runs_; }
   double radiusMax() const { return r_max_; }
+  // The beam's polar angle θL [degrees] (the "incidence" spin box).
+  double incidence() const;
   // Milliseconds from the last material change to the redraw with its model curves.
   double lastModelLatencyMs() const { return latency_ms_; }
 
@@ -80,6 +84,7 @@ class PencilPlotDock : public QDockWidget {
   QCheckBox* reference_;
   QComboBox* device_;  // "reference_device": auto, cpu, gpu
   QDoubleSpinBox* photons_;
+  QDoubleSpinBox* theta_;  // "incidence" [degrees]
   QLabel* status_;
 
   std::vector<analysis::Curve> curves_;  // model curves (all channels, R(r))
@@ -101,6 +106,7 @@ class PencilPlotDock : public QDockWidget {
   int ref_runs_ = 0;
   double ref_r_max_ = 0.0;
   Medium ref_medium_;
+  double ref_theta_ = 0.0;  // incidence of the reference shown [degrees]
   uint64_t ref_budget_ = 0;
   bool ref_active_ = false;  // a run for (ref_medium_, ref_r_max_) is going or finished
 };

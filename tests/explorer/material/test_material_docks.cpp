@@ -172,6 +172,48 @@ class MaterialDocksTest : public QObject {
     QCOMPARE(shown, preset("Ketchup").medium().sigma_a[1]);
   }
 
+  // θL (issue 14 §1, §4): at 60° the directional dipole is drawn as its kernel's azimuthal
+  // average (the library's profileCurves with the same incidence), the dipole keeps its R(r) and
+  // says it assumes normal incidence, and the reference restarts at the new angle.
+  void incidenceAngleRedrawsDirectionalModelsAndRestartsTheReference() {
+    Fixture f(true);
+    f.state.setPlotModels({"dipole", "directional-dipole"});
+    f.plot.findChild<QDoubleSpinBox*>("photons")->setValue(16384.0);
+    QSignalSpy spy(&f.plot, &PencilPlotDock::modelCurvesUpdated);
+    QSignalSpy passes(&f.plot, &PencilPlotDock::referenceUpdated);
+    QVERIFY(f.waitCurves(spy));
+    while (spy.wait(300)) {}
+    QVERIFY(passes.count() > 0 || passes.wait(30000));
+    const int runs = f.plot.referenceRuns();
+    passes.clear();
+    f.plot.findChild<QDoubleSpinBox*>("incidence")->setValue(60.0);
+    QCOMPARE(f.plot.incidence(), 60.0);
+    QVERIFY(f.plot.referenceRuns() > runs);  // the reference at 0° was stopped
+    QVERIFY(f.plot.referenceCurves().empty());
+    QVERIFY(spy.wait(20000));
+    while (spy.wait(300)) {}
+    analysis::CurveOptions o{f.plot.radiusMax(), 200, false};
+    o.incidence = 60.0 * 3.14159265358979323846 / 180.0;
+    const auto dd = analysis::profileCurves({"directional-dipole"}, f.state.medium(),
+                                            {analysis::Channel::Luminance}, o)[0];
+    const auto at0 = analysis::profileCurves({"directional-dipole"}, f.state.medium(),
+                                             {analysis::Channel::Luminance},
+                                             {f.plot.radiusMax(), 200, false})[0];
+    const auto pts = linePoints(f.plot.chart(), "directional-dipole");
+    QCOMPARE(pts.size(), dd.r.size());
+    bool differs = false;
+    for (size_t i = 0; i < dd.r.size(); ++i) {
+      const auto it = pts.find(dd.r[i]);
+      QVERIFY(it != pts.end());
+      QVERIFY(std::abs(it->second - dd.value[i]) <= 1e-9 * std::abs(dd.value[i]));
+      if (std::abs(dd.value[i] - at0.value[i]) > 0.01 * at0.value[i]) differs = true;
+    }
+    QVERIFY(differs);  // the incidence changed the directional curve
+    QVERIFY(!linePoints(f.plot.chart(), "dipole (normal incidence)").empty());
+    QVERIFY(passes.count() > 0 || passes.wait(30000));  // the reference traced again, at 60°
+    QVERIFY(!f.plot.referenceCurves().empty());
+  }
+
   void referenceRefinesAndRestartsOnChange() {
     Fixture f(true);
     f.plot.findChild<QDoubleSpinBox*>("photons")->setValue(16384.0 * 15);  // 4 passes
