@@ -7,6 +7,7 @@
 #include <QtGui/QPainter>
 #include <QtWidgets/QCheckBox>
 #include <QtWidgets/QComboBox>
+#include <QtWidgets/QDoubleSpinBox>
 #include <QtWidgets/QGridLayout>
 #include <QtWidgets/QHBoxLayout>
 #include <QtWidgets/QLabel>
@@ -19,6 +20,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <exception>
 #include <utility>
 
@@ -63,8 +65,9 @@ constexpr uint64_t kCapSamples = 16;
 // A run's inputs. The path tracer's do not include the model's name: only its medium matters.
 std::string key(const SphereRunConfig& c, const std::string& model) {
   const Medium& m = c.medium;
-  return fmt::format("{}|{}x{}|{}|{}|{}|{}|{}|{}|{}", c.model ? model : "path traced on " + c.device,
-                     c.scene.width, c.scene.height, fmt::join(m.sigma_a, ","),
+  return fmt::format("{}|{}x{}|{},{},{}|{}|{}|{}|{}|{}|{}|{}", c.model ? model : "path traced on " + c.device,
+                     c.scene.width, c.scene.height, c.scene.light_direction.x,
+                     c.scene.light_direction.y, c.scene.light_direction.z, fmt::join(m.sigma_a, ","),
                      fmt::join(m.sigma_s, ","), m.g, m.eta, m.scale, c.first, c.budget);
 }
 
@@ -150,6 +153,24 @@ void LitSpheresDock::buildUi() {
   samples_box_->setValue(static_cast<int>(sample_budget_));
   samples_box_->setKeyboardTracking(false);
   device_box_ = makeTraceDeviceBox(QStringLiteral("tracer_device"), tr("the path tracer"), root);
+  auto angleBox = [&](const char* name, double lo, double hi, double value, const QString& tip) {
+    auto* b = new QDoubleSpinBox(root);
+    b->setObjectName(name);
+    b->setRange(lo, hi);
+    b->setDecimals(1);
+    b->setSingleStep(5.0);
+    b->setSuffix(QStringLiteral("°"));
+    b->setValue(value);
+    b->setKeyboardTracking(false);
+    b->setToolTip(tip);
+    return b;
+  };
+  light_theta_box_ = angleBox("light_theta", 0.0, 180.0, light_theta_,
+                              tr("θL: angle between the light and the view axis (0: from the "
+                                 "camera, 90: from the side, 180: from behind)"));
+  light_phi_box_ = angleBox("light_phi", -360.0, 360.0, light_phi_,
+                            tr("φL: azimuth of the light about the view axis, from the image's "
+                               "right"));
 
   // Four short rows rather than two long ones: the dock shares a column with the plot, and its
   // minimum width decides how much of the window the viewport gets.
@@ -170,6 +191,10 @@ void LitSpheresDock::buildUi() {
   controls->addWidget(samples_box_, 3, 1, 1, 2);
   controls->addWidget(new QLabel(tr("Tracer on"), root), 3, 3);
   controls->addWidget(device_box_, 3, 4, 1, 2);
+  controls->addWidget(new QLabel(tr("Light θL"), root), 4, 0);
+  controls->addWidget(light_theta_box_, 4, 1, 1, 2);
+  controls->addWidget(new QLabel(tr("φL"), root), 4, 3);
+  controls->addWidget(light_phi_box_, 4, 4, 1, 2);
   controls->setColumnStretch(1, 1);
   controls->setColumnStretch(4, 1);
   layout->addLayout(controls);
@@ -235,6 +260,10 @@ void LitSpheresDock::buildUi() {
           [this](int v) { setExposure(v / 10.0); });
   connect(gamma_slider_, &QSlider::valueChanged, this, [this](int v) { setGamma(v / 10.0); });
   connect(resolution_box_, &QSpinBox::valueChanged, this, &LitSpheresDock::setResolution);
+  connect(light_theta_box_, &QDoubleSpinBox::valueChanged, this,
+          [this](double t) { setLightAngles(t, light_phi_); });
+  connect(light_phi_box_, &QDoubleSpinBox::valueChanged, this,
+          [this](double p) { setLightAngles(light_theta_, p); });
   connect(photons_box_, &QSpinBox::valueChanged, this,
           [this](int k) { setPhotonBudget(static_cast<uint64_t>(k) * 1024); });
   connect(samples_box_, &QSpinBox::valueChanged, this,
@@ -399,7 +428,25 @@ void LitSpheresDock::updateComparison() {
 reference::SphereScene LitSpheresDock::sphereScene() const {
   reference::SphereScene s;  // the CLI's defaults: radius 1, light (1,1,1), view (0,0,1)
   s.width = s.height = resolution_;
+  s.light_direction = light_direction_;
   return s;
+}
+
+void LitSpheresDock::setLightAngles(double thetaDeg, double phiDeg) {
+  if (!std::isfinite(thetaDeg) || !std::isfinite(phiDeg)) return;
+  thetaDeg = std::clamp(thetaDeg, 0.0, 180.0);
+  if (thetaDeg == light_theta_ && phiDeg == light_phi_) return;
+  light_theta_ = thetaDeg;
+  light_phi_ = phiDeg;
+  const double t = thetaDeg * std::numbers::pi / 180.0, p = phiDeg * std::numbers::pi / 180.0;
+  light_direction_ = {std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t)};
+  {
+    const QSignalBlocker a(light_theta_box_), b(light_phi_box_);
+    light_theta_box_->setValue(thetaDeg);
+    light_phi_box_->setValue(phiDeg);
+  }
+  restart(Pane::PathTraced, false);
+  restart(Pane::Integrated, false);
 }
 
 void LitSpheresDock::setResolution(int pixels) {

@@ -7,7 +7,8 @@
 //
 // The scene is the CLI's `translucent pathtrace sphere` / `integrate sphere` default (radius 1
 // scene unit, light from (1,1,1) with irradiance 1, orthographic view along -z, seed 1) at a small
-// resolution, with the explorer's material: the model's medium (ExplorerState::mediumFor, which is
+// resolution, the light's direction adjustable as θL (from the view axis) and φL (about it,
+// from +x; the default 54.7°, 45° is (1,1,1)), with the explorer's material: the model's medium (ExplorerState::mediumFor, which is
 // the shared medium unless the model has its own), scale included. Both images are computed on
 // background threads by doubling passes (reference/progressive.h) and refreshed after each pass;
 // a material change cancels the runs whose inputs changed and starts them again. Exposure, gamma
@@ -29,11 +30,14 @@
 #include <string>
 #include <vector>
 
+#include <glm/vec3.hpp>
+
 #include "analysis/mc_compare.h"
 #include "spheres/sphere_run.h"
 
 class QCheckBox;
 class QComboBox;
+class QDoubleSpinBox;
 class QLabel;
 class QProgressBar;
 class QSlider;
@@ -70,6 +74,11 @@ class LitSpheresDock : public QDockWidget {
   // Computation (each restarts what it affects at once; material changes restart after
   // kRestartDelayMs, so that a burst of them, a slider being dragged, starts one run).
   void setResolution(int pixels);             // square images, 8..1024
+  // The light's direction: polar angle θL from the view axis (+z) in [0, 180] and azimuth φL
+  // about it from +x, in degrees; l = (sin θL cos φL, sin θL sin φL, cos θL).
+  void setLightAngles(double thetaDeg, double phiDeg);
+  double lightTheta() const { return light_theta_; }
+  double lightPhi() const { return light_phi_; }
   void setPhotonBudget(uint64_t photons);     // path tracer: photons per channel, all passes
   void setSampleBudget(uint64_t samples);     // integration: samples per pixel, all passes
   // Where the path tracer runs: "cpu", "gpu" or "auto" (sphere_run.h). A device that cannot
@@ -129,6 +138,10 @@ class LitSpheresDock : public QDockWidget {
   double exposure_ = 0.0, gamma_ = 2.2;
   Quantity quantity_ = Quantity::Exitance;
   int resolution_ = 128;
+  double light_theta_ = 54.735610317245346;  // acos(1/√3): the CLI's (1,1,1)
+  double light_phi_ = 45.0;
+  // From the angles; exactly the CLI's (1,1,1) until they are changed.
+  glm::dvec3 light_direction_{1.0, 1.0, 1.0};
   uint64_t photon_budget_ = uint64_t{1} << 20;
   uint64_t sample_budget_ = 64;
   std::string tracer_device_ = "auto";
@@ -159,6 +172,8 @@ class LitSpheresDock : public QDockWidget {
   QLabel* exposure_value_ = nullptr;
   QLabel* gamma_value_ = nullptr;
   QSpinBox* resolution_box_ = nullptr;
+  QDoubleSpinBox* light_theta_box_ = nullptr;
+  QDoubleSpinBox* light_phi_box_ = nullptr;
   QSpinBox* photons_box_ = nullptr;
   QSpinBox* samples_box_ = nullptr;
   QComboBox* device_box_ = nullptr;

@@ -9,6 +9,7 @@
 #include <QtCore/QElapsedTimer>
 #include <QtTest/QSignalSpy>
 #include <QtTest/QTest>
+#include <QtWidgets/QDoubleSpinBox>
 #include <QtWidgets/QComboBox>
 #include <QtWidgets/QSlider>
 
@@ -181,6 +182,31 @@ class TestLitSpheresDock : public QObject {
       QVERIFY2(green < 0.5, qPrintable(QString("green ratio %1").arg(green)));
       QVERIFY(channelMean(after, 0) > 2.0 * channelMean(after, 1));  // ketchup is red
       QCOMPARE(dock->status(p).done, p == Pane::PathTraced ? 2 * kPhotons : kSamples);
+    }
+  }
+
+  // θL/φL (issue 14 §4): a change restarts both runs with the light there. With the light from
+  // behind the sphere (θL = 150°) the camera sees the unlit side: its images are far darker than
+  // with the light from the camera (θL = 0), in both panes, and the spin boxes show the angles.
+  void lightAnglesMoveTheLight() {
+    ExplorerState state;
+    auto dock = smallDock(state);
+    dock->setLightAngles(0.0, 0.0);
+    QTRY_VERIFY_WITH_TIMEOUT(finished(*dock), kWaitMs);
+    const std::vector<float> front[2] = {dock->linearImage(Pane::PathTraced),
+                                         dock->linearImage(Pane::Integrated)};
+    const int gen[2] = {dock->status(Pane::PathTraced).generation,
+                        dock->status(Pane::Integrated).generation};
+    dock->findChild<QDoubleSpinBox*>("light_theta")->setValue(150.0);
+    QCOMPARE(dock->lightTheta(), 150.0);
+    QTRY_VERIFY_WITH_TIMEOUT(finished(*dock), kWaitMs);
+    for (Pane p : {Pane::PathTraced, Pane::Integrated}) {
+      QCOMPARE(dock->status(p).generation, gen[static_cast<int>(p)] + 1);
+      const double ratio = channelMean(dock->linearImage(p), 1) /
+                           channelMean(front[static_cast<int>(p)], 1);
+      qInfo("%s: light from behind / from the camera, mean green exitance %.3f",
+            p == Pane::PathTraced ? "path traced" : "integrated", ratio);
+      QVERIFY2(ratio < 0.5, qPrintable(QString("ratio %1").arg(ratio)));
     }
   }
 
