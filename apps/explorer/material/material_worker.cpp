@@ -49,11 +49,10 @@ gpu::BssrdfEvaluator& MaterialGl::load(const std::string& path) {
     throw ParameterError(err.what());
   }
   ensureContext();
+  // A directional file (no `radial`) is taken too: the pencil plot and the techniques that take a
+  // radial profile use its normal-incidence restriction (gpu/bssrdf_profiles.h), the lit spheres
+  // and the point cloud's shader kernel its directions.
   std::unique_ptr<gpu::BssrdfEvaluator> e = gpu::openBssrdf(path);
-  if (!e->file().attributes.radial)
-    throw ParameterError(fmt::format(
-        "{}: not a radial BSSRDF (line 1 lacks `radial`): the explorer plots and renders R(r)",
-        path));
   auto& ref = *e;
   models_[path] = std::move(e);
   return ref;

@@ -1,6 +1,7 @@
 #include "spheres/lit_spheres_dock.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <QtCore/QMetaObject>
 #include <QtCore/QTimer>
@@ -23,6 +24,7 @@
 #include <numbers>
 #include <exception>
 #include <utility>
+#include <variant>
 
 #include "analysis/colormap.h"
 #include "analysis/image_io.h"
@@ -30,6 +32,8 @@
 #include "core/explorer_state.h"
 #include "core/pixel_image_view.h"
 #include "core/trace_device_box.h"
+#include "gpu/bssrdf_profiles.h"
+#include "material/material_worker.h"
 #include "reference/slab.h"  // kBlockPhotons
 
 namespace translucent::explorer {
@@ -65,7 +69,8 @@ constexpr uint64_t kCapSamples = 16;
 // A run's inputs. The path tracer's do not include the model's name: only its medium matters.
 std::string key(const SphereRunConfig& c, const std::string& model) {
   const Medium& m = c.medium;
-  return fmt::format("{}|{}x{}|{},{},{}|{}|{}|{}|{}|{}|{}|{}", c.model ? model : "path traced on " + c.device,
+  const bool integrated = c.model || !c.bssrdf_file.empty();
+  return fmt::format("{}|{}x{}|{},{},{}|{}|{}|{}|{}|{}|{}|{}", integrated ? model : "path traced on " + c.device,
                      c.scene.width, c.scene.height, c.scene.light_direction.x,
                      c.scene.light_direction.y, c.scene.light_direction.z, fmt::join(m.sigma_a, ","),
                      fmt::join(m.sigma_s, ","), m.g, m.eta, m.scale, c.first, c.budget);
@@ -504,10 +509,14 @@ void LitSpheresDock::restart(Pane p, bool force) {
     c.medium.validate();
     c.scene.validate();
     if (p == Pane::Integrated) {
-      c.model = &bssrdf::model(model);
       c.first = 1;
       c.budget = sample_budget_;
       c.cap = kCapSamples;
+      if (bssrdf::isPluginFile(model)) {
+        restartPlugin(std::move(c), model, force);
+        return;
+      }
+      c.model = &bssrdf::model(model);
     } else {
       c.first = kFirstPhotons;
       c.budget = photon_budget_;
@@ -539,6 +548,56 @@ void LitSpheresDock::restart(Pane p, bool force) {
     return;
   }
   startRun(p, std::move(c), std::move(k));
+}
+
+// A .bssrdf model (issue 14 §3), prepared on the material worker, where the file is loaded with
+// the parameter values the parameters dock set: a radial file becomes a table of its GPU values
+// for the medium (gpu::bssrdfTabulatedModel: the CPU integrator samples and evaluates it like a
+// registered model); a directional one is handed over as its path and parameter values, for
+// the GPU integrator with the light's direction on the run's thread.
+void LitSpheresDock::restartPlugin(SphereRunConfig c, const std::string& model, bool force) {
+  const uint64_t ticket = ++plugin_ticket_;
+  MaterialWorker::of(state_).post(
+      this,
+      [c = std::move(c), model, force, ticket, this](MaterialGl& gl) mutable -> MaterialWorker::Continuation {
+        gpu::BssrdfEvaluator& e = gl.load(model);
+        std::string params;
+        if (e.file().attributes.radial) {
+          c.owned_model = gpu::bssrdfTabulatedModel(e, c.medium, model);
+          c.model = c.owned_model.get();
+        } else {
+          c.bssrdf_file = model;
+          for (const auto& decl : e.file().parameters)
+            c.bssrdf_parameters.emplace_back(decl.name, e.parameter(decl.name));
+        }
+        for (const auto& decl : e.file().parameters) {
+          const gpu::ParameterValue v = e.parameter(decl.name);
+          if (const auto* d = std::get_if<double>(&v)) params += fmt::format("{}={};", decl.name, *d);
+          else if (const auto* b = std::get_if<bool>(&v)) params += fmt::format("{}={};", decl.name, *b);
+          else params += fmt::format("{}={};", decl.name, fmt::join(std::get<Rgb>(v), ","));
+        }
+        return [this, c = std::move(c), model, force, ticket, params]() mutable {
+          if (ticket != plugin_ticket_) return;  // a newer change is on its way
+          PaneData& d = pane(Pane::Integrated);
+          std::string k = key(c, model) + "|" + params;
+          if (k != d.key) d.model = model;
+          if (!force && k == d.key) {
+            if (d.stale) {
+              d.stale = false;
+              updateStatus(Pane::Integrated);
+              updateComparison();
+            }
+            return;
+          }
+          startRun(Pane::Integrated, std::move(c), std::move(k));
+        };
+      },
+      [this](const QString& why) {
+        PaneData& d = pane(Pane::Integrated);
+        d.stale = d.snapshot != nullptr;
+        updateStatus(Pane::Integrated);
+        state_.error(tr("Lit spheres (sphere integration): %1; the previous image stays.").arg(why));
+      });
 }
 
 void LitSpheresDock::stopRun(Pane p) {

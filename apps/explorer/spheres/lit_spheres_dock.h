@@ -16,9 +16,11 @@
 // the display. The budgets (photons per channel for the path tracer, samples per pixel for the
 // integration; the seed notes the latter needs far more, 3.6.2) and the resolution restart.
 //
-// A material the runs cannot use (an invalid medium, a model that is not a registered C++ model,
-// such as a .bssrdf file, which is evaluated on the GPU) goes to the console as an error and the
-// last images stay.
+// The integration takes every model: registered ones, tabulated profiles (.csv) and .bssrdf files
+// (a radial file tabulated on the GPU for the medium and integrated on the CPU; a directional one
+// integrated on the GPU with the light's direction, uniform sampling). A material the runs cannot
+// use (an invalid medium, an unknown model, a broken file) goes to the console as an error and
+// the last images stay.
 #pragma once
 
 #include <QtGui/QImage>
@@ -123,6 +125,7 @@ class LitSpheresDock : public QDockWidget {
   // Starts (or restarts) a pane's run from the current state if its inputs changed (or `force`).
   void restart(Pane pane, bool force);
   void startRun(Pane pane, SphereRunConfig config, std::string key);
+  void restartPlugin(SphereRunConfig config, const std::string& model, bool force);
   void stopRun(Pane pane);
   void onPass(Pane pane, int generation, std::shared_ptr<const SphereSnapshot> snapshot);
   void onProgress(Pane pane, int generation, double fraction);
@@ -140,6 +143,7 @@ class LitSpheresDock : public QDockWidget {
   int resolution_ = 128;
   double light_theta_ = 54.735610317245346;  // acos(1/√3): the CLI's (1,1,1)
   double light_phi_ = 45.0;
+  uint64_t plugin_ticket_ = 0;  // latest .bssrdf preparation posted to the material worker
   // From the angles; exactly the CLI's (1,1,1) until they are changed.
   glm::dvec3 light_direction_{1.0, 1.0, 1.0};
   uint64_t photon_budget_ = uint64_t{1} << 20;

@@ -5,8 +5,10 @@
 #include <exception>
 #include <utility>
 
+#include "gpu/context.h"
 #include "reference/gpu/device.h"
 #include "reference/progressive.h"
+#include "reference/gpu/sphere_integration_gpu.h"
 #include "reference/sphere_integration.h"
 
 namespace translucent::explorer {
@@ -31,7 +33,8 @@ void SphereRun::run() {
   try {
     // The path tracer's passes are whole blocks, so the progressive images equal one run of
     // the same photons (progressive.h).
-    const uint64_t granularity = config_.model ? 1 : reference::kBlockPhotons;
+    const bool integrating = config_.model || !config_.bssrdf_file.empty();
+    const uint64_t granularity = integrating ? 1 : reference::kBlockPhotons;
     const auto passes = reference::doublingPasses(config_.first, config_.budget, granularity, config_.cap);
     uint64_t total = 0;
     for (uint64_t n : passes) total += n;
@@ -58,7 +61,18 @@ void SphereRun::run() {
       s->radiance = images.radiance;
       callbacks_.pass(std::move(s));
     };
-    if (config_.model) {
+    if (!config_.bssrdf_file.empty()) {
+      // The context first: the evaluator and the integrator's program live in it.
+      gpu::Context context;
+      const auto evaluator = gpu::openBssrdf(config_.bssrdf_file);
+      for (const auto& [name, value] : config_.bssrdf_parameters) evaluator->setParameter(name, value);
+      reference::GpuSphereIntegrator integrator(*evaluator, config_.scene, config_.medium, config_.seed);
+      device = "gpu (" + context.info().renderer + ")";
+      stopped = reference::runProgressive(
+                    integrator, passes, stop_,
+                    [&](int k, uint64_t done) { publish(integrator.images(), k, done); }, progress)
+                    .stopped;
+    } else if (config_.model) {
       reference::IntegrationOptions o;
       o.seed = config_.seed;
       o.threads = config_.threads;

@@ -1,6 +1,6 @@
 // One background computation of the lit sphere widgets (seed 3.6.2): either the path-traced
 // reference (reference::SpherePathTracer) or a model's sphere integration
-// (reference::SphereIntegrator), refined by doubling passes (reference::runProgressive) on a
+// (reference::SphereIntegrator; reference::GpuSphereIntegrator for a directional .bssrdf file), refined by doubling passes (reference::runProgressive) on a
 // thread of its own, and cancellable at any time.
 //
 // The run never touches Qt or the ExplorerState: it works on copies of its inputs and reports
@@ -17,6 +17,10 @@
 #include <string>
 #include <thread>
 
+#include <utility>
+#include <vector>
+
+#include "gpu/bssrdf_kernels.h"
 #include "optics/medium.h"
 #include "reference/mc_image.h"
 #include "reference/sphere.h"
@@ -31,8 +35,15 @@ struct SphereRunConfig {
   reference::SphereScene scene;
   Medium medium;
   // nullptr: path-trace the sphere; otherwise integrate this model (registered models live for
-  // the whole program, so the pointer stays valid).
+  // the whole program, so the pointer stays valid; a radial .bssrdf file tabulated for the
+  // medium, gpu::bssrdfTabulatedModel, is kept alive by owned_model).
   const bssrdf::Model* model = nullptr;
+  std::shared_ptr<const bssrdf::Model> owned_model;
+  // A directional .bssrdf file (no `radial`): integrated on the GPU with the light's direction
+  // (reference::GpuSphereIntegrator, uniform sampling) in a GL context of the run's own, from the
+  // file and the parameter values it had when the run started. Empty: not that case.
+  std::string bssrdf_file;
+  std::vector<std::pair<std::string, gpu::ParameterValue>> bssrdf_parameters;
   uint64_t first = 1;   // first pass: photons per channel (tracer) or samples per pixel
   uint64_t budget = 1;  // all passes together
   uint64_t cap = 0;     // largest pass (0: none): keeps refreshes coming
