@@ -6,6 +6,8 @@
 #include <pybind11/stl.h>
 
 #include <cmath>
+#include <filesystem>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <numbers>
 
@@ -19,6 +21,11 @@
 #include "bssrdf/registry.h"
 #include "reference/sphere.h"
 #include "reference/sphere_integration.h"
+#include "reference/gpu/sphere_integration_gpu.h"
+#include "gpu/bssrdf_profiles.h"
+#include "gl_lock.h"
+#include "bssrdf/bssrdf_file.h"
+#include "bssrdf/tabulated.h"
 
 namespace translucent::python {
 namespace {
@@ -257,27 +264,60 @@ Ctrl-C raises KeyboardInterrupt with the partial dict as its `partial_result`.
         o.defensive = defensive;
         o.seed = seed;
         o.threads = threads;
-        reference::SphereIntegrator integrator(bssrdf::model(model), scene, medium, o);
-        {
-          py::gil_scoped_release release;
-          runPasses(passes, stop, [&](const reference::ProgressCallback& cb) {
-            return integrator.addPass(n, cb).partial;
-          });
+        // A .bssrdf file (the CLI's choice): radial, through its GPU values tabulated for the
+        // medium and integrated on the CPU; directional, on the GPU with the light's direction
+        // (reference::GpuSphereIntegrator, uniform sampling), the module's context held meanwhile.
+        std::optional<GlLock> gl;
+        std::unique_ptr<gpu::BssrdfEvaluator> evaluator;
+        std::unique_ptr<bssrdf::TabulatedModel> table;
+        std::string used = sampling;
+        if (bssrdf::isPluginFile(model)) {
+          if (!std::filesystem::is_regular_file(model))
+            throw ParameterError(fmt::format("--model {}: no such .bssrdf file", model));
+          gl.emplace();
+          evaluator = gpu::openBssrdf(model);
+          if (evaluator->file().attributes.radial) {
+            table = gpu::bssrdfTabulatedModel(*evaluator, medium, model);
+            evaluator.reset();
+            gl.reset();
+          } else {
+            used = "uniform";
+          }
+        }
+        reference::IntegrationImages images;
+        reference::IntegrationStats st;
+        auto run = [&](auto& integrator) {
+          {
+            py::gil_scoped_release release;
+            runPasses(passes, stop, [&](const reference::ProgressCallback& cb) {
+              return integrator.addPass(n, cb).partial;
+            });
+          }
+          images = integrator.images();
+          st = integrator.stats();
+        };
+        if (evaluator) {
+          reference::GpuSphereIntegrator integrator(*evaluator, scene, medium, seed);
+          run(integrator);
+          evaluator.reset();
+          gl.reset();
+        } else {
+          reference::SphereIntegrator integrator(table ? *table : bssrdf::model(model), scene,
+                                                 medium, o);
+          run(integrator);
         }
         stop.finish();
-        const auto& st = integrator.stats();
         py::dict d;
         const std::pair<const char*, const reference::McImage*> all[] = {
-            {"exitance", &integrator.images().exitance},
-            {"radiance", &integrator.images().radiance}};
+            {"exitance", &images.exitance}, {"radiance", &images.radiance}};
         for (const auto& [name, img] : all) {
           const std::vector<py::ssize_t> shape{img->height(), img->width(), 3};
           d[name] = ownedArray(img->rgb(), shape);
           d[(std::string(name) + "_stderr").c_str()] = ownedArray(img->rgbStdError(), shape);
         }
         d["model"] = model;
-        d["sampling"] = sampling;
-        d["defensive"] = sampling == "uniform" ? 1.0 : defensive;
+        d["sampling"] = used;
+        d["defensive"] = used == "uniform" ? 1.0 : defensive;
         d["samples_per_pixel"] = st.samples;
         d["seconds"] = st.seconds;
         d["threads"] = st.threads;
@@ -299,7 +339,11 @@ A BSSRDF model integrated over the lit sphere, B(x_o) = ∫ R(|x_o − x_i|) Ft(
 Monte Carlo over the surface (seed 3.5): `translucent integrate sphere`, the same scene and
 pixels as pathtrace_sphere (whose arguments it takes, without cone_angle).
 
-model: a registered model name. samples per pixel and channel per pass, passes.
+model: a registered model name, a tabulated profile FILE.csv, or a .bssrdf file (radial: its GPU
+  values tabulated for the medium; directional, e.g. data/bssrdf/directional-dipole.bssrdf: on
+  the GPU with the light's direction, uniform sampling, said in "sampling"). A directional model
+  (directional-dipole) is integrated with its kernel and the light's true direction.
+samples per pixel and channel per pass, passes.
 sampling: "importance" (probe rays from the model's radial sampler along three axes, with a
   fraction `defensive` of uniform samples) or "uniform" (points uniform on the lit hemisphere).
 Returns a dict: "exitance" B [W/unit²] and "radiance" Ft(η, ω_o) B / π [W/(unit² sr)], each an

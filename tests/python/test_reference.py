@@ -267,3 +267,24 @@ def test_integrate_sphere_matches_cli_exr(cli, tmp_path, sampling):
         assert d[key].shape == (24, 32, 3) and d[key].dtype == np.float32
         assert np.array_equal(d[key], layers[key]), key
     assert d["samples_per_pixel"] == 16 and d["partial"] is False
+
+
+BSSRDF_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "data", "bssrdf")
+
+
+@pytest.mark.parametrize("name", ["better-dipole", "directional-dipole"])
+def test_integrate_sphere_of_bssrdf_files_matches_cli_exr(cli, tmp_path, name):
+    # A radial file (tabulated on the GPU, integrated on the CPU) and a directional one (on the
+    # GPU with the light's direction, uniform sampling): the same images as the CLI's.
+    path = os.path.join(BSSRDF_DIR, name + ".bssrdf")
+    exr = tmp_path / "b.exr"
+    cli("integrate", "sphere", "--model", path, "--preset", "Skin1", "--light-dir", "1,0,1",
+        "--width", "12", "--height", "10", "--samples", "32", "--seed", "5", "--exr", exr)
+    d = translucent.integrate_sphere(path, preset="Skin1", light_dir=[1, 0, 1], width=12,
+                                     height=10, samples=32, seed=5)
+    layers = read_exr_layers(exr)
+    for key in ["exitance", "exitance_stderr", "radiance", "radiance_stderr"]:
+        assert d[key].shape == (10, 12, 3) and d[key].dtype == np.float32
+        assert np.array_equal(d[key], layers[key]), key
+    assert d["sampling"] == ("uniform" if name == "directional-dipole" else "importance")
+    assert d["exitance"].max() > 0
