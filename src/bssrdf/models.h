@@ -8,6 +8,8 @@
 namespace translucent::bssrdf {
 
 std::unique_ptr<Model> makeDipole();
+std::unique_ptr<Model> makeDipoleExactFdr();  // boundary from the exact Fdr (dipole.cpp)
+std::unique_ptr<Model> makeQuantizedDiffusionFdrFit();  // boundary from the Fdr fit
 std::unique_ptr<Model> makeBetterDipole();
 std::unique_ptr<Model> makeNormalizedDiffusion();
 std::unique_ptr<Model> makeNormalizedDiffusionFit();
@@ -17,6 +19,8 @@ std::unique_ptr<Model> makeDirectionalDipole();
 
 // Eq. 3.2, shared with models that reuse the dipole's total reflectance.
 double dipoleTotalReflectance(double alpha_prime, double eta);
+// The same for a given A of Eq. 2.32.
+double dipoleTotalReflectanceForA(double alpha_prime, double A);
 
 // The boundary constants of d'Eon's exitance for relative index η (boundary.cpp), from the exact
 // first two Fresnel moments Cᵢ = ∫0^1 Fr(μ; 1/η) μⁱ dμ of the interface seen from inside.

@@ -7,7 +7,12 @@
 // Parameters: σa, σs, g, η of the channel; only σa, σs' = (1-g)σs and η enter (the model works
 // with reduced coefficients). Improved diffusion (improved_diffusion.h): Grosjean's
 // D = (2σa + σs')/(3σt'²), extrapolation distance zb = 2AD with A = (1+3C2)/(1-2C1) from the
-// Fresnel moments, exitance C_φ φ + C_E D ∂φ/∂z.
+// Fresnel moments, exitance C_φ φ + C_E D ∂φ/∂z. Registered as `quantized-diffusion-fdr-fit` (the
+// seed's "different boundary conditions"): the classic boundary of Eq. 2.32 with the rational Fdr
+// fit (Eq. 2.30), written in the two-term form by letting Fdr stand for both moments,
+// 2C1 = 3C2 = Fdr: A = (1 + Fdr)/(1 - Fdr) (2.602 against the moments' 2.341 at η = 1.3),
+// C_φ = (1 - Fdr)/4, C_E = (1 - Fdr)/2. Keeping the moments' C_φ, C_E with the classic A would
+// not conserve energy (Rd = 1.07 at α' = 1, η = 1.3); with these, C_φ 2A + C_E = 1 as before.
 //
 // Derivation (the paper's §4-5, in our notation; time t in units of length, c = 1):
 // - Source: the beam's first collisions, an isotropic line source Q(z) = α' σt' e^{-σt' z} along
@@ -145,21 +150,43 @@ class QuantizedDiffusionProfile final : public RadialProfile {
   improved::LogRadialTable table_;
 };
 
+// The diffusion parameters with the chosen boundary: the moments' A, or the Fdr fit's.
+improved::ImprovedDiffusion boundaryParameters(const ScalarMedium& m, bool fdrFit) {
+  improved::ImprovedDiffusion p(m);
+  if (fdrFit) {
+    const double fdr = fdrRational(m.eta);
+    p.zb = 2.0 * p.D * (1.0 + fdr) / (1.0 - fdr);
+    p.c_phi = 0.25 * (1.0 - fdr);
+    p.c_e = 0.5 * (1.0 - fdr);
+  }
+  return p;
+}
+
 class QuantizedDiffusion final : public Model {
  public:
-  std::string_view name() const override { return "quantized-diffusion"; }
+  explicit QuantizedDiffusion(bool fdrFit) : fdrFit_(fdrFit) {}
+  std::string_view name() const override {
+    return fdrFit_ ? "quantized-diffusion-fdr-fit" : "quantized-diffusion";
+  }
   std::string_view description() const override {
-    return "quantized diffusion: time-resolved extended beam source as a sum of Gaussians, "
-           "Grosjean D and improved boundary (d'Eon & Irving 2011)";
+    return fdrFit_ ? "quantized diffusion with the classic boundary: A from the Fdr fit "
+                     "(Eq. 2.30) instead of the Fresnel moments"
+                   : "quantized diffusion: time-resolved extended beam source as a sum of "
+                     "Gaussians, Grosjean D and improved boundary (d'Eon & Irving 2011)";
   }
   std::unique_ptr<RadialProfile> profile(const ScalarMedium& m) const override {
     m.validate();
-    return std::make_unique<QuantizedDiffusionProfile>(m);
+    return std::make_unique<QuantizedDiffusionProfile>(m, boundaryParameters(m, fdrFit_));
   }
   double totalReflectance(double alpha_prime, double eta) const override {
     // Scale invariant: σt' = 1, g = 0.
-    return quantizedDiffusionRd(ScalarMedium{1.0 - alpha_prime, alpha_prime, 0.0, eta});
+    const ScalarMedium m{1.0 - alpha_prime, alpha_prime, 0.0, eta};
+    m.validate();
+    return Quanta(boundaryParameters(m, fdrFit_)).rd;
   }
+
+ private:
+  bool fdrFit_;
 };
 
 }  // namespace
@@ -177,6 +204,9 @@ double quantizedDiffusionRd(const ScalarMedium& medium) {
   return Quanta(improved::ImprovedDiffusion(medium)).rd;
 }
 
-std::unique_ptr<Model> makeQuantizedDiffusion() { return std::make_unique<QuantizedDiffusion>(); }
+std::unique_ptr<Model> makeQuantizedDiffusion() { return std::make_unique<QuantizedDiffusion>(false); }
+std::unique_ptr<Model> makeQuantizedDiffusionFdrFit() {
+  return std::make_unique<QuantizedDiffusion>(true);
+}
 
 }  // namespace translucent::bssrdf

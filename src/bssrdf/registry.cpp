@@ -23,6 +23,8 @@ constexpr Factory kFactories[] = {
     &makeQuantizedDiffusion,
     &makePhotonBeam,
     &makeDirectionalDipole,
+    &makeDipoleExactFdr,
+    &makeQuantizedDiffusionFdrFit,
 };
 
 const std::vector<std::unique_ptr<Model>>& all() {

@@ -62,6 +62,29 @@ TEST(QuantizedDiffusion, TotalReflectanceMatchesTheContinuousClosedForm) {
   EXPECT_EQ(qd.totalReflectance(0.0, 1.3), 0.0);
 }
 
+// The classic boundary (quantized-diffusion-fdr-fit): the same closed form with A, C_φ, C_E from
+// the Fdr fit (2C1 = 3C2 = Fdr), energy conserving at α' = 1, and a different Rd from the
+// moments' boundary (it places the image higher: A 2.60 against 2.34 at η = 1.3).
+TEST(QuantizedDiffusion, FdrFitBoundaryMatchesItsClosedForm) {
+  const auto& fit = model("quantized-diffusion-fdr-fit");
+  for (const auto& m : someChannels()) {
+    test::ImprovedConstants c(m);
+    const LD fdr = -1.440L / (m.eta * m.eta) + 0.710L / m.eta + 0.668L + 0.0636L * m.eta;
+    c.zb = 2.0L * c.D * (1.0L + fdr) / (1.0L - fdr);
+    c.cphi = 0.25L * (1.0L - fdr);
+    c.ce = 0.5L * (1.0L - fdr);
+    const LD x = 2.0L * c.str * c.zb;
+    const LD fluence = c.str > 0 ? -std::expm1(-x) / (2.0L * c.D * c.str) : c.zb / c.D;
+    const LD expected = c.alpha * c.alpha * c.st / (c.st + c.str) *
+                        (c.cphi * fluence + 0.5L * c.ce * (1.0L + std::exp(-x)));
+    EXPECT_NEAR(fit.profile(m)->Rd(), double(expected), 5e-4 * double(expected))
+        << "sigma_a " << m.sigma_a;
+  }
+  for (double eta : {1.0, 1.3, 1.6}) EXPECT_NEAR(fit.totalReflectance(1.0, eta), 1.0, 5e-4) << eta;
+  const double moments = model("quantized-diffusion").totalReflectance(0.9, 1.3);
+  EXPECT_GT(std::abs(fit.totalReflectance(0.9, 1.3) - moments), 0.01 * moments);
+}
+
 TEST(QuantizedDiffusion, AgreesWithPhotonBeamAwayFromTheSource) {
   // Same extended source and boundary as photon beam diffusion's beam integral before its two
   // corrections: κ only acts within a few ℓ' of the entry point (e^{-2σt' r} <= 2.5e-3 at
