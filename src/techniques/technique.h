@@ -150,6 +150,14 @@ class Technique {
   virtual void prepare(const scene::Scene& scene, gpu::Context& gl) = 0;
   // Renders one frame of the prepared scene.
   virtual Frame render(const FrameRequest& request) = 0;
+  // A new camera for the prepared scene without prepare() (issue 14 §6: orbiting keeps every
+  // light-dependent result: shadow maps, irradiance, the environment map and its accumulated
+  // samples). Returns false when the technique cannot take it that way; the caller then
+  // prepares the scene with the new camera. Throws ParameterError for an invalid camera.
+  virtual bool setCamera(const reference::Camera& camera) {
+    (void)camera;
+    return false;
+  }
 };
 
 // Applies a scene's technique settings (scene.settings) with setParameter.

@@ -4,9 +4,11 @@
 //   --reset-layout          start with the default dock layout (the saved one is replaced on exit)
 //   --screenshot FILE       wait for the first full-resolution frame and the docks' first pass,
 //                           write the whole window to FILE (PNG) and exit (scripts/screenshot)
-//   --benchmark-frames N    render N full-resolution frames continuously, print the frame rate,
-//                           then the time from a material change (ExplorerState::setMedium) to
-//                           the updated full-resolution image, and exit
+//   --benchmark-frames N    render N full-resolution frames continuously, then N frames each
+//                           after a camera orbit step, then N each after turning the first
+//                           light; print the three frame rates, then the time from a material
+//                           change (ExplorerState::setMedium) to the updated full-resolution
+//                           image, and exit
 //   --render-scale S        full-resolution size relative to the picture (1, 0.5, 0.25; software
 //                           renderers default to 0.25)
 //   --size WxH              window size (default 1600x1000, or the saved geometry)
@@ -16,11 +18,14 @@
 #include <QtGui/QSurfaceFormat>
 #include <QtWidgets/QApplication>
 
+#include <cmath>
 #include <cstdio>
+#include <variant>
 #include <memory>
 #include <vector>
 
 #include "app/main_window.h"
+#include "app/view_math.h"
 #include "app/viewport_dock.h"
 #include "core/explorer_state.h"
 #include "core/message_repeats.h"
@@ -31,52 +36,105 @@ using namespace translucent::explorer;
 namespace {
 
 void runBenchmark(QApplication& app, ExplorerState& state, ViewportDock* viewport, int frames) {
+  // Phases: 0 waiting for the first full frame; 1 N frames of a still scene; 2 N frames, each after
+  // a camera orbit step (the technique keeps its lighting, Technique::setCamera); 3 N frames, each
+  // after a change of the first light's direction (everything light-dependent recomputed); 4 the
+  // material change.
   struct Bench {
-    int phase = 0;  // 0: waiting for the first full frame, 1: continuous frames, 2: material
+    int phase = 0;
     std::vector<double> ms;
+    double lighting_ms = 0.0;  // the phase's "shadow maps" and "irradiance" passes, all frames
+    double step_ms = 0.0;      // frames since the last step (half and full resolution)
     QElapsedTimer wall, change;
     double first_change_ms = -1.0;
   };
   auto b = std::make_shared<Bench>();
+  auto report = [frames](const char* what, const RenderedFrame& f, const std::vector<double>& ms,
+                         double wall_s, double lighting_ms) {
+    double sum = 0.0, lo = 1e300, hi = 0.0;
+    for (double m : ms) sum += m, lo = std::min(lo, m), hi = std::max(hi, m);
+    std::printf("viewport (%s): %s, %dx%d, %d steps: %.2f per second (time per step, the half- and "
+                "full-resolution frames, mean %.1f ms, min %.1f, max %.1f, of which shadow maps + "
+                "irradiance %.1f; %.2f steps/s wall clock including display)\n",
+                what, f.technique.c_str(), f.frame.width, f.frame.height, frames,
+                1000.0 * frames / sum, sum / frames, lo, hi, lighting_ms / frames, frames / wall_s);
+    std::fflush(stdout);
+  };
+  auto step = [&state](int phase) {
+    if (phase == 2) {
+      state.setCamera(orbit(state.scene().camera, 0.05, 0.0));
+    } else {
+      scene::Scene s = state.scene();
+      for (auto& light : s.lights) {
+        auto turn = [](glm::dvec3& d) {
+          const double c = std::cos(0.05), sn = std::sin(0.05);
+          d = glm::dvec3(c * d.x + sn * d.z, d.y, -sn * d.x + c * d.z);
+        };
+        if (auto* d = std::get_if<reference::DirectionalLight>(&light.emitter)) {
+          turn(d->direction);
+          break;
+        }
+        if (auto* p = std::get_if<reference::PointLight>(&light.emitter)) {
+          turn(p->position);
+          break;
+        }
+      }
+      state.setScene(s);
+    }
+  };
   QObject::connect(viewport, &ViewportDock::frameShown, viewport,
-                   [&app, &state, viewport, frames, b](std::shared_ptr<const RenderedFrame> f, bool full) {
+                   [&app, &state, viewport, frames, b, report, step](std::shared_ptr<const RenderedFrame> f, bool full) {
     if (b->phase == 0 && full) {
       b->phase = 1;
       b->wall.start();
       viewport->setContinuous(true);
       return;
     }
-    if (b->phase == 1) {
+    if (b->phase >= 1 && b->phase <= 3) {
+      // A change shows at half resolution first, then in full: a step's cost is both frames'
+      // (prepare and render), counted when the full one arrives.
+      // A still scene: each full frame on its own.
+      if (b->phase == 1 && !full) return;
+      b->step_ms += f->prepare_ms + f->render_ms;
+      for (const auto& pass : f->frame.passes)
+        if (pass.name == "shadow maps" || pass.name == "irradiance") b->lighting_ms += pass.ms;
       if (!full) return;
-      b->ms.push_back(f->prepare_ms + f->render_ms);
+      b->ms.push_back(b->step_ms);
+      b->step_ms = 0.0;
       if (int(b->ms.size()) < frames) {
-        viewport->requestFullFrame();
+        if (b->phase == 1)
+          viewport->requestFullFrame();
+        else
+          step(b->phase);
         return;
       }
       const double wall_s = b->wall.elapsed() / 1000.0;
-      double sum = 0.0, lo = 1e300, hi = 0.0;
-      for (double m : b->ms) sum += m, lo = std::min(lo, m), hi = std::max(hi, m);
-      std::printf("viewport: %s, %dx%d, %d frames: %.2f fps (frame time mean %.1f ms, min %.1f, "
-                  "max %.1f; %.2f frames/s wall clock including display)\n",
-                  f->technique.c_str(), f->frame.width, f->frame.height, frames,
-                  1000.0 * frames / sum, sum / frames, lo, hi, frames / wall_s);
-      std::fflush(stdout);
-      viewport->setContinuous(false);
-      b->phase = 2;
+      report(b->phase == 1 ? "still" : b->phase == 2 ? "camera orbit" : "light moving", *f, b->ms,
+             wall_s, b->lighting_ms);
+      b->ms.clear();
+      b->lighting_ms = 0.0;
+      if (b->phase == 1) viewport->setContinuous(false);
+      if (b->phase < 3) {
+        ++b->phase;
+        b->wall.start();
+        step(b->phase);
+        return;
+      }
+      b->phase = 4;
       b->change.start();
       Medium m = state.medium();
       for (double& v : m.sigma_a) v *= 1.25;
       state.setMedium(m);  // request ids after this one show the new material
       return;
     }
-    if (b->phase == 2) {
+    if (b->phase == 4) {
       if (b->first_change_ms < 0.0) b->first_change_ms = b->change.elapsed();
       if (!full) return;
       std::printf("material change (setMedium) -> first image %.0f ms (half resolution), "
                   "-> full-resolution image %lld ms\n",
                   b->first_change_ms, static_cast<long long>(b->change.elapsed()));
       std::fflush(stdout);
-      b->phase = 3;
+      b->phase = 5;
       app.quit();
     }
   });

@@ -28,6 +28,13 @@ std::string preparedKey(scene::Scene s) {
   return scene::toJson(s);
 }
 
+// The same without the camera: two scenes with equal keys differ at most in the camera, which a
+// technique may take without prepare() (Technique::setCamera: orbiting keeps the lighting).
+std::string preparedKeyWithoutCamera(scene::Scene s) {
+  s.camera = reference::Camera{};
+  return preparedKey(std::move(s));
+}
+
 }  // namespace
 
 void retireInBackground(std::unique_ptr<RenderWorker> worker) {
@@ -91,6 +98,7 @@ void RenderWorker::run(std::stop_token stop) {
 
   std::unique_ptr<techniques::Technique> technique;
   std::string prepared_key;  // preparedKey of the scene the technique holds
+  std::string prepared_key_without_camera;  // the same without its camera
   std::string counted_mesh;  // mesh file whose counts are in faces/vertices
   std::size_t faces = 0, vertices = 0;
   std::optional<RenderRequest> current;
@@ -111,6 +119,7 @@ void RenderWorker::run(std::stop_token stop) {
       technique->prepare(s, *gl);
     }
     prepared_key = preparedKey(s);
+    prepared_key_without_camera = preparedKeyWithoutCamera(s);
   };
 
   while (!stop.stop_requested()) {
@@ -127,6 +136,19 @@ void RenderWorker::run(std::stop_token stop) {
 
     double prepare_ms = 0.0;
     const std::string key = preparedKey(r.scene);
+    // A camera move only: the technique takes the camera and keeps its light-dependent results.
+    if (technique && key != prepared_key && technique->name() == r.scene.technique &&
+        preparedKeyWithoutCamera(r.scene) == prepared_key_without_camera) {
+      try {
+        if (technique->setCamera(r.scene.camera)) {
+          prepared_key = key;
+          std::lock_guard lock(mutex_);
+          good_scene_ = r.scene;
+        }
+      } catch (const std::exception&) {
+        // An invalid camera: prepare() below reports it as for any other change.
+      }
+    }
     if (!technique || key != prepared_key) {
       const auto t0 = Clock::now();
       try {

@@ -162,6 +162,7 @@ void SurfaceIrradiance::prepareLights(const scene::Scene& s, const glm::dvec3& c
   shadowSize_ = shadowMapSize;
   envShadow_.reset();
   envDirections_ = 0;
+  fresh_ = false;
 }
 
 bool SurfaceIrradiance::hasOccludedEnvironment() const {
@@ -259,13 +260,14 @@ EnvironmentBudget environmentBudget(const ParameterSet& params, bool converge) {
 
 bool SurfaceIrradiance::update(const GpuMesh& mesh, const gpu::Buffer& points, size_t count, float eta,
                                const ShadowLookup& lookup, const EnvironmentBudget& budget,
-                               gpu::PassTimer* timer) {
+                               gpu::PassTimer* timer, bool reuse) {
   ensurePrograms();
   auto scope = [&](const char* name) {
     return timer ? std::optional<gpu::PassTimer::Scope>(timer->scope(name)) : std::nullopt;
   };
   const bool occluded = hasOccludedEnvironment();
   if (count != count_ || !irradiance_) {
+    reuse = false;
     count_ = count;
     irradiance_ = gpu::makeStorageBuffer(std::max<size_t>(count, 1) * sizeof(glm::vec4));
     lightDirections_ = gpu::makeStorageBuffer(std::max<size_t>(count, 1) * sizeof(glm::vec4));
@@ -286,16 +288,20 @@ bool SurfaceIrradiance::update(const GpuMesh& mesh, const gpu::Buffer& points, s
     gpu::bindStorage(kEnvAccum, envAccum_);
     dispatch(kClearEnvironment);
   }
-  {
+  reuse = reuse && fresh_;
+  if (!reuse) {
     auto t = scope("shadow maps");
     for (auto& st : lights_)
       if (st.shadow) renderLightShadow(*st.shadow, st.light, mesh, *depthProgram_, center_, radius_);
   }
-  {
+  // The environment's resolve adds to the direct irradiance: with an occluded environment the
+  // direct part is dispatched again each update (cheap: the shadow maps are kept).
+  if (!reuse || occluded) {
     auto t = scope("irradiance");
     dispatch(kClear);
     for (const auto& st : lights_) lightDispatch(st, lookup);
   }
+  fresh_ = true;
   bool final = true;
   if (occluded) {
     auto t = scope("environment samples");

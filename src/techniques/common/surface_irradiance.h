@@ -76,8 +76,13 @@ class SurfaceIrradiance {
   // ("environment samples"), each timed in `timer` when not null. A change of `count` (a new
   // point set) restarts the environment accumulation. Binds SSBOs 2, 3, 4, 14 (irradiance.comp's).
   // Returns true when E is final (no occluded environment, or all its directions are in).
+  // With `reuse`, the caller vouches that the mesh, the points and the shadow settings are those
+  // of the previous update (a camera move): the shadow maps are not rendered again, and without
+  // an occluded environment the irradiance is kept as it is (nothing is dispatched); lights
+  // prepared since, or another point count, still recompute everything.
   bool update(const GpuMesh& mesh, const gpu::Buffer& points, size_t count, float eta,
-              const ShadowLookup& lookup, const EnvironmentBudget& budget, gpu::PassTimer* timer);
+              const ShadowLookup& lookup, const EnvironmentBudget& budget, gpu::PassTimer* timer,
+              bool reuse = false);
 
   const gpu::Buffer& irradiance() const { return irradiance_; }
   // Per point (vec4): xyz = Σ_l w_l ω_l, w = Σ_l w_l over the directional, filtered, beam and point
@@ -107,6 +112,7 @@ class SurfaceIrradiance {
   std::unique_ptr<gpu::ShaderProgram> depthProgram_, irradianceProgram_;
   gpu::Texture dummyShadow_, dummyFilter_;
   gpu::Buffer irradiance_, envAccum_, lightDirections_;
+  bool fresh_ = false;  // shadow maps and direct irradiance of the current lights are computed
   size_t count_ = 0;
 };
 

@@ -473,11 +473,15 @@ struct PointCloudTechnique::Impl : techniques::ClosedMeshState {
 
     // The irradiance of every light at the points (the shared pass), then bound for the refit and
     // the traversal.
+    // Nothing the lighting depends on changed since the last frame (a camera move): the shadow
+    // maps and the direct irradiance are kept (an occluded environment goes on accumulating).
+    const bool reuse = !lightingDirty;
     if (lightingDirty) lighting.restartEnvironment();
     lightingDirty = false;
     const bool lit = lighting.update(*gpuMesh, points, octree.pointCount(),
                                      static_cast<float>(s.medium.eta), techniques::shadowLookup(params),
-                                     techniques::environmentBudget(params, request.converge), &*timer);
+                                     techniques::environmentBudget(params, request.converge), &*timer,
+                                     reuse);
     if (lighting.hasOccludedEnvironment()) frame.converged = lit;
     gpu::bindStorage(kIrradiance, lighting.irradiance());
     gpu::bindStorage(kLightDirections, lighting.lightDirections());
@@ -645,6 +649,13 @@ const material::PointProfiles& PointCloudTechnique::vertexProfiles() const { ret
 
 techniques::Frame PointCloudTechnique::render(const techniques::FrameRequest& request) {
   return impl_->render(request);
+}
+
+bool PointCloudTechnique::setCamera(const reference::Camera& camera) {
+  if (!impl_->scene) return false;
+  camera.validate();
+  impl_->scene->camera = camera;
+  return true;
 }
 
 const geometry::TriangleMesh& PointCloudTechnique::mesh() const { return impl_->mesh; }

@@ -90,6 +90,9 @@ class PointCloudTechnique final : public techniques::Technique {
   techniques::ParameterValue parameter(std::string_view name) const override;
   void prepare(const scene::Scene& scene, gpu::Context& gl) override;
   techniques::Frame render(const techniques::FrameRequest& request) override;
+  // The camera only moves the G-buffer and the radiance pass: points, octree, shadow maps and
+  // irradiance (and an occluded environment's accumulation) are kept.
+  bool setCamera(const reference::Camera& camera) override;
 
   // The material to render from the next prepare() on instead of scene::sceneMaterial(scene,
   // mesh) (a hand-built Material: tests, callers with their own fields); std::nullopt goes back

@@ -16,6 +16,7 @@
 #include "app/console_dock.h"
 #include "app/technique_views_dock.h"
 #include "app/main_window.h"
+#include "app/view_math.h"
 #include "app/viewport_dock.h"
 #include "app/viewport_widget.h"
 #include "core/explorer_state.h"
@@ -158,6 +159,23 @@ class Viewport : public QObject {
     const double d = relativeMeanDifference(f->frame.rgb, img.rgb);
     qInfo("viewport vs CLI: relative mean difference %g", d);
     QVERIFY2(d < 1e-3, qPrintable(QStringLiteral("relative mean difference %1").arg(d)));
+  }
+
+  // Orbiting (issue 14 §6): a camera move reaches the point cloud through setCamera, not
+  // prepare(): the frames after it render no shadow maps and no irradiance pass and take no
+  // preparation time, and the image changes (the bunny turned).
+  void cameraOrbitKeepsTheLighting() {
+    QVERIFY(full_ != nullptr);
+    const auto before = full_;
+    state_->setCamera(orbit(state_->scene().camera, 0.4, 0.0));
+    const auto after = nextFull("pointcloud");
+    QVERIFY2(after != nullptr, qPrintable(console_->text()));
+    QCOMPARE(after->prepare_ms, 0.0);
+    for (const auto& pass : after->frame.passes)
+      QVERIFY2(pass.name != "shadow maps" && pass.name != "irradiance", pass.name.c_str());
+    const double d = relativeMeanDifference(before->frame.rgb, after->frame.rgb);
+    qInfo("orbit by 0.4 rad: relative mean difference %g", d);
+    QVERIFY(d > 0.01);
   }
 
   void switchingTechniqueChangesTheImage() {
