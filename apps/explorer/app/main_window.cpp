@@ -20,6 +20,7 @@
 #include "app/command_line.h"
 #include "app/console_dock.h"
 #include "app/technique_views_dock.h"
+#include "app/current_data.h"
 #include "app/viewport_dock.h"
 #include "core/explorer_state.h"
 
@@ -115,6 +116,10 @@ MainWindow::MainWindow(ExplorerState& state, MainWindowOptions options, QWidget*
     QGuiApplication::clipboard()->setText(cmd);
     state_.info(QStringLiteral("copied to the clipboard: %1").arg(cmd));
   });
+  QAction* print = file->addAction(QStringLiteral("&Print current data"), this, [this] {
+    state_.info(currentDataText());
+  });
+  print->setObjectName(QStringLiteral("print_current_data"));
   file->addSeparator();
   file->addAction(QStringLiteral("&Quit"), QKeySequence::Quit, this, &QWidget::close);
 
@@ -156,6 +161,8 @@ void MainWindow::showEvent(QShowEvent* e) {
 }
 
 MainWindow::~MainWindow() = default;
+
+QString MainWindow::currentDataText() const { return explorer::currentDataText(state_.scene()); }
 
 void MainWindow::resetLayout() {
   restoreState(default_state_);

@@ -47,6 +47,12 @@ class MainWindow : public QMainWindow {
 
   void resetLayout();
 
+  // "Print current data" (empirical seed, appendix A: "print all current data"): the scene as
+  // JSON, then every parameter of the current technique with the value it renders with (the
+  // scene's setting, else the default, marked so), as one text; the menu item sends it to the
+  // console. Throws nothing: an unknown technique name is said in the text.
+  QString currentDataText() const;
+
  protected:
   void closeEvent(QCloseEvent* e) override;
   void showEvent(QShowEvent* e) override;

@@ -7,6 +7,8 @@
 #include <cmath>
 
 #include "app/command_line.h"
+#include "app/current_data.h"
+#include "techniques/registry.h"
 #include "app/main_window.h"
 #include "app/parameter_form.h"
 #include "app/view_math.h"
@@ -67,6 +69,23 @@ class AppUnits : public QObject {
     QCOMPARE(cmd, QStringLiteral("/opt/bin/translucent render '/tmp/my scenes/view'\\''s.json' "
                                  "--technique empirical --width 320 --height 240 --exr view.exr"));
     QCOMPARE(shellQuote(QString()), QStringLiteral("''"));
+  }
+
+  // "Print current data" (issue 14 §7): the scene's JSON, then every technique parameter with
+  // the value it renders with, the scene's settings unmarked and the rest "(default)".
+  void currentDataListsTheSceneAndEveryParameter() {
+    scene::Scene s = scene::defaultScene();
+    s.settings["epsilon"] = 0.5;
+    const QString text = currentDataText(s);
+    QVERIFY(text.contains(QString::fromStdString(scene::toJson(s))));
+    QVERIFY(text.contains("technique pointcloud"));
+    QVERIFY2(text.contains("\n  epsilon = 0.5\n"), qPrintable(text));
+    QVERIFY2(text.contains("\n  points = 100000 (default)\n"), qPrintable(text));
+    const auto t = techniques::make("pointcloud");
+    for (const auto& p : t->parameters())
+      QVERIFY2(text.contains(QString::fromStdString("\n  " + p.name + " = ")), p.name.c_str());
+    s.technique = "no-such-technique";
+    QVERIFY(currentDataText(s).contains("technique no-such-technique:"));
   }
 
   void sceneForCliMakesPathsAbsoluteAndSetsTheSize() {
