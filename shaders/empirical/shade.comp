@@ -34,7 +34,9 @@ uniform bool LightIsPoint[kMaxLights];
 uniform vec3 LightDirection[kMaxLights];  // directional: unit, towards the light; point: position
 uniform vec3 LightValue[kMaxLights];      // I_d = I_s: colour × irradiance (point: × intensity,
                                           // divided by the squared distance here)
-uniform vec3 Ia;
+uniform vec3 Ia;              // ambient light: intensity × ambient colour
+uniform vec3 SpecularColour;  // the lights' specular colour (× each light's value)
+uniform bool DirectOnly;      // no back layer (not rendered this frame), no Eq. 3.10 term
 uniform vec3 Kd;
 uniform float Ka, Wd, Ws, Ks, Shininess, Wb, R, Kb;
 
@@ -50,7 +52,8 @@ void main() {
     return;
   }
   const float front = eyeDistance(zf, Projection);
-  const float zb = texelFetch(BackDepth, p, 0).x;
+  // Direct light only: the back layer was not rendered this frame; no thickness is read.
+  const float zb = DirectOnly ? 1.0 : texelFetch(BackDepth, p, 0).x;
   float back = front;  // no second layer (an open mesh): zero thickness... see below
   float t = 1.0;       // ... treated as opaque: no backlight
   float rawBack = 0.0;
@@ -99,10 +102,10 @@ void main() {
     if (NdotL > 0.0) {  // as computeLight (C.2.3)
       color += Wd * kd * I * NdotL;  // Eq. 3.8
       const float NdotH = max(dot(N, normalize(L + V)), 0.0);
-      color += Ws * Ks * I * pow(NdotH, Shininess);  // Eq. 3.9
+      color += Ws * Ks * (SpecularColour * I) * pow(NdotH, Shininess);  // Eq. 3.9
     }
   }
-  color += Wb * pow(1.0 - clamp(t, 0.0, 1.0), R) * (kd + vec3(Kb));  // Eq. 3.10
+  if (!DirectOnly) color += Wb * pow(1.0 - clamp(t, 0.0, 1.0), R) * (kd + vec3(Kb));  // Eq. 3.10
   imageStore(OutColor, p, vec4(color, 1.0));
   imageStore(OutDebug, p, vec4(front, rawBack, t, ao));
 }

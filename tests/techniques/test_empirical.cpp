@@ -222,6 +222,61 @@ TEST_F(EmpiricalGpu, EachLightingTermInIsolation) {
   }
 }
 
+// The seed's interface (appendix A, issue 14 §7): light ambient and specular colours apart from
+// the lights' (diffuse) colour, and a direct-light-only switch that skips the back layer (no
+// "back" pass) and the translucency term, against the CPU shading with I_a, I_s set so.
+TEST_F(EmpiricalGpu, LightColoursAndDirectLightOnly) {
+  TempDir dir;
+  scene::Scene s = testScene(
+      writeObj(flatBox({-0.5, -0.5, -0.2}, {0.5, 0.5, 0.2}), dir.path() / "box.obj"), 32);
+  const glm::dvec3 L = glm::normalize(glm::dvec3(0.6, 0.0, 0.8));
+  s.lights[0].emitter = reference::DirectionalLight{L, 2.0};
+  s.lights[0].color = {1.0, 0.5, 0.25};
+  const glm::dvec3 N(0, 0, 1), V(0, 0, 1);
+  const glm::dvec3 H = glm::normalize(L + V);
+  for (const bool directOnly : {false, true}) {
+    auto t = technique();
+    t->setParameter("ka", 0.3);
+    t->setParameter("diffuse_contribution", 0.7);
+    t->setParameter("specular_contribution", 0.9);
+    t->setParameter("ks", 0.5);
+    t->setParameter("shininess", 12.0);
+    t->setParameter("backlight", 1.2);
+    t->setParameter("diffuse_weight", 0.2);
+    t->setParameter("thickness_exponent", 3.0);
+    t->setParameter("ambient_light", 0.5);
+    t->setParameter("ambient_red", 0.2);
+    t->setParameter("ambient_green", 1.0);
+    t->setParameter("ambient_blue", 3.0);
+    t->setParameter("specular_red", 0.0);
+    t->setParameter("specular_green", 1.0);
+    t->setParameter("specular_blue", 2.0);
+    t->setParameter("direct_only", directOnly);
+    t->prepare(s, gpu::testing::context());
+    const techniques::Frame f = t->render({});
+    bool back = false;
+    for (const auto& pass : f.passes) back = back || pass.name == "back";
+    EXPECT_EQ(back, !directOnly);
+    ShadingParameters p;
+    p.ka = 0.3;
+    p.wd = 0.7;
+    p.ws = 0.9;
+    p.ks = 0.5;
+    p.shininess = 12.0;
+    p.wb = directOnly ? 0.0 : 1.2;
+    p.Kb = 0.2;
+    p.r = 3.0;
+    p.Ia = 0.5 * glm::dvec3(0.2, 1.0, 3.0);
+    p.Id = 2.0 * glm::dvec3(1.0, 0.5, 0.25);
+    p.Is = p.Id * glm::dvec3(0.0, 1.0, 2.0);
+    const double thick = 0.4 / t->sceneDiameter();
+    const glm::dvec3 expected = shade(p, 1.0, N, L, H, thick).total();
+    for (int ch = 0; ch < 3; ++ch)
+      EXPECT_NEAR(double(f.rgb[(16 * 32 + 16) * 3 + size_t(ch)]), expected[ch], 1e-5 * (1.0 + expected[ch]))
+          << "direct only " << directOnly << " channel " << ch;
+  }
+}
+
 // A point light straight above the centre of a flat face: diffuse = w_d K_d I / d².
 TEST_F(EmpiricalGpu, PointLightFallsOffWithTheSquaredDistance) {
   TempDir dir;

@@ -45,7 +45,23 @@ std::vector<ParameterInfo> parameterInfos() {
       ParameterInfo::floating("kd_red", d.Kd.r, 0.0, 1.0, "material diffuse colour K_d, red"),
       ParameterInfo::floating("kd_green", d.Kd.g, 0.0, 1.0, "material diffuse colour K_d, green"),
       ParameterInfo::floating("kd_blue", d.Kd.b, 0.0, 1.0, "material diffuse colour K_d, blue"),
-      ParameterInfo::floating("ambient_light", 1.0, 0.0, 100.0, "ambient light I_a (grey)"),
+      ParameterInfo::floating("ambient_light", 1.0, 0.0, 100.0, "ambient light I_a (intensity)"),
+      // The seed's interface (appendix A) gives the light ambient, diffuse and specular colours:
+      // I_a = ambient_light × ambient colour; the diffuse colour is each light's own (scene
+      // lights[i].color); the specular one is the light's value times the specular colour, so
+      // that a white highlight on a coloured light (or none) is a setting, not a code change.
+      ParameterInfo::floating("ambient_red", 1.0, 0.0, 10.0, "light ambient colour, red (× I_a)"),
+      ParameterInfo::floating("ambient_green", 1.0, 0.0, 10.0, "light ambient colour, green (× I_a)"),
+      ParameterInfo::floating("ambient_blue", 1.0, 0.0, 10.0, "light ambient colour, blue (× I_a)"),
+      ParameterInfo::floating("specular_red", 1.0, 0.0, 10.0,
+                              "light specular colour, red (× each light's value; Eq. 3.9)"),
+      ParameterInfo::floating("specular_green", 1.0, 0.0, 10.0,
+                              "light specular colour, green (× each light's value; Eq. 3.9)"),
+      ParameterInfo::floating("specular_blue", 1.0, 0.0, 10.0,
+                              "light specular colour, blue (× each light's value; Eq. 3.9)"),
+      ParameterInfo::boolean("direct_only", false,
+                             "direct light only (appendix A): skip the back layer and the "
+                             "translucency term (Eq. 3.10); ambient, diffuse and specular stay"),
       ParameterInfo::floating("diffuse_contribution", d.wd, 0.0, 10.0,
                               "diffuse contribution w_d (Eq. 3.8)"),
       ParameterInfo::floating("specular_contribution", d.ws, 0.0, 10.0,
@@ -333,7 +349,8 @@ struct EmpiricalTechnique::Impl {
         drawLayer(frontFbo.id(), *frontProgram, viewProj);
       }
     }
-    {
+    const bool directOnly = params.getBool("direct_only");
+    if (!directOnly) {
       auto t = timer->scope("back");
       const gpu::ShaderProgram& p = *backProgram;
       glBindTextureUnit(0, frontDepth.id());
@@ -387,7 +404,13 @@ struct EmpiricalTechnique::Impl {
       }
       p.set("LightCount", count);
       if (randomLighting) ++randomFrame;
-      p.set("Ia", glm::vec3(static_cast<float>(params.getFloat("ambient_light"))));
+      p.set("Ia", static_cast<float>(params.getFloat("ambient_light")) *
+                      glm::vec3(params.getFloat("ambient_red"), params.getFloat("ambient_green"),
+                                params.getFloat("ambient_blue")));
+      p.set("SpecularColour", glm::vec3(params.getFloat("specular_red"),
+                                        params.getFloat("specular_green"),
+                                        params.getFloat("specular_blue")));
+      p.set("DirectOnly", directOnly);
       p.set("Kd", glm::vec3(params.getFloat("kd_red"), params.getFloat("kd_green"),
                             params.getFloat("kd_blue")));
       p.set("Ka", static_cast<float>(params.getFloat("ka")));
