@@ -368,6 +368,45 @@ TEST_F(PointCloudGpu, ShadowOfAnOccluder) {
   EXPECT_GT(lit, 300);
 }
 
+// The four shadow lookups of seed Fig. 3.3 (issue 14 §7): without hardware PCF and with one
+// lookup the shadow edge is hard (every point fully lit or fully dark: one texel's depth test);
+// hardware PCF (bilinear comparison) or jittered lookups make a penumbra of partly lit points,
+// wider with both. Same occluder scene as above, a coarse 128² map so that the edge spans texels.
+TEST_F(PointCloudGpu, ShadowLookupVariantsOfSeedFigure3_3) {
+  TempDir dir;
+  const auto mesh = join(geometry::makeBox({-1.0, -1.0, -1.0}, {1.0, 1.0, 0.0}),
+                         geometry::makeBox({-0.3, -0.3, 0.4}, {0.3, 0.3, 0.6}));
+  const auto obj = writeObj(mesh, dir.path() / "boxes.obj");
+  scene::Scene s = testScene(obj, 16);
+  const double full = fresnelTransmittance(1.0, 1.3);
+  int partial[2][2] = {};
+  for (const bool hardware : {false, true})
+    for (const int samples : {1, 16}) {
+      auto t = technique(8000);
+      t->setParameter("shadow_map_size", 128);
+      t->setParameter("shadow_hardware_pcf", hardware);
+      t->setParameter("shadow_samples", samples);
+      t->setParameter("shadow_radius", 2.0);
+      t->prepare(s, gpu::testing::context());
+      (void)t->render({});
+      const auto e = t->gpuIrradiance();
+      const auto& cloud = t->pointCloud();
+      int& n = partial[hardware][samples > 1];
+      for (size_t i = 0; i < cloud.size(); ++i) {
+        const glm::dvec3 p(cloud.positions[i]);
+        if (std::abs(p.z) > 1e-6 || cloud.normals[i].z < 0.99f) continue;
+        const double v = double(e[i].r) / full;
+        if (v > 0.02 && v < 0.98) ++n;
+      }
+    }
+  std::printf("points in the penumbra: none %d, hardware %d, jittered %d, both %d\n",
+              partial[0][0], partial[1][0], partial[0][1], partial[1][1]);
+  EXPECT_EQ(partial[0][0], 0);
+  EXPECT_GT(partial[1][0], 10);
+  EXPECT_GT(partial[0][1], 10);
+  EXPECT_GT(partial[1][1], partial[1][0]);
+}
+
 TEST_F(PointCloudGpu, FilteredDirectionalLightProjectsTheTexture) {
   // The built-in 8x8 checker (1 and 0.05) along +z over a box face, one repeat per 0.5 units:
   // texel (floor(8 (u/0.5 + 1/2)), ...) with u = p·U, v = p·V (FilteredDirectionalLight).

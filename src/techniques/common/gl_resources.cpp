@@ -316,6 +316,9 @@ void setShadowUniforms(const gpu::ShaderProgram& p, const ShadowMap* map,
   p.set("FilterTexture", 1);
   glBindTextureUnit(0, map ? map->texture().id() : dummy.id());
   if (map == nullptr) return;
+  const GLint filter = lookup.hardware_pcf ? GL_LINEAR : GL_NEAREST;
+  glTextureParameteri(map->texture().id(), GL_TEXTURE_MIN_FILTER, filter);
+  glTextureParameteri(map->texture().id(), GL_TEXTURE_MAG_FILTER, filter);
   const float texel = map->texelSize();
   p.set("ShadowMatrix", map->matrix());
   p.set("ShadowPerspective", map->perspective());

@@ -127,6 +127,10 @@ struct ShadowLookup {
   float offset = 1.0f;    // along the normal [texels]
   float bias = 1.0f;      // depth offset of orthographic maps [texels]
   float radius = 1.5f;    // of the jitter [texels]
+  // The map's own bilinear comparison (hardware PCF: each lookup averages the 2x2 texels'
+  // tests); off, one texel's test per lookup. With `samples` 1 or more, the four shadow variants
+  // of seed Fig. 3.3 (none, hardware, jittered, both).
+  bool hardware_pcf = true;
 };
 // Sets the shadow uniforms of irradiance.comp (Shadowed, ShadowMap on unit 0, FilterTexture on
 // unit 1, ShadowMatrix, ...) for `map`, or Shadowed = false (and `dummy`, a 1x1 depth texture

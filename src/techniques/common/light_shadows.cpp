@@ -10,6 +10,7 @@ ShadowLookup shadowLookup(const ParameterSet& params) {
   lookup.offset = static_cast<float>(params.getFloat("shadow_offset"));
   lookup.bias = static_cast<float>(params.getFloat("shadow_bias"));
   lookup.radius = static_cast<float>(params.getFloat("shadow_radius"));
+  lookup.hardware_pcf = params.getBool("shadow_hardware_pcf");
   return lookup;
 }
 

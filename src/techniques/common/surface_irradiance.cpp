@@ -243,6 +243,9 @@ std::vector<ParameterInfo> lightingParameters() {
                              "jittered hardware-PCF lookups per surface point (seed Fig. 3.3 d)"),
       ParameterInfo::floating("shadow_radius", 1.5, 0.0, 16.0, "radius of the jittered lookups",
                               "texels"),
+      ParameterInfo::boolean("shadow_hardware_pcf", true,
+                             "bilinear depth comparison of the shadow map (hardware PCF); with "
+                             "shadow_samples 1 or more the four variants of seed Fig. 3.3"),
       ParameterInfo::integer("ibl_samples", 256, 1, 65536,
                              "occluded environment lighting: shadow-mapped directions in total"),
       ParameterInfo::integer("ibl_samples_per_frame", 16, 1, 1024,
