@@ -5,6 +5,7 @@
 #include <chrono>
 #include <exception>
 #include <string>
+#include <utility>
 
 #include "gpu/context.h"
 #include "techniques/registry.h"
@@ -136,6 +137,14 @@ void RenderWorker::run(std::stop_token stop) {
 
     double prepare_ms = 0.0;
     const std::string key = preparedKey(r.scene);
+    std::unique_ptr<techniques::Technique> before_reload;  // back to it if the reload fails
+    std::string before_key, before_key_without_camera;
+    if (r.reload && technique) {
+      before_reload = std::move(technique);
+      before_key = std::exchange(prepared_key, std::string());
+      before_key_without_camera = prepared_key_without_camera;
+    }
+    r.reload = false;  // once (a continuous request repeats)
     // A camera move only: the technique takes the camera and keeps its light-dependent results.
     if (technique && key != prepared_key && technique->name() == r.scene.technique &&
         preparedKeyWithoutCamera(r.scene) == prepared_key_without_camera) {
@@ -165,6 +174,13 @@ void RenderWorker::run(std::stop_token stop) {
         good_scene_ = r.scene;
       } catch (const std::exception& e) {
         const QString message = QString::fromStdString(e.what());
+        if (before_reload) {
+          // A reload that failed (a GLSL error): the previous instance, with the shaders it was
+          // built with, goes on rendering.
+          technique = std::move(before_reload);
+          prepared_key = before_key;
+          prepared_key_without_camera = before_key_without_camera;
+        }
         std::optional<scene::Scene> good;
         {
           std::lock_guard lock(mutex_);

@@ -39,6 +39,10 @@ struct RenderRequest {
   bool continuous = false;    // keep rendering frames (random lighting, benchmarks)
   bool converge = false;      // finish progressive work in one frame (FrameRequest::converge)
   bool views = false;         // also the technique's inspection views (FrameRequest::views)
+  // A fresh technique instance prepared for this request: its shaders are read from disk and
+  // compiled again (the explorer's "Reload shaders"; empirical seed appendix A). A GLSL error is
+  // a prepareFailed with its message, and the last good state goes on rendering.
+  bool reload = false;
   std::uint64_t id = 0;       // assigned by RenderWorker::request
 };
 

@@ -200,6 +200,12 @@ void ViewportDock::buildControls(QWidget* panel) {
   technique_help_ = new QLabel;
   technique_help_->setWordWrap(true);
   tv->addWidget(technique_);
+  auto* reload = new QPushButton(QStringLiteral("Reload shaders"));
+  reload->setObjectName(QStringLiteral("reload_shaders"));
+  reload->setToolTip(QStringLiteral("Read the technique's shaders from disk again and rebuild them "
+                                    "(a GLSL error goes to the console; the previous ones stay)"));
+  tv->addWidget(reload);
+  connect(reload, &QPushButton::clicked, this, &ViewportDock::reloadShaders);
   tv->addWidget(technique_help_);
   settings_box_ = new QVBoxLayout;
   tv->addLayout(settings_box_);
@@ -504,8 +510,14 @@ void ViewportDock::onSceneChanged() {
   rest_timer_.start();
 }
 
-void ViewportDock::request(bool full) {
+void ViewportDock::reloadShaders() {
+  rest_timer_.stop();
+  request(true, true);
+}
+
+void ViewportDock::request(bool full, bool reload) {
   RenderRequest r;
+  r.reload = reload;
   r.scene = state_.scene();
   QSize size = renderSize();
   if (!full) size = QSize(std::max(8, size.width() / 2), std::max(8, size.height() / 2));

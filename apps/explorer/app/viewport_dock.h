@@ -69,6 +69,9 @@ class ViewportDock : public QDockWidget {
   void setContinuous(bool on);
   // Asks for a full-resolution frame now (no half-resolution frame first).
   void requestFullFrame();
+  // The "Reload shaders" button: a fresh technique instance reads and compiles its shaders from
+  // disk (a GLSL error goes to the console and the previous shaders stay).
+  void reloadShaders();
   // Ask for the technique's inspection views in full-resolution frames (the views dock's
   // visibility); turning it on requests a full frame.
   void setViewsWanted(bool on);
@@ -86,7 +89,7 @@ class ViewportDock : public QDockWidget {
   void rebuildSettings();
   void syncControls();
   void onSceneChanged();
-  void request(bool full);
+  void request(bool full, bool reload = false);
   void onFrame(std::shared_ptr<const RenderedFrame> frame);
   void onPrepareFailed(quint64 id, const QString& message,
                        std::shared_ptr<const scene::Scene> restored);

@@ -8,9 +8,12 @@
 #include <QtWidgets/QCheckBox>
 #include <QtWidgets/QDoubleSpinBox>
 #include <QtWidgets/QMainWindow>
+#include <QtWidgets/QPushButton>
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include "analysis/image_io.h"
 #include "app/console_dock.h"
@@ -190,6 +193,63 @@ class Viewport : public QObject {
     const double d = relativeMeanDifference(before->frame.rgb, after->frame.rgb);
     qInfo("pointcloud vs empirical: relative mean difference %g", d);
     QVERIFY2(d > 0.2, qPrintable(QStringLiteral("relative mean difference %1").arg(d)));
+  }
+
+  // "Reload shaders" (issue 14 §7): the technique's shaders are read from disk again. With the
+  // shader folder copied (TRANSLUCENT_SHADER_DIR) and the empirical shading pass edited to halve
+  // its colour, a reload halves the image; a GLSL error is reported on the console with the file
+  // and the previous shaders go on rendering; the original folder back, a reload restores it.
+  void reloadShadersRebuildsFromDisk() {
+    QVERIFY(full_ != nullptr && full_->technique == "empirical");
+    const auto before = full_;
+    const QString copy = dir_.filePath(QStringLiteral("shaders"));
+    std::filesystem::copy(TRANSLUCENT_SHADER_DIR, copy.toStdString(),
+                          std::filesystem::copy_options::recursive);
+    const std::string shade = copy.toStdString() + "/empirical/shade.comp";
+    std::string text;
+    {
+      std::ifstream in(shade);
+      std::stringstream ss;
+      ss << in.rdbuf();
+      text = ss.str();
+    }
+    const std::string store = "imageStore(OutColor, p, vec4(color, 1.0));";
+    QVERIFY(text.find(store) != std::string::npos);
+    auto write = [&](const std::string& replacement) {
+      std::string t = text;
+      t.replace(t.find(store), store.size(), replacement);
+      std::ofstream(shade) << t;
+    };
+    qputenv("TRANSLUCENT_SHADER_DIR", copy.toUtf8());
+    write("imageStore(OutColor, p, vec4(0.5 * color, 1.0));");
+    auto* reload = dock_->findChild<QPushButton*>(QStringLiteral("reload_shaders"));
+    QVERIFY(reload != nullptr);
+    reload->click();
+    const auto halved = nextFull("empirical");
+    QVERIFY2(halved != nullptr, qPrintable(console_->text()));
+    double a = 0.0, b = 0.0;
+    for (float v : before->frame.rgb) a += double(v);
+    for (float v : halved->frame.rgb) b += double(v);
+    QVERIFY2(std::abs(b / a - 0.5) < 1e-3, qPrintable(QString::number(b / a)));
+
+    const int errors = console_->errorCount();
+    write("imageStore(OutColor, p, vec4(color, 1.0)) +;");  // a syntax error
+    reload->click();
+    QVERIFY(QTest::qWaitFor([&] { return console_->errorCount() > errors; }, kFrameTimeoutMs));
+    QVERIFY2(console_->text().contains(QStringLiteral("shade.comp")), qPrintable(console_->text()));
+    const auto kept = nextFull("empirical");
+    QVERIFY(kept != nullptr);
+    double c = 0.0;
+    for (float v : kept->frame.rgb) c += double(v);
+    QVERIFY2(std::abs(c / a - 0.5) < 1e-3, qPrintable(QString::number(c / a)));  // the halving shaders
+
+    qunsetenv("TRANSLUCENT_SHADER_DIR");
+    reload->click();
+    const auto restored = nextFull("empirical");
+    QVERIFY(restored != nullptr);
+    double d = 0.0;
+    for (float v : restored->frame.rgb) d += double(v);
+    QVERIFY2(std::abs(d / a - 1.0) < 1e-3, qPrintable(QString::number(d / a)));
   }
 
   void brokenMeshIsReportedAndTheLastGoodStateKeepsRendering() {
