@@ -16,6 +16,7 @@
 #include <QtWidgets/QGroupBox>
 #include <QtWidgets/QLabel>
 #include <QtWidgets/QPushButton>
+#include <QtWidgets/QSlider>
 #include <QtWidgets/QScrollArea>
 #include <QtWidgets/QSplitter>
 #include <QtWidgets/QVBoxLayout>
@@ -233,6 +234,26 @@ void ViewportDock::buildControls(QWidget* panel) {
                                        "technique's random lighting is its random_lighting setting."));
   connect(lighting_, &QComboBox::activated, this, [this](int i) { setLightingMode(i); });
   sf->addRow(QStringLiteral("Lighting"), lighting_);
+  auto* texture = new QPushButton(QStringLiteral("Filter texture…"));
+  texture->setObjectName(QStringLiteral("filter_texture"));
+  texture->setToolTip(QStringLiteral("Image projected by the filtered directional light"));
+  connect(texture, &QPushButton::clicked, this, [this] {
+    const QString f = QFileDialog::getOpenFileName(
+        this, QStringLiteral("Filter texture"), QString(),
+        QStringLiteral("Images (*.png *.jpg *.jpeg *.exr *.hdr *.tif *.tiff);;All files (*)"));
+    if (!f.isEmpty()) setFilterTexture(f);
+  });
+  auto* envmap = new QPushButton(QStringLiteral("Environment map…"));
+  envmap->setObjectName(QStringLiteral("environment_map"));
+  envmap->setToolTip(QStringLiteral("Latitude-longitude map of the IBL modes (EXR, HDR)"));
+  connect(envmap, &QPushButton::clicked, this, [this] {
+    const QString f = QFileDialog::getOpenFileName(
+        this, QStringLiteral("Environment map"), QString(),
+        QStringLiteral("Environment maps (*.exr *.hdr);;All files (*)"));
+    if (!f.isEmpty()) setEnvironmentMap(f);
+  });
+  sf->addRow(QString(), texture);
+  sf->addRow(QString(), envmap);
   v->addWidget(sceneBox);
 
   auto* cam = new QGroupBox(QStringLiteral("Camera"));
@@ -245,6 +266,14 @@ void ViewportDock::buildControls(QWidget* panel) {
   rotate_ = new QCheckBox(QStringLiteral("auto-rotate"));
   rotate_->setObjectName(QStringLiteral("auto_rotate"));
   cf->addRow(QStringLiteral("Field of view"), fov_);
+  zoom_ = new QSlider(Qt::Horizontal);
+  zoom_->setObjectName(QStringLiteral("zoom"));
+  zoom_->setRange(0, 1000);  // log distance from 0.05 to 50 scene units
+  zoom_->setToolTip(QStringLiteral("Camera distance to its look-at point"));
+  cf->addRow(QStringLiteral("Zoom"), zoom_);
+  connect(zoom_, &QSlider::valueChanged, this, [this](int step) {
+    setCameraDistance(0.05 * std::pow(1000.0, step / 1000.0));
+  });
   cf->addRow(QStringLiteral("Near clip"), near_);
   cf->addRow(QStringLiteral("Far clip"), far_);
   cf->addRow(QString(), rotate_);
@@ -381,6 +410,12 @@ void ViewportDock::syncControls() {
     QSignalBlocker b(box);
     box->setValue(value);
   }
+  {
+    QSignalBlocker b(zoom_);
+    const double d = glm::length(s.camera.position - s.camera.look_at);
+    zoom_->setValue(int(std::lround(1000.0 * std::log(std::clamp(d, 0.05, 50.0) / 0.05) /
+                                    std::log(1000.0))));
+  }
   // Only a deforming mesh has a time to change; a scene without one stops playing.
   const bool deforms = !s.mesh_deform.empty();
   time_->setEnabled(deforms);
@@ -420,7 +455,7 @@ void ViewportDock::setLightingMode(int mode) {
       scene::FilteredDirectionalLight f;
       f.direction = key;
       f.irradiance = 5.0;
-      f.texture = "checker";
+      f.texture = filter_texture_.toStdString();
       f.texture_size = 0.25;
       lights[0].emitter = f;
       lights[0].color = {1.0, 1.0, 1.0};
@@ -429,7 +464,8 @@ void ViewportDock::setLightingMode(int mode) {
     default: {
       try {
         scene::EnvironmentLight e;
-        e.file = defaultEnvironmentMap();
+        e.file = environment_map_.isEmpty() ? std::filesystem::path(defaultEnvironmentMap())
+                                            : std::filesystem::path(environment_map_.toStdString());
         e.occlusion = mode == 3;
         scene::Light l;
         l.emitter = e;
@@ -442,6 +478,25 @@ void ViewportDock::setLightingMode(int mode) {
     }
   }
   state_.setLights(std::move(lights));
+}
+
+void ViewportDock::setFilterTexture(const QString& file) {
+  filter_texture_ = file;
+  setLightingMode(1);
+}
+
+void ViewportDock::setEnvironmentMap(const QString& file) {
+  environment_map_ = file;
+  setLightingMode(lightingMode() == 3 ? 3 : 2);
+}
+
+void ViewportDock::setCameraDistance(double distance) {
+  reference::Camera c = state_.scene().camera;
+  const glm::dvec3 offset = c.position - c.look_at;
+  const double now = glm::length(offset);
+  if (!(now > 0.0) || !(distance > 0.0) || std::abs(now - distance) <= 1e-12 * now) return;
+  c.position = c.look_at + offset * (distance / now);
+  state_.setCamera(c);
 }
 
 QSize ViewportDock::renderSize() const {

@@ -21,6 +21,7 @@
 
 class QCheckBox;
 class QComboBox;
+class QSlider;
 class QDoubleSpinBox;
 class QLabel;
 class QVBoxLayout;
@@ -72,6 +73,14 @@ class ViewportDock : public QDockWidget {
   // The "Reload shaders" button: a fresh technique instance reads and compiles its shaders from
   // disk (a GLSL error goes to the console and the previous shaders stay).
   void reloadShaders();
+  // The explorer seed's file choices (issue 14 §7): the filtered directional light's texture
+  // ("checker" or an image file) and the environment map of the IBL modes; each switches the
+  // lighting to the mode that uses it. A file the technique cannot read is an error on the
+  // console and the last good state goes on rendering.
+  void setFilterTexture(const QString& file);
+  void setEnvironmentMap(const QString& file);
+  // The zoom slider: the camera's distance to its look-at point, in [0.05, 50] scene units.
+  void setCameraDistance(double distance);
   // Ask for the technique's inspection views in full-resolution frames (the views dock's
   // visibility); turning it on requests a full frame.
   void setViewsWanted(bool on);
@@ -119,6 +128,9 @@ class ViewportDock : public QDockWidget {
   QLabel* mesh_label_ = nullptr;
   QComboBox* lighting_ = nullptr;
   QDoubleSpinBox* fov_ = nullptr;
+  QSlider* zoom_ = nullptr;  // camera distance to the look-at point, logarithmic
+  QString filter_texture_ = QStringLiteral("checker");  // the filtered light's texture
+  QString environment_map_;                             // IBL's map (empty: the default one)
   QDoubleSpinBox* near_ = nullptr;
   QDoubleSpinBox* far_ = nullptr;
   QCheckBox* rotate_ = nullptr;

@@ -8,6 +8,7 @@
 #include <QtWidgets/QCheckBox>
 #include <QtWidgets/QDoubleSpinBox>
 #include <QtWidgets/QMainWindow>
+#include <QtWidgets/QSlider>
 #include <QtWidgets/QPushButton>
 
 #include <cmath>
@@ -16,6 +17,7 @@
 #include <sstream>
 
 #include "analysis/image_io.h"
+#include "lights/environment_map.h"
 #include "app/console_dock.h"
 #include "app/technique_views_dock.h"
 #include "app/main_window.h"
@@ -250,6 +252,52 @@ class Viewport : public QObject {
     double d = 0.0;
     for (float v : restored->frame.rgb) d += double(v);
     QVERIFY2(std::abs(d / a - 1.0) < 1e-3, qPrintable(QString::number(d / a)));
+  }
+
+  // The explorer seed's file choices and the zoom slider (issue 14 §7): the filtered light's
+  // texture and the environment map from files (each switches to its lighting mode and renders),
+  // a map that cannot be read is an error on the console naming it, and the zoom slider sets the
+  // camera's distance to its look-at point.
+  void lightingFilesAndZoom() {
+    state_->setTechnique("pointcloud");
+    QVERIFY2(nextFull("pointcloud") != nullptr, qPrintable(console_->text()));
+    auto* zoom = dock_->findChild<QSlider*>(QStringLiteral("zoom"));
+    QVERIFY(zoom != nullptr);
+    zoom->setValue(600);
+    const reference::Camera& c = state_->scene().camera;
+    QVERIFY(std::abs(glm::length(c.position - c.look_at) - 0.05 * std::pow(1000.0, 0.6)) < 1e-9);
+    QVERIFY(nextFull("pointcloud") != nullptr);
+
+    const QString png = dir_.filePath(QStringLiteral("stripes.png"));
+    QImage stripes(8, 8, QImage::Format_RGB32);
+    for (int y = 0; y < 8; ++y)
+      for (int x = 0; x < 8; ++x) stripes.setPixel(x, y, x % 2 ? qRgb(255, 255, 255) : qRgb(20, 20, 20));
+    QVERIFY(stripes.save(png));
+    const int errors = console_->errorCount();
+    dock_->setFilterTexture(png);
+    const auto* f = std::get_if<scene::FilteredDirectionalLight>(&state_->scene().lights.at(0).emitter);
+    QVERIFY(f != nullptr);
+    QCOMPARE(QString::fromStdString(f->texture.string()), png);
+    QVERIFY2(nextFull("pointcloud") != nullptr, qPrintable(console_->text()));
+    QCOMPARE(console_->errorCount(), errors);
+
+    const QString exr = dir_.filePath(QStringLiteral("sky.exr"));
+    const auto map = lights::EnvironmentMap::constant(glm::vec3(0.5f, 0.7f, 1.0f), 16, 8);
+    analysis::writeExr(exr.toStdString(), map.width, map.height, map.rgb);
+    dock_->setEnvironmentMap(exr);
+    const auto* e = std::get_if<scene::EnvironmentLight>(&state_->scene().lights.at(0).emitter);
+    QVERIFY(e != nullptr);
+    QCOMPARE(QString::fromStdString(e->file.string()), exr);
+    QVERIFY2(nextFull("pointcloud") != nullptr, qPrintable(console_->text()));
+    QCOMPARE(console_->errorCount(), errors);
+
+    dock_->setEnvironmentMap(dir_.filePath(QStringLiteral("missing.exr")));
+    QVERIFY(QTest::qWaitFor([&] { return console_->errorCount() > errors; }, kFrameTimeoutMs));
+    QVERIFY2(console_->text().contains(QStringLiteral("missing.exr")), qPrintable(console_->text()));
+    state_->setLights(scene::defaultScene().lights);
+    QVERIFY(nextFull("pointcloud") != nullptr);
+    state_->setTechnique("empirical");  // what the next tests expect
+    QVERIFY(nextFull("empirical") != nullptr);
   }
 
   void brokenMeshIsReportedAndTheLastGoodStateKeepsRendering() {
