@@ -3,6 +3,8 @@
 #include <QtCore/QCoreApplication>
 
 #include <chrono>
+
+#include <glm/common.hpp>
 #include <exception>
 #include <string>
 #include <utility>
@@ -102,6 +104,7 @@ void RenderWorker::run(std::stop_token stop) {
   std::string prepared_key_without_camera;  // the same without its camera
   std::string counted_mesh;  // mesh file whose counts are in faces/vertices
   std::size_t faces = 0, vertices = 0;
+  glm::dvec3 bounds_lo{0.0}, bounds_hi{0.0};
   std::optional<RenderRequest> current;
   bool more = false;  // the current request wants another frame
 
@@ -167,6 +170,12 @@ void RenderWorker::run(std::stop_token stop) {
           const geometry::TriangleMesh mesh = scene::loadSceneMesh(r.scene);
           faces = mesh.triangleCount();
           vertices = mesh.vertexCount();
+          bounds_lo = glm::dvec3(1e300);
+          bounds_hi = glm::dvec3(-1e300);
+          for (const auto& p : mesh.positions) {
+            bounds_lo = glm::min(bounds_lo, glm::dvec3(p));
+            bounds_hi = glm::max(bounds_hi, glm::dvec3(p));
+          }
           counted_mesh = r.scene.mesh_file.string();
         }
         prepare(r.scene);
@@ -244,6 +253,9 @@ void RenderWorker::run(std::stop_token stop) {
     out->convention = techniques::radianceConvention(*technique);
     out->faces = faces;
     out->vertices = vertices;
+    out->bounds_lo = bounds_lo;
+    out->bounds_hi = bounds_hi;
+    out->camera = r.scene.camera;
     out->continuous = r.continuous;
     more = r.continuous || !out->frame.converged;
     emit frameReady(std::move(out));

@@ -56,6 +56,9 @@ struct RenderedFrame {
   double prepare_ms = 0.0;  // wall time of prepare() before it, 0 when none was needed
   std::size_t faces = 0, vertices = 0;
   bool continuous = false;
+  // The placed mesh's bounding box and the camera of the frame (the viewport's overlay).
+  glm::dvec3 bounds_lo{0.0}, bounds_hi{0.0};
+  reference::Camera camera;
 };
 
 class RenderWorker : public QObject {

@@ -76,4 +76,48 @@ glm::dvec3 turnDirection(const reference::Camera& camera, const glm::dvec3& dire
   return glm::normalize(d);
 }
 
+std::vector<OverlaySegment> overlaySegments(const reference::Camera& camera, const glm::dvec3& lo,
+                                            const glm::dvec3& hi, int width, int height) {
+  reference::Camera c = camera;
+  c.width = width;
+  c.height = height;
+  const reference::CameraModel model(c);
+  std::vector<std::pair<glm::dvec3, glm::dvec3>> ends;
+  std::vector<int> kinds;
+  for (int axis = 0; axis < 3; ++axis)
+    for (int a = 0; a < 2; ++a)
+      for (int b = 0; b < 2; ++b) {
+        glm::dvec3 p0, p1;
+        const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+        p0[axis] = lo[axis];
+        p1[axis] = hi[axis];
+        p0[u] = p1[u] = a ? hi[u] : lo[u];
+        p0[v] = p1[v] = b ? hi[v] : lo[v];
+        ends.emplace_back(p0, p1);
+        kinds.push_back(0);
+      }
+  for (int axis = 0; axis < 3; ++axis) {
+    glm::dvec3 e(0.0);
+    e[axis] = 1.0;
+    ends.emplace_back(glm::dvec3(0.0), e);
+    kinds.push_back(axis + 1);
+  }
+  std::vector<OverlaySegment> out;
+  for (size_t k = 0; k < ends.size(); ++k) {
+    OverlaySegment s;
+    s.kind = kinds[k];
+    // project() also says false for points outside the image, whose coordinates it still sets
+    // (the painter clips the segment); only an end behind a pinhole camera hides a segment.
+    const glm::dvec3 forward = glm::normalize(c.look_at - c.position);
+    const bool pinhole = c.projection == reference::Camera::Projection::Pinhole;
+    const bool front = !pinhole || (glm::dot(ends[k].first - c.position, forward) > 0.0 &&
+                                    glm::dot(ends[k].second - c.position, forward) > 0.0);
+    (void)model.project(ends[k].first, s.x0, s.y0);
+    (void)model.project(ends[k].second, s.x1, s.y1);
+    s.visible = front;
+    out.push_back(s);
+  }
+  return out;
+}
+
 }  // namespace translucent::explorer

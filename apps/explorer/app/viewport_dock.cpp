@@ -349,6 +349,15 @@ void ViewportDock::buildControls(QWidget* panel) {
   df->addRow(QStringLiteral("Render scale"), scale_);
   df->addRow(QStringLiteral("Exposure"), exposure_);
   df->addRow(QStringLiteral("Gamma"), gamma_);
+  auto* box = new QCheckBox(QStringLiteral("bounding box"));
+  box->setObjectName(QStringLiteral("show_bounding_box"));
+  auto* axes = new QCheckBox(QStringLiteral("axes (x red, y green, z blue)"));
+  axes->setObjectName(QStringLiteral("show_axes"));
+  df->addRow(QString(), box);
+  df->addRow(QString(), axes);
+  auto overlay = [this, box, axes] { view_->setOverlay(box->isChecked(), axes->isChecked()); };
+  connect(box, &QCheckBox::toggled, this, overlay);
+  connect(axes, &QCheckBox::toggled, this, overlay);
   v->addWidget(disp);
   auto display = [this] { state_.setDisplay(exposure_->value(), gamma_->value()); };
   connect(exposure_, &QDoubleSpinBox::valueChanged, this, display);

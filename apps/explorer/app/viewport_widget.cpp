@@ -80,6 +80,12 @@ void ViewportWidget::showFrame(std::shared_ptr<const RenderedFrame> frame) {
   update();
 }
 
+void ViewportWidget::setOverlay(bool boundingBox, bool axes) {
+  show_box_ = boundingBox;
+  show_axes_ = axes;
+  update();
+}
+
 void ViewportWidget::setMessage(const QString& message) {
   message_ = message;
   update();
@@ -99,6 +105,21 @@ void ViewportWidget::paintGL() {
       display_->draw(defaultFramebufferObject(), w, h, s.exposure, s.gamma);
     } catch (const std::exception& e) {
       message_ = QString::fromUtf8(e.what());
+    }
+  }
+  if ((show_box_ || show_axes_) && frame_ != nullptr && frame_->frame.width > 0) {
+    // The frame fills the widget (FrameDisplay stretches it): frame pixels scale to widget ones.
+    const auto& f = frame_->frame;
+    const double sx = double(width()) / f.width, sy = double(height()) / f.height;
+    QPainter painter(this);
+    painter.setRenderHint(QPainter::Antialiasing);
+    const QColor colours[4] = {QColor(255, 220, 0), QColor(230, 40, 40), QColor(40, 200, 40),
+                               QColor(60, 90, 255)};
+    for (const OverlaySegment& seg :
+         overlaySegments(frame_->camera, frame_->bounds_lo, frame_->bounds_hi, f.width, f.height)) {
+      if (!seg.visible || (seg.kind == 0 ? !show_box_ : !show_axes_)) continue;
+      painter.setPen(QPen(colours[seg.kind], seg.kind == 0 ? 1.0 : 2.0));
+      painter.drawLine(QPointF(seg.x0 * sx, seg.y0 * sy), QPointF(seg.x1 * sx, seg.y1 * sy));
     }
   }
   if (!message_.isEmpty()) {

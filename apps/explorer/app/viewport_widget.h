@@ -34,6 +34,11 @@ class ViewportWidget : public QOpenGLWidget {
   std::shared_ptr<const RenderedFrame> frame() const { return frame_; }
   // A message drawn over the picture (empty: none), e.g. "no OpenGL 4.5 core context".
   void setMessage(const QString& message);
+  // The overlay (issue 14 §7): the mesh's bounding box and the x, y, z axes (red, green, blue,
+  // one scene unit long from the origin), drawn over the frame with its own camera.
+  void setOverlay(bool boundingBox, bool axes);
+  bool boundingBoxShown() const { return show_box_; }
+  bool axesShown() const { return show_axes_; }
   QString message() const { return message_; }
   // Whether the widget's own context is a 4.5 core one (known after the first show).
   bool displayReady() const { return display_ != nullptr; }
@@ -60,6 +65,7 @@ class ViewportWidget : public QOpenGLWidget {
   ExplorerState& state_;
   std::unique_ptr<gpu::FrameDisplay> display_;
   std::shared_ptr<const RenderedFrame> frame_;
+  bool show_box_ = false, show_axes_ = false;
   bool upload_ = false;
   QString message_;
   const void* connected_context_ = nullptr;  // whose aboutToBeDestroyed we listen to

@@ -12,6 +12,7 @@
 #include "app/main_window.h"
 #include "app/parameter_form.h"
 #include "app/view_math.h"
+#include "reference/camera.h"
 #include "app/viewport_dock.h"
 
 using namespace translucent;
@@ -86,6 +87,56 @@ class AppUnits : public QObject {
       QVERIFY2(text.contains(QString::fromStdString("\n  " + p.name + " = ")), p.name.c_str());
     s.technique = "no-such-technique";
     QVERIFY(currentDataText(s).contains("technique no-such-technique:"));
+  }
+
+  // The viewport overlay (issue 14 §7): 12 box edges then the x, y, z axes, their ends where the
+  // camera model projects them; behind a pinhole camera nothing is drawn.
+  void overlaySegmentsProjectTheBoxAndTheAxes() {
+    reference::Camera c;
+    c.projection = reference::Camera::Projection::Pinhole;
+    c.position = {0.5, 0.8, 3.0};
+    c.look_at = {0.0, 0.0, 0.0};
+    c.up = {0.0, 1.0, 0.0};
+    c.fov = 40.0;
+    const glm::dvec3 lo(-0.5, -0.4, -0.3), hi(0.6, 0.5, 0.2);
+    const auto segs = overlaySegments(c, lo, hi, 200, 100);
+    QCOMPARE(segs.size(), size_t(15));
+    reference::Camera sized = c;
+    sized.width = 200;
+    sized.height = 100;
+    const reference::CameraModel model(sized);
+    int corners = 0;
+    for (int i = 0; i < 12; ++i) {
+      QCOMPARE(segs[size_t(i)].kind, 0);
+      QVERIFY(segs[size_t(i)].visible);
+      for (int end = 0; end < 2; ++end) {
+        const double x = end ? segs[size_t(i)].x1 : segs[size_t(i)].x0;
+        const double y = end ? segs[size_t(i)].y1 : segs[size_t(i)].y0;
+        // Each end is one of the eight corners, projected.
+        for (int k = 0; k < 8; ++k) {
+          const glm::dvec3 p(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z);
+          double px = 0, py = 0;
+          (void)model.project(p, px, py);
+          if (std::abs(px - x) < 1e-9 && std::abs(py - y) < 1e-9) {
+            ++corners;
+            break;
+          }
+        }
+      }
+    }
+    QCOMPARE(corners, 24);
+    for (int a = 0; a < 3; ++a) {
+      const auto& s = segs[size_t(12 + a)];
+      QCOMPARE(s.kind, a + 1);
+      glm::dvec3 e(0.0);
+      e[a] = 1.0;
+      double px = 0, py = 0;
+      (void)model.project(e, px, py);
+      QVERIFY(std::abs(s.x1 - px) < 1e-9 && std::abs(s.y1 - py) < 1e-9);
+    }
+    // Looking away from the box: nothing is drawn.
+    c.look_at = {1.0, 1.6, 6.0};
+    for (const auto& s : overlaySegments(c, lo, hi, 200, 100)) QVERIFY(!s.visible);
   }
 
   void sceneForCliMakesPathsAbsoluteAndSetsTheSize() {

@@ -183,6 +183,33 @@ class Viewport : public QObject {
     QVERIFY(d > 0.01);
   }
 
+  // The overlay's switches (issue 14 §7): the axes change what is on screen, and red (the x
+  // axis) appears; off again, the picture is the frame's.
+  void overlayShowsTheAxes() {
+    QVERIFY(full_ != nullptr);
+    QApplication::processEvents();
+    const QImage plain = dock_->view()->grabFramebuffer();
+    auto* axes = dock_->findChild<QCheckBox*>(QStringLiteral("show_axes"));
+    QVERIFY(axes != nullptr);
+    axes->setChecked(true);
+    QVERIFY(dock_->view()->axesShown());
+    QApplication::processEvents();
+    const QImage shown = dock_->view()->grabFramebuffer();
+    int changed = 0, red = 0;
+    for (int y = 0; y < shown.height(); ++y)
+      for (int x = 0; x < shown.width(); ++x) {
+        const QRgb a = plain.pixel(x, y), b = shown.pixel(x, y);
+        if (a != b) ++changed;
+        if (qRed(b) > 180 && qGreen(b) < 120 && qBlue(b) < 120) ++red;
+      }
+    qInfo("axes overlay: %d pixels changed, %d red", changed, red);
+    QVERIFY(changed > 20);
+    QVERIFY(red > 5);
+    axes->setChecked(false);
+    QApplication::processEvents();
+    QVERIFY(dock_->view()->grabFramebuffer() == plain);
+  }
+
   void switchingTechniqueChangesTheImage() {
     QVERIFY(full_ != nullptr);
     const auto before = full_;
