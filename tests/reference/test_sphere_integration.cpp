@@ -13,30 +13,15 @@
 #include "reference/slab.h"
 #include "reference/sphere.h"
 #include "reference/sphere_integration.h"
+#include "sphere_test_helpers.h"
 
 namespace translucent::reference {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-constexpr double kGLx[8] = {-0.9602898564975363, -0.7966664774136267, -0.5255324099163290,
-                            -0.1834346424956498, 0.1834346424956498,  0.5255324099163290,
-                            0.7966664774136267,  0.9602898564975363};
-constexpr double kGLw[8] = {0.1012285362903763, 0.2223810344533745, 0.3137066458778873,
-                            0.3626837833783620, 0.3626837833783620, 0.3137066458778873,
-                            0.2223810344533745, 0.1012285362903763};
-
-// ∫_a^b f by `panels` 8-point Gauss-Legendre panels.
-template <class F>
-double gauss(F&& f, double a, double b, int panels) {
-  double sum = 0.0;
-  const double h = (b - a) / panels;
-  for (int p = 0; p < panels; ++p) {
-    const double mid = a + (p + 0.5) * h;
-    for (int k = 0; k < 8; ++k) sum += 0.5 * h * kGLw[k] * f(mid + 0.5 * h * kGLx[k]);
-  }
-  return sum;
-}
+using test_support::gauss;
+using test_support::withSampling;
 
 // B(x_o) for x_o at polar angle beta from the light (light along +z): the integral over the
 // sphere in polar coordinates (θ', φ') about x_o, where |x_o - x_i| = 2R sin(θ'/2) and
@@ -76,13 +61,6 @@ SphereScene sceneWithLightOnZ(double radius, int size) {
   return s;
 }
 
-IntegrationOptions withSampling(SurfaceSampling sampling, uint64_t seed = 1) {
-  IntegrationOptions o;
-  o.sampling = sampling;
-  o.seed = seed;
-  o.threads = 2;
-  return o;
-}
 
 TEST(SphereIntegration, BothSamplersMatchQuadratureAtAPoint) {
   // One point facing the light and one 70° away (its neighbourhood reaches past the

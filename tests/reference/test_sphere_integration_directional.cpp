@@ -13,29 +13,15 @@
 #include "optics/fresnel.h"
 #include "reference/sphere.h"
 #include "reference/sphere_integration.h"
+#include "sphere_test_helpers.h"
 
 namespace translucent::reference {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-constexpr double kGLx[8] = {-0.9602898564975363, -0.7966664774136267, -0.5255324099163290,
-                            -0.1834346424956498, 0.1834346424956498,  0.5255324099163290,
-                            0.7966664774136267,  0.9602898564975363};
-constexpr double kGLw[8] = {0.1012285362903763, 0.2223810344533745, 0.3137066458778873,
-                            0.3626837833783620, 0.3626837833783620, 0.3137066458778873,
-                            0.2223810344533745, 0.1012285362903763};
-
-template <class F>
-double gauss(F&& f, double a, double b, int panels) {
-  double sum = 0.0;
-  const double h = (b - a) / panels;
-  for (int p = 0; p < panels; ++p) {
-    const double mid = a + (p + 0.5) * h;
-    for (int k = 0; k < 8; ++k) sum += 0.5 * h * kGLw[k] * f(mid + 0.5 * h * kGLx[k]);
-  }
-  return sum;
-}
+using test_support::gauss;
+using test_support::withSampling;
 
 // B(x_o) = ∫ R(x_i, n_i, l; x_o, n_o) E0 Ft(n_i·l) (n_i·l) dA by quadrature in polar coordinates
 // (θ', φ') about x_o (dA = R² sin θ' dθ' dφ'), panels graded towards θ' = 0 where the kernel
@@ -66,13 +52,6 @@ double quadratureExitance(const bssrdf::DirectionalProfile& k, double R, double 
   return sum;
 }
 
-IntegrationOptions withSampling(SurfaceSampling sampling, uint64_t seed = 1) {
-  IntegrationOptions o;
-  o.sampling = sampling;
-  o.seed = seed;
-  o.threads = 2;
-  return o;
-}
 
 TEST(SphereIntegrationDirectional, BothSamplersMatchQuadratureAtObliqueLight) {
   // Light 60° from x_o's normal, and a point near the terminator: the directional kernel is far

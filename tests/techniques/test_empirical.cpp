@@ -167,13 +167,19 @@ geometry::TriangleMesh flatBox(const glm::dvec3& lower, const glm::dvec3& upper)
 
 // Each term of Eq. 3.6 alone, on the flat front face of a box (N = +z, seen along -z, lit from
 // L = (0.6, 0, 0.8)), against the CPU reference with the GPU's thickness.
-TEST_F(EmpiricalGpu, EachLightingTermInIsolation) {
-  TempDir dir;
+// A flat box (its top face at z = 0.2, facing +z) under one coloured directional light along L.
+scene::Scene litBox(const TempDir& dir, const glm::dvec3& L) {
   scene::Scene s = testScene(
       writeObj(flatBox({-0.5, -0.5, -0.2}, {0.5, 0.5, 0.2}), dir.path() / "box.obj"), 32);
-  const glm::dvec3 L = glm::normalize(glm::dvec3(0.6, 0.0, 0.8));
   s.lights[0].emitter = reference::DirectionalLight{L, 2.0};
   s.lights[0].color = {1.0, 0.5, 0.25};
+  return s;
+}
+
+TEST_F(EmpiricalGpu, EachLightingTermInIsolation) {
+  TempDir dir;
+  const glm::dvec3 L = glm::normalize(glm::dvec3(0.6, 0.0, 0.8));
+  const scene::Scene s = litBox(dir, L);
   const glm::dvec3 N(0, 0, 1), V(0, 0, 1);
   const glm::dvec3 H = glm::normalize(L + V);
   struct Case {
@@ -227,11 +233,8 @@ TEST_F(EmpiricalGpu, EachLightingTermInIsolation) {
 // "back" pass) and the translucency term, against the CPU shading with I_a, I_s set so.
 TEST_F(EmpiricalGpu, LightColoursAndDirectLightOnly) {
   TempDir dir;
-  scene::Scene s = testScene(
-      writeObj(flatBox({-0.5, -0.5, -0.2}, {0.5, 0.5, 0.2}), dir.path() / "box.obj"), 32);
   const glm::dvec3 L = glm::normalize(glm::dvec3(0.6, 0.0, 0.8));
-  s.lights[0].emitter = reference::DirectionalLight{L, 2.0};
-  s.lights[0].color = {1.0, 0.5, 0.25};
+  const scene::Scene s = litBox(dir, L);
   const glm::dvec3 N(0, 0, 1), V(0, 0, 1);
   const glm::dvec3 H = glm::normalize(L + V);
   for (const bool directOnly : {false, true}) {
