@@ -4,16 +4,10 @@
 
 #include <cstdint>
 
+#include "optics/quadrature.h"
 #include "reference/sphere_integration.h"
 
 namespace translucent::reference::test_support {
-
-inline constexpr double kGLx[8] = {-0.9602898564975363, -0.7966664774136267, -0.5255324099163290,
-                                   -0.1834346424956498, 0.1834346424956498,  0.5255324099163290,
-                                   0.7966664774136267,  0.9602898564975363};
-inline constexpr double kGLw[8] = {0.1012285362903763, 0.2223810344533745, 0.3137066458778873,
-                                   0.3626837833783620, 0.3626837833783620, 0.3137066458778873,
-                                   0.2223810344533745, 0.1012285362903763};
 
 // ∫_a^b f by `panels` 8-point Gauss-Legendre panels.
 template <class F>
@@ -22,7 +16,22 @@ double gauss(F&& f, double a, double b, int panels) {
   const double h = (b - a) / panels;
   for (int p = 0; p < panels; ++p) {
     const double mid = a + (p + 0.5) * h;
-    for (int k = 0; k < 8; ++k) sum += 0.5 * h * kGLw[k] * f(mid + 0.5 * h * kGLx[k]);
+    for (int k = 0; k < 8; ++k) sum += 0.5 * h * kGauss8W[k] * f(mid + 0.5 * h * kGauss8X[k]);
+  }
+  return sum;
+}
+
+// ∫_0^π ring(θ') dθ' on 400 one-node-panel Gauss-Legendre panels graded towards 0 (θ'_i = π
+// (i/400)²), where the integrands of the sphere tests peak (the profile at x_o).
+template <class F>
+double gradedPolar(F&& ring) {
+  constexpr double kPi = 3.14159265358979323846;
+  double sum = 0.0;
+  const int panels = 400;
+  for (int i = 0; i < panels; ++i) {
+    const double a = kPi * (static_cast<double>(i) / panels) * (static_cast<double>(i) / panels);
+    const double b = kPi * (static_cast<double>(i + 1) / panels) * (static_cast<double>(i + 1) / panels);
+    sum += gauss(ring, a, b, 1);
   }
   return sum;
 }

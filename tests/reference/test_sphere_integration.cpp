@@ -41,15 +41,7 @@ double quadratureExitance(const bssrdf::RadialProfile& p, double R, double eta, 
     };
     return rd * R * R * std::sin(th) * gauss(azimuth, 0.0, 2.0 * kPi, beta == 0.0 ? 1 : 64);
   };
-  // Grade the θ' panels towards 0, where the profile peaks.
-  double sum = 0.0;
-  const int panels = 400;
-  for (int i = 0; i < panels; ++i) {
-    const double a = kPi * std::pow(static_cast<double>(i) / panels, 2.0);
-    const double b = kPi * std::pow(static_cast<double>(i + 1) / panels, 2.0);
-    sum += gauss(ring, a, b, 1);
-  }
-  return sum;
+  return test_support::gradedPolar(ring);
 }
 
 SphereScene sceneWithLightOnZ(double radius, int size) {
