@@ -18,6 +18,7 @@
 #include <numeric>
 
 #include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
 
 #include "analysis/image_io.h"
 #include "bssrdf/registry.h"
@@ -304,6 +305,34 @@ TEST_F(TsisGpu, DipoleOnTheLitSphereMatchesSphereIntegration) {
   }
   EXPECT_GE(compared, 12);
   std::printf("lit sphere: worst band error %.2f%%\n", 100.0 * worst);
+}
+
+// Orbiting (issue 14 §6): setCamera keeps the texels' lighting (no shadow maps after the first
+// frame) and restarts the accumulated image; the image at the new camera equals a fresh prepare
+// there (same samples: the accumulation starts at frame 0 in both).
+TEST_F(TsisGpu, CameraMovesKeepTheTexelLighting) {
+  LitSphere moving(64, true);
+  (void)moving.technique->render({});
+  reference::Camera camera = moving.scene.camera;
+  camera.position = glm::dvec3(glm::rotate(glm::dmat4(1.0), 0.5, glm::dvec3(0.0, 1.0, 0.0)) *
+                               glm::dvec4(camera.position, 1.0));
+  ASSERT_TRUE(moving.technique->setCamera(camera));
+  const techniques::Frame a = moving.technique->render({});
+  for (const auto& pass : a.passes) EXPECT_NE(pass.name, "shadow maps");
+
+  LitSphere fresh(64, true);
+  scene::Scene moved = fresh.scene;
+  moved.camera = camera;
+  fresh.technique->prepare(moved, gpu::testing::context());
+  const techniques::Frame b = fresh.technique->render({});
+  const auto& ea = a.layers.at("exitance");
+  const auto& eb = b.layers.at("exitance");
+  ASSERT_EQ(ea.size(), eb.size());
+  double peak = 0.0, worst = 0.0;
+  for (float v : eb) peak = std::max(peak, double(v));
+  ASSERT_GT(peak, 0.0);
+  for (size_t i = 0; i < ea.size(); ++i) worst = std::max(worst, std::abs(double(ea[i]) - double(eb[i])));
+  EXPECT_LT(worst, 1e-5 * peak);
 }
 
 TEST_F(TsisGpu, BadInputFailsNamingTheParameterOrLight) {

@@ -348,11 +348,15 @@ struct TsisTechnique::Impl : techniques::ClosedMeshState {
     const scene::Scene& s = *scene;
     if (irradiancePass) {
       // Stage 1: E of every texel point (every light type, shadowed), then s_t = ΣE'_c a_t.
+      // Nothing the texels' lighting depends on changed (a camera move, a later frame): the
+      // shadow maps and the direct irradiance are kept.
+      const bool reuse = !lightingDirty;
       if (lightingDirty) lighting.restartEnvironment();
       lightingDirty = false;
       irradianceFinal = lighting.update(*gpuMesh, points, texels.size(), static_cast<float>(s.medium.eta),
                                         techniques::shadowLookup(params),
-                                        techniques::environmentBudget(params, converge), &*timer);
+                                        techniques::environmentBudget(params, converge), &*timer,
+                                        reuse);
     }
     gpu::bindStorage(kPoints, points);
     gpu::bindStorage(kIrradiance, lighting.irradiance());
@@ -581,6 +585,14 @@ void TsisTechnique::prepare(const scene::Scene& scene, gpu::Context& gl) {
 
 techniques::Frame TsisTechnique::render(const techniques::FrameRequest& request) {
   return impl_->render(request);
+}
+
+bool TsisTechnique::setCamera(const reference::Camera& camera) {
+  if (!impl_->scene) return false;
+  camera.validate();
+  impl_->scene->camera = camera;
+  impl_->accumulationDirty = true;  // the accumulated image is the old view's
+  return true;
 }
 
 const geometry::TriangleMesh& TsisTechnique::mesh() const { return impl_->mesh; }

@@ -77,6 +77,9 @@ class TsisTechnique final : public techniques::Technique {
   techniques::ParameterValue parameter(std::string_view name) const override;
   void prepare(const scene::Scene& scene, gpu::Context& gl) override;
   techniques::Frame render(const techniques::FrameRequest& request) override;
+  // The texels' lighting (atlas, shadow maps, irradiance, an occluded environment's
+  // accumulation) does not depend on the camera: kept; the accumulated image starts again.
+  bool setCamera(const reference::Camera& camera) override;
 
   // ---- Inspection (tests; valid after a render) -----------------------------------------------
   const geometry::TriangleMesh& mesh() const;
