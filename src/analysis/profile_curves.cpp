@@ -1,8 +1,5 @@
 #include "analysis/profile_curves.h"
 
-#include <array>
-#include <memory>
-
 #include <fmt/format.h>
 #include <fmt/os.h>
 
@@ -50,31 +47,48 @@ double defaultRadius(const std::vector<std::string>& models, const Medium& mediu
   return r;
 }
 
+ModelCurve::ModelCurve(const bssrdf::Model& model, const Medium& medium, double incidence)
+    : profiles_(bssrdf::profiles(model, medium)), incidence_(incidence) {
+  if (incidence != 0.0 && !model.tabulated())
+    for (int c = 0; c < 3; ++c) kernels_[static_cast<size_t>(c)] = model.directional(medium.channel(c));
+}
+
+Rgb ModelCurve::at(double r) const {
+  Rgb v;
+  for (size_t c = 0; c < 3; ++c)
+    v[c] = kernels_[c] ? bssrdf::azimuthalAverage(*kernels_[c], r, incidence_) : profiles_[c]->R(r);
+  return v;
+}
+
+std::vector<Curve> sampleCurves(const ModelCurve& model, const std::string& label,
+                                const std::vector<Channel>& channels,
+                                const std::vector<double>& grid, bool times_r) {
+  std::vector<Curve> curves;
+  std::vector<Rgb> values;
+  values.reserve(grid.size());
+  for (double r : grid) values.push_back(model.at(r));
+  for (Channel ch : channels) {
+    Curve c{label, channelName(ch), grid, {}, {}};
+    c.value.reserve(grid.size());
+    for (size_t i = 0; i < grid.size(); ++i) {
+      double y = ch == Channel::Luminance ? luminance(values[i]) : values[i][static_cast<size_t>(ch)];
+      if (times_r) y *= grid[i];
+      c.value.push_back(y);
+    }
+    curves.push_back(std::move(c));
+  }
+  return curves;
+}
+
 std::vector<Curve> profileCurves(const std::vector<std::string>& models, const Medium& medium,
                                  const std::vector<Channel>& channels, const CurveOptions& opts) {
   const double rMax = opts.r_max ? *opts.r_max : defaultRadius(models, medium);
   const auto grid = radiusGrid(rMax, opts.points);
   std::vector<Curve> curves;
   for (const auto& name : models) {
-    const bssrdf::Model& model = bssrdf::model(name);
-    const auto ps = bssrdf::profiles(model, medium);
-    std::array<std::unique_ptr<bssrdf::DirectionalProfile>, 3> kernels;
-    if (opts.incidence != 0.0 && !model.tabulated())
-      for (int c = 0; c < 3; ++c) kernels[static_cast<size_t>(c)] = model.directional(medium.channel(c));
-    auto value = [&](size_t c, double r) {
-      return kernels[c] ? bssrdf::azimuthalAverage(*kernels[c], r, opts.incidence) : ps[c]->R(r);
-    };
-    for (Channel ch : channels) {
-      Curve c{name, channelName(ch), grid, {}, {}};
-      c.value.reserve(grid.size());
-      for (double r : grid) {
-        const Rgb v{value(0, r), value(1, r), value(2, r)};
-        double y = ch == Channel::Luminance ? luminance(v) : v[static_cast<size_t>(ch)];
-        if (opts.times_r) y *= r;
-        c.value.push_back(y);
-      }
-      curves.push_back(std::move(c));
-    }
+    const auto c = sampleCurves(ModelCurve(bssrdf::model(name), medium, opts.incidence), name,
+                                channels, grid, opts.times_r);
+    curves.insert(curves.end(), c.begin(), c.end());
   }
   return curves;
 }

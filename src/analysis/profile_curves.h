@@ -6,6 +6,10 @@
 #include <string>
 #include <vector>
 
+#include <array>
+#include <memory>
+
+#include "bssrdf/registry.h"
 #include "optics/medium.h"
 
 namespace translucent::analysis {
@@ -35,6 +39,30 @@ struct CurveOptions {
   // radial models do not depend on it (their R(r) assumes normal incidence).
   double incidence = 0.0;
 };
+
+// One model's RGB values along a pencil-plot curve: R(r) of its three channel profiles, or, at
+// an oblique incidence (CurveOptions::incidence), a directional model's kernel averaged over the
+// azimuth (bssrdf::azimuthalAverage). Built once per model and medium (building the profiles is
+// the costly part); profileCurves and the explorer's pencil plot both sample it.
+class ModelCurve {
+ public:
+  ModelCurve(const bssrdf::Model& model, const Medium& medium, double incidence = 0.0);
+  Rgb at(double r) const;
+  const bssrdf::RgbProfiles& profiles() const { return profiles_; }
+  // True when the values depend on the incidence (a directional model at incidence != 0).
+  bool directional() const { return kernels_[0] != nullptr; }
+
+ private:
+  bssrdf::RgbProfiles profiles_;
+  std::array<std::unique_ptr<bssrdf::DirectionalProfile>, 3> kernels_;
+  double incidence_;
+};
+
+// The curves of `model` on `grid` for each channel, labelled `label` (luminance from the RGB
+// values; times r when `times_r`).
+std::vector<Curve> sampleCurves(const ModelCurve& model, const std::string& label,
+                                const std::vector<Channel>& channels,
+                                const std::vector<double>& grid, bool times_r);
 
 // Curves of the named models for `medium`, in scene units of length (Medium::channel).
 std::vector<Curve> profileCurves(const std::vector<std::string>& models, const Medium& medium,

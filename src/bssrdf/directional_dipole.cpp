@@ -73,17 +73,10 @@ class DirectionalDipoleProfile final : public RadialProfile, public DirectionalP
     backlit_ = 1.0 / (9.0 * m.sigmaT() * m.sigmaT());
   }
 
+  // The kernel on the plane z = 0 with the light along the normal (the pencil beam).
   double R(double r) const override {
-    if (de_ == 0.0) return 0.0;  // α' = 0: nothing scatters, nothing diffuses
-    // Plane z = 0, x_i at the origin, x_o = (r, 0, 0), ω12 = -n: μ0 = 1.
-    const double r2 = r * r;
-    const double cosBeta = -r / std::sqrt(r2 + de_ * de_);
-    const double dr = std::sqrt(r2 + D_ * (D_ - 2.0 * de_ * cosBeta));
-    const double zv = 2.0 * A_ * de_;
-    const double dv = std::sqrt(r2 + zv * zv);
-    const double real = source(0.0, -1.0, 0.0, dr);
-    const double virt = source(-zv, 1.0, -zv, dv);  // x·ω_v = x·n_o = -z_v, ω_v·n_o = 1
-    return std::max(0.0, real - virt);
+    const glm::dvec3 n(0.0, 0.0, 1.0);
+    return R(glm::dvec3(0.0), n, n, glm::dvec3(r, 0.0, 0.0), n);
   }
 
   double R(const glm::dvec3& x_i, const glm::dvec3& n_i, const glm::dvec3& w_i,

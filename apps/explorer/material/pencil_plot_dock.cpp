@@ -201,15 +201,15 @@ void PencilPlotDock::requestModels() {
       [this, gen, latest, work, chans, timesR, theta](MaterialGl& gl) -> MaterialWorker::Continuation {
         if (latest->load() != gen) return {};  // a newer request is queued: skip this one
         // The range: the largest 95% radius over models and channels (the CLI's default). A
-        // registered model's three profiles are built once and serve both the range and the
-        // values (building is the costly part: ~60 ms for photon-beam), which are computed as
-        // analysis::profileCurves computes them (the test holds them equal).
+        // registered model's three profiles are built once (analysis::ModelCurve, building is the
+        // costly part: ~60 ms for photon-beam) and serve both the range and the values, sampled by
+        // the same analysis::sampleCurves as analysis::profileCurves.
         double rMax = 0.0;
         std::vector<std::string> errors;
         struct Ready {
           std::string model;
           Medium medium;
-          bssrdf::RgbProfiles profiles;  // registered models only
+          std::shared_ptr<const analysis::ModelCurve> values;  // registered models only
         };
         std::vector<Ready> ok;
         for (const auto& [m, medium] : work) {
@@ -218,11 +218,11 @@ void PencilPlotDock::requestModels() {
             if (isBssrdfPath(m)) {
               const Rgb r95 = gpu::bssrdfRadiusForFraction(gl.load(m), medium, 0.95).radius;
               rMax = std::max({rMax, r95[0], r95[1], r95[2]});
-              ok.push_back({m, medium, {}});
+              ok.push_back({m, medium, nullptr});
             } else {
-              auto ps = bssrdf::profiles(bssrdf::model(m), medium);
-              for (const auto& p : ps) rMax = std::max(rMax, p->radiusForFraction(0.95));
-              ok.push_back({m, medium, std::move(ps)});
+              auto values = std::make_shared<const analysis::ModelCurve>(bssrdf::model(m), medium, theta);
+              for (const auto& p : values->profiles()) rMax = std::max(rMax, p->radiusForFraction(0.95));
+              ok.push_back({m, medium, std::move(values)});
             }
           } catch (const std::exception& e) {
             errors.push_back(fmt::format("pencil plot: {}: {}", m, e.what()));
@@ -231,38 +231,16 @@ void PencilPlotDock::requestModels() {
         std::vector<Curve> curves;
         if (rMax > 0.0 && std::isfinite(rMax)) {
           const auto grid = analysis::radiusGrid(rMax, 200);
-          for (const auto& [m, medium, ps] : ok) {
+          for (const auto& [m, medium, values] : ok) {
             try {
-              // At oblique incidence a directional model is its kernel's azimuthal average
-              // (analysis::profileCurves does the same); the others say what they assume.
+              // At oblique incidence a directional model is its kernel's azimuthal average; the
+              // others say what they assume.
               const std::string normal = theta != 0.0 ? " (normal incidence)" : "";
-              if (isBssrdfPath(m)) {
-                auto c = gpu::bssrdfCurves(gl.load(m), curveLabel(m) + normal, medium, chans, grid,
-                                           timesR);
-                curves.insert(curves.end(), c.begin(), c.end());
-                continue;
-              }
-              std::array<std::unique_ptr<bssrdf::DirectionalProfile>, 3> kernels;
-              const bssrdf::Model& model = bssrdf::model(m);
-              if (theta != 0.0 && !model.tabulated())
-                for (int c = 0; c < 3; ++c)
-                  kernels[static_cast<size_t>(c)] = model.directional(medium.channel(c));
-              auto value = [&](size_t c, double r) {
-                return kernels[c] ? bssrdf::azimuthalAverage(*kernels[c], r, theta) : ps[c]->R(r);
-              };
-              const std::string label = curveLabel(m) + (kernels[0] ? "" : normal);
-              for (Channel ch : chans) {
-                Curve c{label, analysis::channelName(ch), grid, {}, {}};
-                c.value.reserve(grid.size());
-                for (double r : grid) {
-                  const Rgb v{value(0, r), value(1, r), value(2, r)};
-                  double y = ch == Channel::Luminance ? analysis::luminance(v)
-                                                      : v[static_cast<size_t>(ch)];
-                  if (timesR) y *= r;
-                  c.value.push_back(y);
-                }
-                curves.push_back(std::move(c));
-              }
+              const auto c =
+                  values ? analysis::sampleCurves(*values, curveLabel(m) + (values->directional() ? "" : normal),
+                                                  chans, grid, timesR)
+                         : gpu::bssrdfCurves(gl.load(m), curveLabel(m) + normal, medium, chans, grid, timesR);
+              curves.insert(curves.end(), c.begin(), c.end());
             } catch (const std::exception& e) {
               errors.push_back(fmt::format("pencil plot: {}: {}", m, e.what()));
             }

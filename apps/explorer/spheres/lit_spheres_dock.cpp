@@ -525,8 +525,8 @@ void LitSpheresDock::restart(Pane p, bool force) {
   } catch (const bssrdf::UnknownModelError& e) {
     d.stale = d.snapshot != nullptr;
     updateStatus(p);
-    state_.error(tr("Lit spheres: the sphere integration needs a registered model; '%1' is not "
-                    "one (%2). The integration keeps its previous image.")
+    state_.error(tr("Lit spheres: '%1' is neither a registered model nor a .csv or .bssrdf file "
+                    "(%2). The integration keeps its previous image.")
                      .arg(QString::fromStdString(model), QString::fromUtf8(e.what())));
     return;
   } catch (const std::exception& e) {
@@ -537,6 +537,12 @@ void LitSpheresDock::restart(Pane p, bool force) {
     return;
   }
   std::string k = key(c, model);
+  startIfChanged(p, std::move(c), std::move(k), model, force);
+}
+
+void LitSpheresDock::startIfChanged(Pane p, SphereRunConfig c, std::string k,
+                                    const std::string& model, bool force) {
+  PaneData& d = pane(p);
   if (p == Pane::Integrated && k != d.key) d.model = model;
   if (!force && k == d.key) {
     // Back to the inputs of the images shown (after a failed change): they are current again.
@@ -578,18 +584,8 @@ void LitSpheresDock::restartPlugin(SphereRunConfig c, const std::string& model, 
         }
         return [this, c = std::move(c), model, force, ticket, params]() mutable {
           if (ticket != plugin_ticket_) return;  // a newer change is on its way
-          PaneData& d = pane(Pane::Integrated);
-          std::string k = key(c, model) + "|" + params;
-          if (k != d.key) d.model = model;
-          if (!force && k == d.key) {
-            if (d.stale) {
-              d.stale = false;
-              updateStatus(Pane::Integrated);
-              updateComparison();
-            }
-            return;
-          }
-          startRun(Pane::Integrated, std::move(c), std::move(k));
+          std::string k = key(c, model) + "|" + params;  // before c is moved
+          startIfChanged(Pane::Integrated, std::move(c), std::move(k), model, force);
         };
       },
       [this](const QString& why) {

@@ -126,6 +126,9 @@ class LitSpheresDock : public QDockWidget {
   void restart(Pane pane, bool force);
   void startRun(Pane pane, SphereRunConfig config, std::string key);
   void restartPlugin(SphereRunConfig config, const std::string& model, bool force);
+  // Starts a run for `key` unless it is the key of the images shown (and not `force`d).
+  void startIfChanged(Pane pane, SphereRunConfig config, std::string key, const std::string& model,
+                      bool force);
   void stopRun(Pane pane);
   void onPass(Pane pane, int generation, std::shared_ptr<const SphereSnapshot> snapshot);
   void onProgress(Pane pane, int generation, double fraction);
