@@ -4,7 +4,6 @@
 
 #include <chrono>
 
-#include <glm/common.hpp>
 #include <exception>
 #include <string>
 #include <utility>
@@ -170,12 +169,9 @@ void RenderWorker::run(std::stop_token stop) {
           const geometry::TriangleMesh mesh = scene::loadSceneMesh(r.scene);
           faces = mesh.triangleCount();
           vertices = mesh.vertexCount();
-          bounds_lo = glm::dvec3(1e300);
-          bounds_hi = glm::dvec3(-1e300);
-          for (const auto& p : mesh.positions) {
-            bounds_lo = glm::min(bounds_lo, glm::dvec3(p));
-            bounds_hi = glm::max(bounds_hi, glm::dvec3(p));
-          }
+          const geometry::Bounds b = mesh.bounds();
+          bounds_lo = b.lower;
+          bounds_hi = b.upper;
           counted_mesh = r.scene.mesh_file.string();
         }
         prepare(r.scene);
