@@ -11,6 +11,14 @@
 // {v0, index, v1, -, v2, -} with `index` the triangle's index in the mesh.
 #pragma once
 
+// WALK_WORK(): called once per iteration of every loop whose trip count is not a constant (and
+// once before a loop that may run none), so that a walk can bound the loop iterations the driver
+// counts (mesh_walk.comp: Mesa's llvmpipe ends every loop of a shader invocation after 65535
+// iterations in all, walk_program.h). Nothing by default.
+#ifndef WALK_WORK
+#define WALK_WORK()
+#endif
+
 #ifndef BVH_NODE_BINDING
 #define BVH_NODE_BINDING 1
 #endif
@@ -113,9 +121,11 @@ bool bvhIntersect(vec3 o, vec3 d, float tMin, float tMax, out float tHit, out ve
   int bestTri = -1;
   if (bvhBoxEntry(r, bvhNodes[0].lower, bvhNodes[0].upper, tMin, best) == kBvhInf) return false;
   for (;;) {
+    WALK_WORK();
     const BvhNode n = bvhNodes[node];
     if (n.count > 0u) {
       for (uint k = n.a; k < n.a + n.count; ++k) {
+        WALK_WORK();
         const float t = bvhTriangleHit(r, bvhTriangles[k], tMin, best);
         if (t >= 0.0) {  // a hit in (tMin, best]: tMin >= 0
           best = t;

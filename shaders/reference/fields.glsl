@@ -21,6 +21,11 @@
 // Include after `#version 450`; the buffer's binding is 7 unless FIELD_BINDING says otherwise.
 #pragma once
 
+// WALK_WORK(): bvh.glsl says what it is for (counting loop iterations); nothing by default.
+#ifndef WALK_WORK
+#define WALK_WORK()
+#endif
+
 #ifndef FIELD_BINDING
 #define FIELD_BINDING 7
 #endif
@@ -116,6 +121,7 @@ float fieldTurbulence(uint table, dvec3 p, uint octaves) {
   float sum = 0.0, amplitude = 1.0;
   dvec3 q = p;
   for (uint o = 0u; o < octaves; ++o) {
+    WALK_WORK();
     sum += amplitude * abs(fieldNoise(table, q));
     q *= 2.0lf;
     amplitude *= 0.5;
@@ -181,12 +187,14 @@ float fieldSurfaceDistance(vec3 q, uint nodes, uint triangles) {
   int top = 0;
   stack[top++] = 0u;
   while (top > 0) {
+    WALK_WORK();
     const uint n = nodes + 10u * stack[--top];
     if (fieldBoxDistance2(q, n) >= best) continue;
     const uint count = fieldWords[n + 7u];
     if (count > 0u) {
       const uint first = fieldWords[n + 6u];
       for (uint i = first; i < first + count; ++i) {
+        WALK_WORK();
         const uint t = triangles + 9u * i;
         const vec3 d = fieldClosestOnTriangle(q, fieldVec3(t), fieldVec3(t + 3u), fieldVec3(t + 6u)) - q;
         best = min(best, dot(d, d));
@@ -216,7 +224,11 @@ uint fieldLayer(uint P, vec3 q) {
                                       : fieldSurfaceDistance(q, fieldWords[P + 1u], fieldWords[P + 2u]);
   const uint bottoms = fieldWords[2] - 1u;
   uint i = 0u;
-  while (i < bottoms && !(z < fieldFloat(P + 7u + i))) ++i;
+  WALK_WORK();  // the loop may run no iteration
+  while (i < bottoms && !(z < fieldFloat(P + 7u + i))) {
+    WALK_WORK();
+    ++i;
+  }
   return i;
 }
 

@@ -23,6 +23,15 @@
 // Positions in double (the CPU's), queries, flights and directions in float (Embree's and the
 // lane walker's precision).
 //
+// Suspension: Mesa's llvmpipe ends every loop of an invocation (of each SIMD group of them)
+// once their iterations add up to 65535, silently: a long walk would stop half-way, its light
+// lost (the bunny or a large, little-absorbing cube lost 3% of their exitance so). So a walk
+// counts its loop iterations (gWork) and, at the start of a free flight past WorkBudget, writes
+// its state (position, direction, weight, stream position, tallies) to States and returns; the
+// next dispatch (Phase 1) resumes it there, over the list of suspended walks only. The random words are the same whichever dispatch
+// draws them, so a suspended walk is the walk that was not. The host sizes the budget from the
+// driver and checks the largest count a dispatch saw (MaxWork; walk_program.h).
+//
 // Heterogeneous media (compiled with VOLUME defined: a second program, so that the homogeneous
 // walk does not carry the tracking's code, 20% of its speed on llvmpipe): traceVolumePhoton of transport_impl.h. The free flight is delta
 // tracking through the CPU's majorant grid (majorant_grid.h: a 3D DDA over the cells' bounds,
@@ -32,6 +41,14 @@
 // σa/σt and scatters with the local g; after a reflection or re-entry the tracking starts afresh
 // (memoryless). Tentative collisions where the field exceeds the bound in force are counted.
 layout(local_size_x = 64) in;
+// An upper bound of the loop iterations the driver has counted for this invocation in this
+// dispatch (every loop whose trip count is not a constant calls WALK_WORK() per iteration,
+// bvh.glsl and fields.glsl included, and once before a loop that may run no iteration): llvmpipe
+// charges a loop of k >= 1 iterations k or k + 1 (its exit), one that runs none 1
+// (tests/reference/test_loop_limit.cpp), so 2 per call bounds it. The walk suspends at the start
+// of a free flight once it exceeds WorkBudget (see "Suspension" below).
+uint gWork = 0u;
+#define WALK_WORK() gWork += 2u
 #include "common/compute.glsl"
 #include "reference/philox.glsl"
 #include "reference/walk_math.glsl"
@@ -66,6 +83,22 @@ layout(std430, binding = 4) buffer ExitCounter { uint exitCount; };
 layout(std430, binding = 5) readonly buffer Lights { GpuLight lights[]; };
 // Per photon of the batch, towards the environment (xyz; w unused): environment lights only.
 layout(std430, binding = 6) readonly buffer EnvDirs { vec4 envDirs[]; };
+// A suspended walk's state, per photon of the batch (mesh_gpu.cpp: WalkState).
+struct WalkState {
+  double x, y, z, w;
+  double entered, exited, escaped, pad;
+  float dx, dy, dz;
+  uint flags;  // kAlive: suspended, to be resumed; kOnSurface: the next ray starts on the boundary
+  uint counter, used, scatters, exits;
+};
+const uint kAlive = 1u, kOnSurface = 2u;
+layout(std430, binding = 10) buffer States { WalkState states[]; };
+// [0]: walks suspended by this dispatch; [1]: the largest gWork of an invocation.
+layout(std430, binding = 11) buffer Control { uint control[]; };
+// The photons (indices in the batch) this dispatch resumes (Phase 1: Count of them), and those
+// it suspends, in the order they did (the next dispatch's list).
+layout(std430, binding = 12) readonly buffer ResumeList { uint resumeList[]; };
+layout(std430, binding = 13) writeonly buffer SuspendList { uint suspendList[]; };
 #ifdef VOLUME
 // The majorant grid's bounds of this channel [1/scene unit], cell (i, j, k) at
 // (k * ny + j) * nx + i; tentative collisions above the bound in force.
@@ -82,6 +115,8 @@ uniform float Eta;      // n_inside / n_outside
 uniform float InvSigmaT, G, Epsilon;
 uniform uvec2 AbsorbThreshold;  // (high, low): absorbed when a 64-bit word < threshold
 uniform uint LongPath;
+uniform uint Phase;       // 0: emit and walk Count photons; 1: resume the Count of ResumeList
+uniform uint WorkBudget;  // loop iterations after which a walk suspends at its next free flight
 #ifdef VOLUME
 uniform vec3 GridLower, GridUpper, GridCell;  // the grid's box and cell size [scene units]
 uniform ivec3 GridCells;
@@ -150,6 +185,7 @@ void finish() {
 // re-entry point and the inward direction, false when it escapes.
 bool reenter(inout dvec3 x, inout vec3 d) {
   for (;;) {
+    WALK_WORK();
     float t;
     vec3 n;
     uint tri;
@@ -190,6 +226,7 @@ bool acceptCollision(dvec3 o, vec3 d, float tc, float bound) {
 bool spend(dvec3 o, vec3 d, float ta, float tb, float m, inout float tOut) {
   if (!(m > 0.0)) return false;
   for (;;) {
+    WALK_WORK();
     const float len = tb > ta ? tb - ta : 0.0;
     if (gTau >= m * len) {
       gTau -= m * len;
@@ -256,6 +293,7 @@ bool track(dvec3 o, vec3 d, out float tOut) {
   }
   float t = t0;
   for (;;) {
+    WALK_WORK();
     const int a = next[0] < next[1] ? (next[0] < next[2] ? 0 : 2) : (next[1] < next[2] ? 1 : 2);
     const float tExit = min(next[a], t1);
     if (spend(o, d, t, tExit, cellBound(cell), tOut)) return true;
@@ -309,12 +347,127 @@ bool scatter(float g, inout vec3 d, inout double w) {
   return true;
 }
 
+// Writes the walk's state for the next dispatch (Phase 1).
+void suspend(dvec3 x, vec3 d, double w, bool onSurface) {
+  WalkState st;
+  st.x = x.x;
+  st.y = x.y;
+  st.z = x.z;
+  st.w = w;
+  st.entered = gEntered;
+  st.exited = gExited;
+  st.escaped = gEscaped;
+  st.pad = 0.0lf;
+  st.dx = d.x;
+  st.dy = d.y;
+  st.dz = d.z;
+  st.flags = kAlive | (onSurface ? kOnSurface : 0u);
+  st.counter = gCounter;
+  st.used = gUsed;
+  st.scatters = gScatters;
+  st.exits = gExits;
+  states[gIndex] = st;
+  suspendList[atomicAdd(control[0], 1u)] = gIndex;
+}
+
+// The walk from a free flight on: true when it ended (finish() written), false when suspended.
+bool walk(dvec3 x, vec3 d, double w, bool onSurface) {
+  float t;
+  vec3 n;
+  uint tri;
+#ifdef VOLUME
+  for (;;) {
+    WALK_WORK();
+    if (gWork > WorkBudget) {
+      suspend(x, d, w, onSurface);
+      return false;
+    }
+    // The first real collision ignoring the boundary, then the boundary up to there.
+    float tc;
+    const bool collided = track(x, d, tc);
+    if (!bvhIntersect(vec3(x), d, onSurface ? Epsilon : 0.0, collided ? tc : kInf, t, n, tri)) {
+      if (!collided) break;  // lost
+      x += double(tc) * dvec3(d);
+      onSurface = false;
+      // Absorption with the local albedo, at 2^-32 (the local coefficients are floats).
+      if (double(nextWord()) * (1.0lf / 4294967296.0lf) * double(gLocalSigmaT) <
+          double(gLocalA[Channel] * CoefficientScale))
+        break;
+      if (!scatter(gLocalG, d, w)) break;
+      continue;
+    }
+    x += double(t) * dvec3(d);
+    onSurface = true;
+    if (crossBoundary(x, d, n, w) == 2u) break;
+  }
+#else
+  for (;;) {
+    WALK_WORK();
+    if (gWork > WorkBudget) {
+      suspend(x, d, w, onSurface);
+      return false;
+    }
+    // Free flight (Algorithm 1 line 3), then advance or meet the boundary (lines 4-14).
+    float s = -fastLog(unitOpenZeroFromBits(nextWord())) * InvSigmaT;
+    bool escaped = false;
+    for (;;) {
+      WALK_WORK();
+      if (!bvhIntersect(vec3(x), d, onSurface ? Epsilon : 0.0, s, t, n, tri)) {
+        x += double(s) * dvec3(d);
+        onSurface = false;
+        break;
+      }
+      x += double(t) * dvec3(d);
+      s = max(0.0, s - t);
+      onSurface = true;
+      // crossBoundary: leave with probability 1 - F, else reflect and fly on (lines 6-8); after
+      // a re-entry the rest of the flight goes on from the re-entry point.
+      const uint b = crossBoundary(x, d, n, w);
+      if (b == 2u) {
+        escaped = true;
+        break;
+      }
+    }
+    if (escaped) break;
+    // Analog absorption (line 15) to 2^-64, then Henyey-Greenstein scattering (line 16).
+    const uint hiWord = nextWord();
+    if (hiWord <= AbsorbThreshold.x) {
+      if (hiWord < AbsorbThreshold.x) break;
+      if (nextWord() < AbsorbThreshold.y) break;
+    }
+    if (!scatter(G, d, w)) break;
+  }
+#endif
+  finish();
+  return true;
+}
+
 void main() {
-  const uint i = linearInvocationIndex();
+  uint i = linearInvocationIndex();
   if (i >= Count) return;
+  if (Phase == 1u) i = resumeList[i];
   gIndex = i;
   gLo = FirstPhoton.x + i;
   gHi = FirstPhoton.y + (gLo < i ? 1u : 0u);
+
+  if (Phase == 1u) {
+    // Resume a suspended walk where it stopped (its stream at the same word).
+    const WalkState st = states[i];
+    if ((st.flags & kAlive) == 0u) return;
+    states[i].flags = 0u;
+    gEntered = st.entered;
+    gExited = st.exited;
+    gEscaped = st.escaped;
+    gScatters = st.scatters;
+    gExits = st.exits;
+    gCounter = st.counter;
+    gUsed = st.used;
+    if (gUsed < 4u) gWords = philox4x32_10(uvec4(gLo, gHi, gCounter - 1u, Channel), Seed);
+    walk(dvec3(st.x, st.y, st.z), vec3(st.dx, st.dy, st.dz), st.w, (st.flags & kOnSurface) != 0u);
+    atomicMax(control[1], gWork);
+    return;
+  }
+  states[i].flags = 0u;
   gCounter = 0u;
   gUsed = 4u;
 
@@ -322,7 +475,11 @@ void main() {
   uint li = 0u;
   if (LightCount > 1u) {
     const float u = uniformFloat();
-    while (li + 1u < LightCount && lights[li].cdf <= u) ++li;
+    WALK_WORK();  // the loop may run no iteration
+    while (li + 1u < LightCount && lights[li].cdf <= u) {
+      WALK_WORK();
+      ++li;
+    }
   }
   const GpuLight L = lights[li];
   vec3 o, d;
@@ -357,6 +514,7 @@ void main() {
   uint tri;
   if (!bvhIntersect(o, d, 0.0, kInf, t, n, tri)) {
     finish();
+    atomicMax(control[1], gWork);
     return;
   }
   dvec3 x = dvec3(o) + double(t) * dvec3(d);
@@ -369,61 +527,7 @@ void main() {
     }
   }
   gEntered = w;
-
-  bool onSurface = true;  // the next ray starts on the boundary: ignore hits closer than ε
-#ifdef VOLUME
-  {
-    for (;;) {
-      // The first real collision ignoring the boundary, then the boundary up to there.
-      float tc;
-      const bool collided = track(x, d, tc);
-      if (!bvhIntersect(vec3(x), d, onSurface ? Epsilon : 0.0, collided ? tc : kInf, t, n, tri)) {
-        if (!collided) break;  // lost
-        x += double(tc) * dvec3(d);
-        onSurface = false;
-        // Absorption with the local albedo, at 2^-32 (the local coefficients are floats).
-        if (double(nextWord()) * (1.0lf / 4294967296.0lf) * double(gLocalSigmaT) <
-            double(gLocalA[Channel] * CoefficientScale))
-          break;
-        if (!scatter(gLocalG, d, w)) break;
-        continue;
-      }
-      x += double(t) * dvec3(d);
-      onSurface = true;
-      if (crossBoundary(x, d, n, w) == 2u) break;
-    }
-  }
-#else
-  for (;;) {
-    // Free flight (Algorithm 1 line 3), then advance or meet the boundary (lines 4-14).
-    float s = -fastLog(unitOpenZeroFromBits(nextWord())) * InvSigmaT;
-    bool escaped = false;
-    for (;;) {
-      if (!bvhIntersect(vec3(x), d, onSurface ? Epsilon : 0.0, s, t, n, tri)) {
-        x += double(s) * dvec3(d);
-        onSurface = false;
-        break;
-      }
-      x += double(t) * dvec3(d);
-      s = max(0.0, s - t);
-      onSurface = true;
-      // crossBoundary: leave with probability 1 - F, else reflect and fly on (lines 6-8); after
-      // a re-entry the rest of the flight goes on from the re-entry point.
-      const uint b = crossBoundary(x, d, n, w);
-      if (b == 2u) {
-        escaped = true;
-        break;
-      }
-    }
-    if (escaped) break;
-    // Analog absorption (line 15) to 2^-64, then Henyey-Greenstein scattering (line 16).
-    const uint hiWord = nextWord();
-    if (hiWord <= AbsorbThreshold.x) {
-      if (hiWord < AbsorbThreshold.x) break;
-      if (nextWord() < AbsorbThreshold.y) break;
-    }
-    if (!scatter(G, d, w)) break;
-  }
-#endif
-  finish();
+  // The next ray starts on the boundary: ignore hits closer than ε.
+  walk(x, d, w, true);
+  atomicMax(control[1], gWork);
 }

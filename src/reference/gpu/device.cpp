@@ -38,14 +38,6 @@ std::string meshGpuRefusal(const MeshPathTracer& tracer) {
   if (std::string why = tracer.walkerRefusal(); !why.empty()) return why;
   const VolumeMedium* v = tracer.volume();
   if (!v) return "";
-  // fields.glsl evaluates layers below the surface as the CPU does (tests/reference/
-  // test_field_gpu.cpp, 400k points below a scan), but the GPU walk through them does not yet
-  // agree with the CPU's: on head-layered-skin.json with the same medium in every layer it
-  // scatters 7.6% less (the CPU's seeds agree to 1%), where a checker of one medium agrees.
-  // Until that is understood they stay on the CPU.
-  if (const auto* l = dynamic_cast<const material::LayersField*>(v->field.get());
-      l && l->desc().from == material::LayersDesc::From::Surface)
-    return "layers below the surface (\"from\": \"surface\") are traced on the CPU only";
   return gpu_field::refusal(*v->field);
 }
 

@@ -1,6 +1,8 @@
 // The GPU walker of the mesh tracer (mesh_gpu.h).
 #include "reference/gpu/mesh_gpu.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -31,6 +33,13 @@ struct ExitOut {
   uint32_t photon, rank;
 };
 static_assert(sizeof(ExitOut) == 64);
+// A suspended walk (mesh_walk.comp: WalkState), kept on the GPU only.
+struct WalkState {
+  double x, y, z, w, entered, exited, escaped, pad;
+  float dx, dy, dz;
+  uint32_t flags, counter, used, scatters, exits;
+};
+static_assert(sizeof(WalkState) == 96);
 struct GpuLight {
   float p[3];
   uint32_t type;
@@ -105,7 +114,9 @@ class GpuMeshWalker final : public MeshWalker {
     nodes_ = gpu::makeStorageBuffer(std::span<const geometry::FlatBvhNode>(bvh.nodes));
     triangles_ = gpu::makeStorageBuffer(std::span<const geometry::FlatBvhTriangle>(bvh.triangles));
     counter_ = gpu::makeStorageBuffer(sizeof(uint32_t));
+    control_ = gpu::makeStorageBuffer(2 * sizeof(uint32_t));
     name_ = deviceName();
+    limit_ = loopLimit();
   }
   // The buffers and the program are released in their context.
   ~GpuMeshWalker() override { context_.makeCurrent(); }
@@ -130,6 +141,8 @@ class GpuMeshWalker final : public MeshWalker {
     const uint64_t n = count * kBlockPhotons, firstPhoton = first * kBlockPhotons;
     if (n > photonCapacity_) {
       photons_ = gpu::makeStorageBuffer(n * sizeof(PhotonOut));
+      states_ = gpu::makeStorageBuffer(n * sizeof(WalkState));
+      for (gpu::Buffer& l : lists_) l = gpu::makeStorageBuffer(n * sizeof(uint32_t));
       photonCapacity_ = n;
     }
     // Most photons leave once or twice; a batch with more exits than the buffer holds is traced
@@ -138,12 +151,17 @@ class GpuMeshWalker final : public MeshWalker {
     setLowHigh(p, "FirstPhoton", firstPhoton);
     environmentDirections(setup, channel, firstPhoton, n);
     p.set("Count", static_cast<unsigned>(n));
-    uint32_t exitCount = 0;
+    // Walks suspend after `budget` loop iterations and are resumed by further dispatches
+    // (mesh_walk.comp, "Suspension"), so that no invocation meets the driver's loop limit; a
+    // batch whose largest count could have met it is traced again with half the budget (the
+    // same walks: the streams are counters), and refused when a single free flight would.
+    uint32_t exitCount = 0, budget = limit_.budget();
     for (;;) {
       const uint32_t zero = 0;
       gpu::uploadBytes(counter_, 0, sizeof(zero), &zero);
       gpu::uploadBytes(violations_, 0, sizeof(zero), &zero);
       p.set("ExitCapacity", static_cast<unsigned>(exitCapacity_));
+      p.set("WorkBudget", budget);
       gpu::bindStorage(0, photons_);
       gpu::bindStorage(1, nodes_);
       gpu::bindStorage(2, triangles_);
@@ -154,7 +172,33 @@ class GpuMeshWalker final : public MeshWalker {
       gpu::bindStorage(7, fieldWords_);
       gpu::bindStorage(8, majorants_[static_cast<size_t>(std::min(channel, 2))]);
       gpu::bindStorage(9, violations_);
-      gpu::dispatch1D(p, n);
+      gpu::bindStorage(10, states_);
+      gpu::bindStorage(11, control_);
+      uint32_t maxWork = 0;
+      uint64_t walks = n;  // this dispatch's: the batch, then the walks the last one suspended
+      for (unsigned phase = 0, list = 0;; phase = 1, list ^= 1u) {
+        const uint32_t control[2] = {0, 0};
+        gpu::uploadBytes(control_, 0, sizeof(control), control);
+        gpu::bindStorage(12, lists_[list]);
+        gpu::bindStorage(13, lists_[list ^ 1u]);
+        p.set("Phase", phase);
+        p.set("Count", static_cast<unsigned>(walks));
+        gpu::dispatch1D(p, walks);
+        uint32_t got[2];
+        gpu::downloadBytes(control_, 0, sizeof(got), got);
+        maxWork = std::max(maxWork, got[1]);
+        if (got[0] == 0) break;
+        walks = got[0];
+      }
+      if (!limit_.clear(maxWork)) {
+        if (budget <= 64)
+          throw gpu::GlError(fmt::format(
+              "GPU mesh walk: one free flight took {} loop iterations, more than {} ({}'s limit "
+              "of {} per group of {} invocations allows): trace this scene with --device cpu",
+              maxWork, limit_.iterations / limit_.lanes, name_, limit_.iterations, limit_.lanes));
+        budget /= 2;
+        continue;
+      }
       gpu::downloadBytes(counter_, 0, sizeof(exitCount), &exitCount);
       if (exitCount <= exitCapacity_) break;
       growExits(exitCount + exitCount / 4);
@@ -300,7 +344,9 @@ class GpuMeshWalker final : public MeshWalker {
   gpu::Context& context_;
   gpu::ShaderProgram program_;                      // homogeneous media
   std::optional<gpu::ShaderProgram> volumeProgram_;  // VOLUME: made on first use
-  gpu::Buffer nodes_, triangles_, counter_, photons_, exits_, envDirs_;
+  gpu::Buffer nodes_, triangles_, counter_, photons_, exits_, envDirs_, states_, control_;
+  gpu::Buffer lists_[2];  // resume and suspend lists, swapped between dispatches
+  LoopLimit limit_;
   gpu::Buffer fieldWords_, violations_, majorants_[3];
   const VolumeMedium* volume_ = nullptr;  // the medium fieldWords_ and majorants_ hold
   uint64_t photonCapacity_ = 0, exitCapacity_ = 0, dirCapacity_ = 0;
