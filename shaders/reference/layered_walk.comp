@@ -61,6 +61,10 @@ void main() {
   uint layer = 0u, scatters = 0u, kind = 2u;
   vec2 exitXY = vec2(0.0);
   float cosOut = 0.0;
+  // Whether the driver cut the walk's loops (llvmpipe ends every loop of an invocation after 65535
+  // iterations: reference/gpu/walk_program.h): the record's pad, stored on every way out. A local
+  // flag would not do: the compiler sees that the loop ends only where it is set.
+  exits[i].pad = 1u;  // until the walk ends: stays 1 when the driver cuts the loop
   for (;;) {
     // Free flight in optical depth, spent layer by layer.
     float tau = -fastLog(unitOpenZeroFromBits(nextWord()));
@@ -102,7 +106,10 @@ void main() {
       left = true;
       break;
     }
-    if (left) break;
+    if (left) {
+      exits[i].pad = 0u;  // ended by its own rules
+      break;
+    }
     const Layer L = layers[layer];
 #ifdef WEIGHTED
     absorbed += w * (1.0lf - L.albedo);
@@ -112,6 +119,7 @@ void main() {
     if (hiWord <= L.absorbThreshold.x) {
       if (hiWord < L.absorbThreshold.x || nextWord() < L.absorbThreshold.y) {
         absorbed = w;
+        exits[i].pad = 0u;  // ended by its own rules
         break;
       }
     }
@@ -121,12 +129,18 @@ void main() {
     ++scatters;
 #ifdef WEIGHTED
     if (w < kWeightThreshold) {
-      if (nextWord() >= kSurviveThreshold) break;
+      if (nextWord() >= kSurviveThreshold) {
+        exits[i].pad = 0u;  // ended by its own rules
+        break;
+      }
       w *= kSurviveBoost;
     }
 #endif
     if (LongPath != 0u && scatters > LongPath) {  // the seed's long-path roulette (section 3.2)
-      if (nextWord() >= kSurviveThreshold) break;
+      if (nextWord() >= kSurviveThreshold) {
+        exits[i].pad = 0u;  // ended by its own rules
+        break;
+      }
       w *= kSurviveBoost;
     }
   }
@@ -136,5 +150,4 @@ void main() {
   exits[i].weight = kind == 2u ? 0.0lf : w;
   exits[i].absorbed = absorbed;
   exits[i].scatters = scatters;
-  exits[i].pad = 0u;
 }

@@ -28,9 +28,10 @@
 // lost (the bunny or a large, little-absorbing cube lost 3% of their exitance so). So a walk
 // counts its loop iterations (gWork) and, at the start of a free flight past WorkBudget, writes
 // its state (position, direction, weight, stream position, tallies) to States and returns; the
-// next dispatch (Phase 1) resumes it there, over the list of suspended walks only. The random words are the same whichever dispatch
-// draws them, so a suspended walk is the walk that was not. The host sizes the budget from the
-// driver and checks the largest count a dispatch saw (MaxWork; walk_program.h).
+// next dispatch (Phase 1) resumes it there, over the list of suspended walks only. The random
+// words are the same whichever dispatch draws them, so a suspended walk is the walk that was not.
+// The host sizes the budget from the driver and checks the largest count a dispatch saw
+// (control[1]; walk_program.h: LoopLimit).
 //
 // Heterogeneous media (compiled with VOLUME defined: a second program, so that the homogeneous
 // walk does not carry the tracking's code, 20% of its speed on llvmpipe): traceVolumePhoton of transport_impl.h. The free flight is delta

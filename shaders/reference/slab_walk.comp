@@ -47,6 +47,10 @@ void main() {
   float rest = -1.0;  // the unused part of a flight after an internal reflection
   vec2 exitXY = vec2(0.0);
   float cosOut = 0.0;
+  // Whether the driver cut the walk's loop (llvmpipe ends every loop of an invocation after 65535
+  // iterations: reference/gpu/walk_program.h): the record's pad, stored on every way out. A local
+  // flag would not do: the compiler sees that the loop ends only where it is set.
+  exits[i].pad = 1u;  // until the walk ends: stays 1 when the driver cuts the loop
   for (uint n = 0u;; ++n) {
     const uvec4 u = philox4x32_10(uvec4(lo, hi, n, 0u), Seed);
     const float s = rest >= 0.0 ? rest : -fastLog(unitOpenZeroFromBits(u.x)) * InvSigmaT;
@@ -73,6 +77,7 @@ void main() {
       kind = top ? 0u : 1u;
       exitXY = p.xy;
       cosOut = matched ? ci : refractedCosineFloat(ci, EtaTop);
+      exits[i].pad = 0u;  // ended by its own rules
       break;
     }
     p.z = zn;
@@ -86,6 +91,7 @@ void main() {
     // low word, as walk_scalar.cpp).
     if (u.y < AbsorbThreshold.x || (u.y == AbsorbThreshold.x && extra.x < AbsorbThreshold.y)) {
       absorbed = w;
+      exits[i].pad = 0u;  // ended by its own rules
       break;
     }
 #endif
@@ -95,12 +101,18 @@ void main() {
     ++scatters;
 #ifdef WEIGHTED
     if (w < kWeightThreshold) {
-      if (extra.y >= kSurviveThreshold) break;
+      if (extra.y >= kSurviveThreshold) {
+        exits[i].pad = 0u;  // ended by its own rules
+        break;
+      }
       w *= kSurviveBoost;
     }
 #endif
     if (LongPath != 0u && scatters > LongPath) {  // the seed's long-path roulette (section 3.2)
-      if (extra.z >= kSurviveThreshold) break;
+      if (extra.z >= kSurviveThreshold) {
+        exits[i].pad = 0u;  // ended by its own rules
+        break;
+      }
       w *= kSurviveBoost;
     }
   }
@@ -110,5 +122,4 @@ void main() {
   exits[i].weight = kind == 2u ? 0.0lf : w;
   exits[i].absorbed = absorbed;
   exits[i].scatters = scatters;
-  exits[i].pad = 0u;
 }

@@ -87,6 +87,10 @@ void main() {
 
   uint scatters = 0u;
   float rest = -1.0;  // the unused part of a flight after an internal reflection
+  // Whether the driver cut the walk's loop (llvmpipe ends every loop of an invocation after 65535
+  // iterations: reference/gpu/walk_program.h): the record's pad, stored on every way out. A local
+  // flag would not do: the compiler sees that the loop ends only where it is set.
+  photons[i].pad = 1u;  // until the walk ends: stays 1 when the driver cuts the loop
   for (uint n = 0u;; ++n) {
     const uvec4 u = philox4x32_10(uvec4(lo, hi, n, key), Seed);
     const float s = rest >= 0.0 ? rest : -fastLog(unitOpenZeroFromBits(u.x)) * InvSigmaT;
@@ -125,21 +129,27 @@ void main() {
       photons[i].dz = dOut.z;
       photons[i].exited = w;
       photons[i].left = 1u;
+      photons[i].pad = 0u;  // ended by its own rules
       break;
     }
     p += double(s) * dd;
     // Analog absorption with probability 1 - α to 2^-64 (the high word, then on a tie the low).
     if (u.y <= AbsorbThreshold.x) {
-      if (u.y < AbsorbThreshold.x) break;
       const uvec4 extra = philox4x32_10(uvec4(lo, hi, n, key + 1u), Seed);
-      if (extra.x < AbsorbThreshold.y) break;
+      if (u.y < AbsorbThreshold.x || extra.x < AbsorbThreshold.y) {
+        photons[i].pad = 0u;  // ended by its own rules
+        break;
+      }
     }
     const float mu = sampleHgCosine(G, unitFromBits(u.z));
     d = scatterDirection(d, mu, uniformAzimuth(u.w));
     ++scatters;
     if (LongPath != 0u && scatters > LongPath) {  // the seed's long-path roulette (section 3.2)
       const uvec4 extra = philox4x32_10(uvec4(lo, hi, n, key + 1u), Seed);
-      if (extra.z >= kSurviveThreshold) break;
+      if (extra.z >= kSurviveThreshold) {
+        photons[i].pad = 0u;  // ended by its own rules
+        break;
+      }
       w *= kSurviveBoost;
     }
   }

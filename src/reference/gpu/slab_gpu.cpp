@@ -22,7 +22,8 @@ struct ExitRecord {
   float x, y, cos_out;
   uint32_t kind;  // 0: top, 1: bottom, 2: absorbed or ended by a roulette
   double weight, absorbed;
-  uint32_t scatters, pad;
+  uint32_t scatters;
+  uint32_t pad;  // 1: the driver cut the walk's loop (slab_walk.comp: `ended`)
 };
 static_assert(sizeof(ExitRecord) == 40);
 
@@ -59,6 +60,7 @@ gpu::ShaderProgram walkProgram(const SlabSetup& setup, const TraceOptions& optio
 // Scores one block's records (walk.h, as walk_scalar.cpp scores its exits).
 void scoreBlock(const detail::Walk& W, std::span<const ExitRecord> records, detail::Tally& T) {
   for (const ExitRecord& e : records) {
+    if (e.pad != 0) throwCutWalk("GPU slab walk");  // slab_walk.comp, layered_walk.comp: `ended`
     if (e.kind == 0)
       detail::scoreTop(W, T, e.x, e.y, static_cast<double>(e.cos_out), e.scatters, e.weight);
     else if (e.kind == 1)

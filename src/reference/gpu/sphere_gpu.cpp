@@ -17,7 +17,8 @@ namespace {
 struct PhotonRecord {
   double px, py, pz, exited, entered;
   float dx, dy, dz;
-  uint32_t scatters, left, pad;
+  uint32_t scatters, left;
+  uint32_t pad;  // 1: the driver cut the walk's loop (sphere_walk.comp: `ended`)
 };
 static_assert(sizeof(PhotonRecord) == 64);
 
@@ -62,6 +63,7 @@ class GpuSphereWalker final : public SphereWalker {
     out.exits.clear();
     for (uint64_t k = 0; k < n; ++k) {
       const PhotonRecord& r = host_[k];
+      if (r.pad != 0) throwCutWalk("GPU sphere walk");  // sphere_walk.comp: `ended`
       WalkedPhoton& ph = out.photons[k];
       ph.entered = r.entered;
       ph.scatters = r.scatters;

@@ -1,5 +1,7 @@
 #include "reference/gpu/walk_program.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <string>
 
@@ -59,6 +61,15 @@ LoopLimit loopLimit() {
       l.lanes = std::max<uint32_t>(1, static_cast<uint32_t>(std::stoul(digits)) / 32);
   }
   return l;
+}
+
+void throwCutWalk(const std::string& walker) {
+  throw gpu::GlError(fmt::format(
+      "{}: the GL driver ({}) stopped a photon's walk after {} loop iterations, before it "
+      "ended: its result would be biased, so none is given; trace with --device cpu (a walk "
+      "this long needs a medium that hardly absorbs: give it some absorption, or the long-path "
+      "roulette)",
+      walker, reinterpret_cast<const char*>(glGetString(GL_RENDERER)), loopLimit().iterations));
 }
 
 uint32_t LoopLimit::budget() const {

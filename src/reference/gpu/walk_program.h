@@ -50,4 +50,9 @@ struct LoopLimit {
 };
 LoopLimit loopLimit();
 
+// The error for a walk whose loop the driver cut (the slab and sphere walks mark it in their
+// records; they do not suspend, as a walk there needs 65535 events to meet the limit): names the
+// renderer and the way out.
+[[noreturn]] void throwCutWalk(const std::string& walker);
+
 }  // namespace translucent::reference::gpu_walk
