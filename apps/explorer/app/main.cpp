@@ -43,7 +43,10 @@ void runBenchmark(QApplication& app, ExplorerState& state, ViewportDock* viewpor
   struct Bench {
     int phase = 0;
     std::vector<double> ms;
-    double lighting_ms = 0.0;  // the phase's "shadow maps" and "irradiance" passes, all frames
+    // The phase's light-side passes, all frames: "shadow maps" and "irradiance" (the point cloud,
+    // tsis, lss; splatting's light-view irradiance buffers), "irradiance hierarchy" (splatting),
+    // "light maps" (tsm).
+    double lighting_ms = 0.0;
     double step_ms = 0.0;      // frames since the last step (half and full resolution)
     QElapsedTimer wall, change;
     double first_change_ms = -1.0;
@@ -54,8 +57,8 @@ void runBenchmark(QApplication& app, ExplorerState& state, ViewportDock* viewpor
     double sum = 0.0, lo = 1e300, hi = 0.0;
     for (double m : ms) sum += m, lo = std::min(lo, m), hi = std::max(hi, m);
     std::printf("viewport (%s): %s, %dx%d, %d steps: %.2f per second (time per step, the half- and "
-                "full-resolution frames, mean %.1f ms, min %.1f, max %.1f, of which shadow maps + "
-                "irradiance %.1f; %.2f steps/s wall clock including display)\n",
+                "full-resolution frames, mean %.1f ms, min %.1f, max %.1f, of which light passes "
+                "(shadow maps, light maps, irradiance) %.1f; %.2f steps/s wall clock including display)\n",
                 what, f.technique.c_str(), f.frame.width, f.frame.height, frames,
                 1000.0 * frames / sum, sum / frames, lo, hi, lighting_ms / frames, frames / wall_s);
     std::fflush(stdout);
@@ -97,7 +100,9 @@ void runBenchmark(QApplication& app, ExplorerState& state, ViewportDock* viewpor
       if (b->phase == 1 && !full) return;
       b->step_ms += f->prepare_ms + f->render_ms;
       for (const auto& pass : f->frame.passes)
-        if (pass.name == "shadow maps" || pass.name == "irradiance") b->lighting_ms += pass.ms;
+        if (pass.name == "shadow maps" || pass.name == "irradiance" || pass.name == "light maps" ||
+            pass.name == "irradiance hierarchy")
+          b->lighting_ms += pass.ms;
       if (!full) return;
       b->ms.push_back(b->step_ms);
       b->step_ms = 0.0;
