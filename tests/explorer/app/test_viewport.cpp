@@ -408,9 +408,11 @@ class Viewport : public QObject {
 
   // Orbiting keeps tsm's light maps too (issue 14 §6), on the sphere of the previous test: the
   // move reaches tsm through setCamera (no preparation time), its frames render no light maps,
-  // and the image changes (the sphere's lit side turned).
+  // and the image changes (the sphere's lit side turned). The camera goes back after (the next
+  // test's twist is measured from it).
   void cameraOrbitKeepsTheTsmLightMaps() {
     scene::Scene s = state_->scene();
+    const reference::Camera camera = s.camera;
     s.technique = "tsm";
     s.settings.clear();  // tsis's settings are not tsm's
     state_->setScene(std::move(s));
@@ -424,6 +426,8 @@ class Viewport : public QObject {
     const double d = relativeMeanDifference(before->frame.rgb, after->frame.rgb);
     qInfo("tsm, orbit by 0.6 rad: relative mean difference %g", d);
     QVERIFY(d > 0.01);
+    state_->setCamera(camera);
+    QVERIFY2(nextFull("tsm") != nullptr, qPrintable(console_->text()));
   }
 
   // Last: it leaves the render thread on a different technique and scene history. (Run before
