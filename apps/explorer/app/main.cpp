@@ -86,7 +86,8 @@ void runBenchmark(QApplication& app, ExplorerState& state, ViewportDock* viewpor
         }
       }
       // As the viewport's right drag turns it: setScene would also announce a material change,
-      // which restarts the lit spheres' and pencil plot's tracers beside the frames timed.
+      // whose handlers in the docks run beside the frames timed (the pencil plot, for one,
+      // stops its reference and samples its curves again).
       state.setLights(std::move(lights));
     }
   };
