@@ -4,11 +4,15 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <memory>
 #include <string>
+#include <string_view>
+#include <vector>
 
 #include "geometry/mesh.h"
 #include "gpu/gpu_test.h"
@@ -87,6 +91,30 @@ inline std::unique_ptr<PointCloudTechnique> technique(int points) {
   auto t = std::make_unique<PointCloudTechnique>();
   t->setParameter("points", points);
   return t;
+}
+
+// The camera turned by `angle` radians about the vertical (y) axis through its look-at point: an
+// orbit step (issue 14 §6), as the explorer's left drag.
+inline reference::Camera orbited(reference::Camera c, double angle) {
+  const glm::dvec3 d = c.position - c.look_at;
+  const double cs = std::cos(angle), sn = std::sin(angle);
+  c.position = c.look_at + glm::dvec3(cs * d.x + sn * d.z, d.y, -sn * d.x + cs * d.z);
+  return c;
+}
+
+// True when the frame timed a pass of that name (at any depth).
+inline bool hasPass(const techniques::Frame& f, std::string_view name) {
+  return std::any_of(f.passes.begin(), f.passes.end(), [&](const auto& p) { return p.name == name; });
+}
+
+// The largest |a_i − b_i| relative to the largest |b_i| (0 when both are zero); sizes must agree.
+inline double relativeMaxDifference(const std::vector<float>& a, const std::vector<float>& b) {
+  EXPECT_EQ(a.size(), b.size());
+  double peak = 0.0, worst = 0.0;
+  for (float v : b) peak = std::max(peak, std::abs(double(v)));
+  for (size_t i = 0; i < std::min(a.size(), b.size()); ++i)
+    worst = std::max(worst, std::abs(double(a[i]) - double(b[i])));
+  return peak > 0.0 ? worst / peak : worst;
 }
 
 // Prepares `t` for `s` on the test context and renders one converged frame.

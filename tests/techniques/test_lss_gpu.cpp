@@ -452,6 +452,62 @@ TEST_F(LssGpu, StratifiedSamplesBeatIndependentOnes) {
 }
 
 // (d) Bad input fails naming the parameter or light.
+// Orbiting (issue 14 §6): setCamera keeps the shadow maps. E is the camera's pixels' (lss lights
+// the visible surface), so a move, and a new image size after it (the explorer's half- and
+// full-resolution frames), compute E again (an "irradiance" pass) from the kept maps (no "shadow
+// maps" pass); a still frame recomputes neither. Each frame equals that of a technique prepare()d
+// at the new camera after the same frames (the sample sequences are seeded by the frames
+// rendered), to float rounding: 1e-5 of the peak exitance and radiance (measured: 0); and E
+// equals a fresh technique's at that camera to 1e-6 of its peak.
+TEST_F(LssGpu, CameraMovesKeepTheShadowMaps) {
+  const reference::Camera camera = orbited(reference::testing::flatSlabCamera(3.6, 48), 0.4);
+  const std::vector<techniques::FrameRequest> requests = {{}, {24, 24}, {}};
+  auto frames = [&](FlatSlab& s, bool move) {
+    (void)s.technique.render({});
+    if (move) {
+      EXPECT_TRUE(s.technique.setCamera(camera));
+    } else {
+      scene::Scene moved = s.scene;
+      moved.camera = camera;
+      s.technique.prepare(moved, gpu::testing::context());
+    }
+    std::vector<techniques::Frame> out;
+    for (const auto& r : requests) out.push_back(s.technique.render(r));
+    return out;
+  };
+  FlatSlab moving(16, "random", false), reprepared(16, "random", false);
+  const auto a = frames(moving, true);
+  const auto b = frames(reprepared, false);
+  for (size_t k = 0; k < a.size(); ++k) {
+    EXPECT_FALSE(hasPass(a[k], "shadow maps")) << "frame " << k;
+    EXPECT_TRUE(hasPass(a[k], "irradiance")) << "frame " << k << ": new points, new E";
+    const double dB = relativeMaxDifference(a[k].layers.at("exitance"), b[k].layers.at("exitance"));
+    const double dL = relativeMaxDifference(a[k].rgb, b[k].rgb);
+    std::printf("frame %zu after the move (%dx%d): exitance %.2g, radiance %.2g of the peak\n", k,
+                a[k].width, a[k].height, dB, dL);
+    EXPECT_LT(dB, 1e-5) << "frame " << k;
+    EXPECT_LT(dL, 1e-5) << "frame " << k;
+  }
+  EXPECT_TRUE(hasPass(b[0], "shadow maps"));  // what the move saved
+  const techniques::Frame still = moving.technique.render({});
+  EXPECT_FALSE(hasPass(still, "shadow maps"));
+  EXPECT_FALSE(hasPass(still, "irradiance"));
+
+  FlatSlab fresh(16, "random", false);
+  scene::Scene moved = fresh.scene;
+  moved.camera = camera;
+  fresh.technique.prepare(moved, gpu::testing::context());
+  (void)fresh.technique.render({});
+  const auto eMoving = moving.technique.pixelIrradiance(), eFresh = fresh.technique.pixelIrradiance();
+  ASSERT_EQ(eMoving.size(), eFresh.size());
+  double peak = 0.0, worst = 0.0;
+  for (const auto& e : eFresh) peak = std::max(peak, double(e.g));
+  ASSERT_GT(peak, 0.0);
+  for (size_t i = 0; i < eFresh.size(); ++i)
+    for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(double(eMoving[i][c]) - double(eFresh[i][c])));
+  EXPECT_LT(worst, 1e-6 * peak);
+}
+
 TEST_F(LssGpu, BadInputFailsNamingTheParameterOrLight) {
   LssTechnique t;
   auto expectError = [](auto&& f, const std::string& text) {

@@ -8,6 +8,7 @@
 //   - the same equality on a homogeneous cube with a point light, on a deformed bunny and on a
 //     surface map (whose vertex profiles follow the atlas);
 //   - shah renders the same image as splatting without acceleration;
+//   - a camera move (setCamera) keeps the irradiance buffers and gives a fresh preparation's image;
 //   - environment, beam and filtered directional lights are refused with a clear ParameterError.
 #include <gtest/gtest.h>
 
@@ -24,6 +25,7 @@
 #include "geometry/atlas.h"
 #include "material/point_profiles.h"
 #include "material/surface_uv.h"
+#include "render_helpers.h"
 #include "scene/scene.h"
 #include "techniques/registry.h"
 #include "techniques/splatting/splatting_technique.h"
@@ -333,6 +335,53 @@ TEST_F(SplattingGpu, ShahEqualsUnacceleratedSplatting) {
   for (float v : fa.rgb) maxL = std::max(maxL, double(v));
   EXPECT_GT(maxL, 0.0);
   for (size_t i = 0; i < fa.rgb.size(); ++i) EXPECT_NEAR(fa.rgb[i], fb.rgb[i], 1e-6 * maxL) << i;
+}
+
+// Orbiting (issue 14 §6): setCamera keeps the irradiance buffers and their hierarchies (splatting
+// with its defaults: adaptive selection over 3 levels, multiresolution; and shah) on the cube with
+// a directional and a point light: the frames after a move, and a still frame, have no
+// "irradiance" and no "irradiance hierarchy" pass. The image at the new camera equals a fresh
+// technique's prepared there to 1e-6 of the peak exitance and radiance (the same buffers, the
+// splats blended in primitive order; measured 0), and differs from the image before the move.
+TEST_F(SplattingGpu, CameraMovesKeepTheIrradianceBuffers) {
+  using pointcloud::testing::hasPass;
+  using pointcloud::testing::relativeMaxDifference;
+  const scene::Scene s = scene::loadScene(std::string(TRANSLUCENT_DATA_DIR) + "/scenes/cube.json");
+  const reference::Camera camera = pointcloud::testing::orbited(s.camera, 0.5);
+  scene::Scene moved = s;
+  moved.camera = camera;
+  for (const std::string name : {"splatting", "shah"}) {
+    SCOPED_TRACE(name);
+    auto make = [&] {
+      auto t = techniques::make(name);
+      t->setParameter("irradiance_size", 64);
+      return t;
+    };
+    auto moving = make();
+    moving->prepare(s, gpu::testing::context());
+    const techniques::Frame before = moving->render({64, 48});
+    EXPECT_TRUE(hasPass(before, "irradiance"));
+    EXPECT_EQ(hasPass(before, "irradiance hierarchy"), name == "splatting");
+    ASSERT_TRUE(moving->setCamera(camera));
+    const techniques::Frame a = moving->render({64, 48});
+    const techniques::Frame still = moving->render({64, 48});
+    for (const techniques::Frame* f : {&a, &still}) {
+      EXPECT_FALSE(hasPass(*f, "irradiance"));
+      EXPECT_FALSE(hasPass(*f, "irradiance hierarchy"));
+      EXPECT_TRUE(hasPass(*f, "radiance"));
+    }
+    EXPECT_EQ(still.rgb, a.rgb);
+    auto fresh = make();
+    fresh->prepare(moved, gpu::testing::context());
+    const techniques::Frame b = fresh->render({64, 48});
+    const double dB = relativeMaxDifference(a.layers.at("exitance"), b.layers.at("exitance"));
+    const double dL = relativeMaxDifference(a.rgb, b.rgb);
+    std::printf("%s after the move: exitance %.2g, radiance %.2g of the peak from a fresh "
+                "preparation\n", name.c_str(), dB, dL);
+    EXPECT_LT(dB, 1e-6);
+    EXPECT_LT(dL, 1e-6);
+    EXPECT_GT(relativeMaxDifference(before.rgb, a.rgb), 0.05);  // the camera did move
+  }
 }
 
 TEST_F(SplattingGpu, RefusesUnsupportedLights) {

@@ -13,6 +13,7 @@
 //   - the map's resolution changes the slab's mean by little;
 //   - the same under a distant point light (the perspective map's d² cos³α texel areas) and under
 //     a directional light at 60° (weights on the tilted surface);
+//   - a camera move (setCamera) keeps the light maps and gives a fresh preparation's image;
 //   - unsupported lights fail with an error naming lights[i].
 #include <gtest/gtest.h>
 
@@ -22,6 +23,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "geometry/icosphere.h"
 #include "geometry/mesh.h"
 #include "optics/fresnel.h"
 #include "reference/flat_slab.h"
@@ -202,6 +204,45 @@ TEST_F(TsmGpu, MapResolutionLeavesTheSlabMeanUnchanged) {
   Slab coarse(0.5, false, 128), fine(0.5, false, 1024);
   const auto a = coarse.technique.render({}), b = fine.technique.render({});
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(coarse.mean(a, c), fine.mean(b, c), 1e-3 * fine.mean(b, c));
+}
+
+// Orbiting (issue 14 §6): setCamera keeps the light maps (rendered at the first frame only): the
+// frames after a move, and a still frame, have no "light maps" pass. The image at the new camera
+// equals a fresh technique's prepared there to 1e-6 of the peak exitance and radiance (the same
+// maps and the same filter; measured 0), and differs from the image before the move.
+TEST_F(TsmGpu, CameraMovesKeepTheLightMaps) {
+  useTestCache();
+  TempDir dir;
+  scene::Scene s = testScene(writeObj(geometry::makeIcosphere(3, 1.0), dir.path() / "sphere.obj"), 32);
+  s.lights[0].emitter = reference::DirectionalLight{glm::normalize(glm::dvec3(0.6, 0.3, 0.8)), 1.0};
+  const reference::Camera camera = orbited(s.camera, 0.5);
+  TsmTechnique moving;
+  moving.setParameter("map_size", 256);
+  moving.prepare(s, gpu::testing::context());
+  const techniques::Frame before = moving.render({});
+  EXPECT_TRUE(hasPass(before, "light maps"));
+  ASSERT_TRUE(moving.setCamera(camera));
+  const techniques::Frame a = moving.render({});
+  const techniques::Frame still = moving.render({});
+  for (const techniques::Frame* f : {&a, &still}) {
+    EXPECT_FALSE(hasPass(*f, "light maps"));
+    EXPECT_TRUE(hasPass(*f, "g-buffer"));
+    EXPECT_TRUE(hasPass(*f, "filter"));
+  }
+  EXPECT_EQ(still.rgb, a.rgb);
+
+  scene::Scene moved = s;
+  moved.camera = camera;
+  TsmTechnique fresh;
+  fresh.setParameter("map_size", 256);
+  fresh.prepare(moved, gpu::testing::context());
+  const techniques::Frame b = fresh.render({});
+  const double dB = relativeMaxDifference(a.layers.at("exitance"), b.layers.at("exitance"));
+  const double dL = relativeMaxDifference(a.rgb, b.rgb);
+  std::printf("after the move: exitance %.2g, radiance %.2g of the peak from a fresh preparation\n", dB, dL);
+  EXPECT_LT(dB, 1e-6);
+  EXPECT_LT(dL, 1e-6);
+  EXPECT_GT(relativeMaxDifference(before.rgb, a.rgb), 0.05);  // the camera did move
 }
 
 // (c) Lights the technique cannot map fail at prepare() naming the light; parameters are checked.

@@ -4,11 +4,11 @@
 //   --reset-layout          start with the default dock layout (the saved one is replaced on exit)
 //   --screenshot FILE       wait for the first full-resolution frame and the docks' first pass,
 //                           write the whole window to FILE (PNG) and exit (scripts/screenshot)
-//   --benchmark-frames N    render N full-resolution frames continuously, then N frames each
-//                           after a camera orbit step, then N each after turning the first
-//                           light; print the three frame rates, then the time from a material
-//                           change (ExplorerState::setMedium) to the updated full-resolution
-//                           image, and exit
+//   --benchmark-frames N    render N full-resolution frames continuously, then 2N steps, a
+//                           camera orbit step and a turn of the first light in turn (each timed
+//                           to its full-resolution frame); print the three rates, then the time
+//                           from a material change (ExplorerState::setMedium) to the updated
+//                           full-resolution image, and exit
 //   --render-scale S        full-resolution size relative to the picture (1, 0.5, 0.25; software
 //                           renderers default to 0.25)
 //   --size WxH              window size (default 1600x1000, or the saved geometry)
@@ -36,51 +36,66 @@ using namespace translucent::explorer;
 namespace {
 
 void runBenchmark(QApplication& app, ExplorerState& state, ViewportDock* viewport, int frames) {
-  // Phases: 0 waiting for the first full frame; 1 N frames of a still scene; 2 N frames, each after
-  // a camera orbit step (the technique keeps its lighting, Technique::setCamera); 3 N frames, each
-  // after a change of the first light's direction (everything light-dependent recomputed); 4 the
-  // material change.
+  // Phases: 0 waiting for the first full frame; 1 N frames of a still scene; 2 2N steps, camera
+  // orbit steps (the technique keeps its lighting, Technique::setCamera) and changes of the first
+  // light's direction (everything light-dependent recomputed) in turn, so that both kinds of step
+  // share whatever else runs meanwhile (the docks' first computations, which are heavy at the
+  // start, and other processes); 3 the material change.
+  struct Tally {
+    std::vector<double> ms;  // per step: prepare and render of its half- and full-resolution frames
+    // Its light-side passes, all frames: "shadow maps" and "irradiance" (the point cloud, tsis,
+    // lss; splatting's light-view irradiance buffers), "irradiance hierarchy" (splatting), "light
+    // maps" (tsm).
+    double lighting_ms = 0.0;
+    double prepare_ms = 0.0;  // its Technique::prepare() calls, all frames
+    double wall_ms = 0.0;     // from each step to its full-resolution frame on screen
+  };
   struct Bench {
     int phase = 0;
-    std::vector<double> ms;
-    double lighting_ms = 0.0;  // the phase's "shadow maps" and "irradiance" passes, all frames
-    double step_ms = 0.0;      // frames since the last step (half and full resolution)
+    Tally still, orbit, light;
+    bool lightStep = false;  // phase 2: the step in flight turned the light (else the camera)
+    double step_ms = 0.0;    // frames since the last step (half and full resolution)
     QElapsedTimer wall, change;
     double first_change_ms = -1.0;
   };
   auto b = std::make_shared<Bench>();
-  auto report = [frames](const char* what, const RenderedFrame& f, const std::vector<double>& ms,
-                         double wall_s, double lighting_ms) {
+  auto report = [](const char* what, const RenderedFrame& f, const Tally& t) {
     double sum = 0.0, lo = 1e300, hi = 0.0;
-    for (double m : ms) sum += m, lo = std::min(lo, m), hi = std::max(hi, m);
+    for (double m : t.ms) sum += m, lo = std::min(lo, m), hi = std::max(hi, m);
+    const double n = double(t.ms.size());
     std::printf("viewport (%s): %s, %dx%d, %d steps: %.2f per second (time per step, the half- and "
-                "full-resolution frames, mean %.1f ms, min %.1f, max %.1f, of which shadow maps + "
-                "irradiance %.1f; %.2f steps/s wall clock including display)\n",
-                what, f.technique.c_str(), f.frame.width, f.frame.height, frames,
-                1000.0 * frames / sum, sum / frames, lo, hi, lighting_ms / frames, frames / wall_s);
+                "full-resolution frames, mean %.1f ms, min %.1f, max %.1f, of which prepare %.1f and light "
+                "passes (shadow maps, light maps, irradiance) %.1f; %.2f steps/s wall clock including "
+                "display)\n",
+                what, f.technique.c_str(), f.frame.width, f.frame.height, int(t.ms.size()),
+                1000.0 * n / sum, sum / n, lo, hi, t.prepare_ms / n, t.lighting_ms / n,
+                1000.0 * n / t.wall_ms);
     std::fflush(stdout);
   };
-  auto step = [&state](int phase) {
-    if (phase == 2) {
+  auto step = [&state](bool turnLight) {
+    if (!turnLight) {
       state.setCamera(orbit(state.scene().camera, 0.05, 0.0));
-    } else {
-      scene::Scene s = state.scene();
-      for (auto& light : s.lights) {
-        auto turn = [](glm::dvec3& d) {
-          const double c = std::cos(0.05), sn = std::sin(0.05);
-          d = glm::dvec3(c * d.x + sn * d.z, d.y, -sn * d.x + c * d.z);
-        };
-        if (auto* d = std::get_if<reference::DirectionalLight>(&light.emitter)) {
-          turn(d->direction);
-          break;
-        }
-        if (auto* p = std::get_if<reference::PointLight>(&light.emitter)) {
-          turn(p->position);
-          break;
-        }
-      }
-      state.setScene(s);
+      return;
     }
+    std::vector<scene::Light> lights = state.scene().lights;
+    for (auto& light : lights) {
+      auto turn = [](glm::dvec3& d) {
+        const double c = std::cos(0.05), sn = std::sin(0.05);
+        d = glm::dvec3(c * d.x + sn * d.z, d.y, -sn * d.x + c * d.z);
+      };
+      if (auto* d = std::get_if<reference::DirectionalLight>(&light.emitter)) {
+        turn(d->direction);
+        break;
+      }
+      if (auto* p = std::get_if<reference::PointLight>(&light.emitter)) {
+        turn(p->position);
+        break;
+      }
+    }
+    // As the viewport's right drag turns it: setScene would also announce a material change,
+    // whose handlers in the docks run beside the frames timed (the pencil plot, for one, stops
+    // its reference and samples its curves again).
+    state.setLights(std::move(lights));
   };
   QObject::connect(viewport, &ViewportDock::frameShown, viewport,
                    [&app, &state, viewport, frames, b, report, step](std::shared_ptr<const RenderedFrame> f, bool full) {
@@ -90,51 +105,57 @@ void runBenchmark(QApplication& app, ExplorerState& state, ViewportDock* viewpor
       viewport->setContinuous(true);
       return;
     }
-    if (b->phase >= 1 && b->phase <= 3) {
+    if (b->phase == 1 || b->phase == 2) {
       // A change shows at half resolution first, then in full: a step's cost is both frames'
       // (prepare and render), counted when the full one arrives.
       // A still scene: each full frame on its own.
       if (b->phase == 1 && !full) return;
+      Tally& t = b->phase == 1 ? b->still : b->lightStep ? b->light : b->orbit;
       b->step_ms += f->prepare_ms + f->render_ms;
+      t.prepare_ms += f->prepare_ms;
       for (const auto& pass : f->frame.passes)
-        if (pass.name == "shadow maps" || pass.name == "irradiance") b->lighting_ms += pass.ms;
+        if (pass.name == "shadow maps" || pass.name == "irradiance" || pass.name == "light maps" ||
+            pass.name == "irradiance hierarchy")
+          t.lighting_ms += pass.ms;
       if (!full) return;
-      b->ms.push_back(b->step_ms);
+      t.ms.push_back(b->step_ms);
       b->step_ms = 0.0;
-      if (int(b->ms.size()) < frames) {
-        if (b->phase == 1)
+      t.wall_ms += double(b->wall.restart());
+      if (b->phase == 1) {
+        if (int(t.ms.size()) < frames) {
           viewport->requestFullFrame();
-        else
-          step(b->phase);
+          return;
+        }
+        report("still", *f, t);
+        viewport->setContinuous(false);
+        b->phase = 2;
+        b->lightStep = false;
+        b->wall.restart();
+        step(b->lightStep);
         return;
       }
-      const double wall_s = b->wall.elapsed() / 1000.0;
-      report(b->phase == 1 ? "still" : b->phase == 2 ? "camera orbit" : "light moving", *f, b->ms,
-             wall_s, b->lighting_ms);
-      b->ms.clear();
-      b->lighting_ms = 0.0;
-      if (b->phase == 1) viewport->setContinuous(false);
-      if (b->phase < 3) {
-        ++b->phase;
-        b->wall.start();
-        step(b->phase);
+      if (int(b->orbit.ms.size() + b->light.ms.size()) < 2 * frames) {
+        b->lightStep = !b->lightStep;
+        step(b->lightStep);
         return;
       }
-      b->phase = 4;
+      report("camera orbit", *f, b->orbit);
+      report("light moving", *f, b->light);
+      b->phase = 3;
       b->change.start();
       Medium m = state.medium();
       for (double& v : m.sigma_a) v *= 1.25;
       state.setMedium(m);  // request ids after this one show the new material
       return;
     }
-    if (b->phase == 4) {
+    if (b->phase == 3) {
       if (b->first_change_ms < 0.0) b->first_change_ms = b->change.elapsed();
       if (!full) return;
       std::printf("material change (setMedium) -> first image %.0f ms (half resolution), "
                   "-> full-resolution image %lld ms\n",
                   b->first_change_ms, static_cast<long long>(b->change.elapsed()));
       std::fflush(stdout);
-      b->phase = 5;
+      b->phase = 4;
       app.quit();
     }
   });

@@ -263,14 +263,15 @@ EnvironmentBudget environmentBudget(const ParameterSet& params, bool converge) {
 
 bool SurfaceIrradiance::update(const GpuMesh& mesh, const gpu::Buffer& points, size_t count, float eta,
                                const ShadowLookup& lookup, const EnvironmentBudget& budget,
-                               gpu::PassTimer* timer, bool reuse) {
+                               gpu::PassTimer* timer, bool reuse, bool pointsMoved) {
   ensurePrograms();
   auto scope = [&](const char* name) {
     return timer ? std::optional<gpu::PassTimer::Scope>(timer->scope(name)) : std::nullopt;
   };
   const bool occluded = hasOccludedEnvironment();
   if (count != count_ || !irradiance_) {
-    reuse = false;
+    // New points: only a caller that vouches for the lights (pointsMoved) keeps the shadow maps.
+    if (!pointsMoved) reuse = false;
     count_ = count;
     irradiance_ = gpu::makeStorageBuffer(std::max<size_t>(count, 1) * sizeof(glm::vec4));
     lightDirections_ = gpu::makeStorageBuffer(std::max<size_t>(count, 1) * sizeof(glm::vec4));
@@ -284,6 +285,7 @@ bool SurfaceIrradiance::update(const GpuMesh& mesh, const gpu::Buffer& points, s
   const gpu::ShaderProgram& ip = *irradianceProgram_;
   ip.set("PointCount", static_cast<unsigned>(count_));
   ip.set("Eta", eta);
+  if (pointsMoved) envDirections_ = 0;
   if (occluded && envDirections_ == 0) {
     // A fresh accumulation (new points, lights or shadow settings); the buffer may be the size
     // of a previous light set without an occluded environment.
@@ -299,7 +301,7 @@ bool SurfaceIrradiance::update(const GpuMesh& mesh, const gpu::Buffer& points, s
   }
   // The environment's resolve adds to the direct irradiance: with an occluded environment the
   // direct part is dispatched again each update (cheap: the shadow maps are kept).
-  if (!reuse || occluded) {
+  if (!reuse || occluded || pointsMoved) {
     auto t = scope("irradiance");
     dispatch(kClear);
     for (const auto& st : lights_) lightDispatch(st, lookup);

@@ -79,10 +79,14 @@ class SurfaceIrradiance {
   // With `reuse`, the caller vouches that the mesh, the points and the shadow settings are those
   // of the previous update (a camera move): the shadow maps are not rendered again, and without
   // an occluded environment the irradiance is kept as it is (nothing is dispatched); lights
-  // prepared since, or another point count, still recompute everything.
+  // prepared since, or another point count, still recompute everything. With `reuse` and
+  // `pointsMoved` (lss: its points are the camera's pixels, which a camera move or a new image
+  // size moves; the mesh, lights and shadow settings are the previous update's) only the shadow
+  // maps are kept, whatever the count: E is computed at the new points, and an occluded
+  // environment starts again (its accumulation is per point).
   bool update(const GpuMesh& mesh, const gpu::Buffer& points, size_t count, float eta,
               const ShadowLookup& lookup, const EnvironmentBudget& budget, gpu::PassTimer* timer,
-              bool reuse = false);
+              bool reuse = false, bool pointsMoved = false);
 
   const gpu::Buffer& irradiance() const { return irradiance_; }
   // Per point (vec4): xyz = Σ_l w_l ω_l, w = Σ_l w_l over the directional, filtered, beam and point

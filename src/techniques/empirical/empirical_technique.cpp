@@ -513,6 +513,13 @@ techniques::Frame EmpiricalTechnique::render(const techniques::FrameRequest& req
   return impl_->render(request);
 }
 
+bool EmpiricalTechnique::setCamera(const reference::Camera& camera) {
+  if (!impl_->scene) return false;
+  camera.validate();
+  impl_->scene->camera = camera;
+  return true;
+}
+
 double EmpiricalTechnique::sceneDiameter() const { return 2.0 * impl_->radius; }
 
 std::unique_ptr<techniques::Technique> makeEmpiricalTechnique() {

@@ -64,6 +64,11 @@ class EmpiricalTechnique final : public techniques::Technique {
   techniques::ParameterValue parameter(std::string_view name) const override;
   void prepare(const scene::Scene& scene, gpu::Context& gl) override;
   techniques::Frame render(const techniques::FrameRequest& request) override;
+  // Keeps the preparation: the lights as checked, the mesh, its AO, a heterogeneous material's
+  // per-vertex colours and the frame targets (prepare() computes those colours again). Nothing
+  // per frame is light-side: the lights are uniforms of the shade pass, and the front and back
+  // layers are the camera's, so a frame after a move costs what any frame costs.
+  bool setCamera(const reference::Camera& camera) override;
 
   // The material to render from the next prepare() on instead of scene::sceneMaterial(scene,
   // mesh) (a hand-built Material: tests, callers with their own fields); std::nullopt goes back

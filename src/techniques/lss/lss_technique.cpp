@@ -88,7 +88,8 @@ struct LssTechnique::Impl : techniques::ClosedMeshState {
   // The camera-view irradiance: the shared pass (techniques/common/surface_irradiance.h) over
   // the pixels' points, every light type.
   techniques::SurfaceIrradiance lighting;
-  bool lightingDirty = true;     // restart an occluded environment's accumulation
+  bool lightingDirty = true;     // the lights, the mesh or the shadow settings changed
+  bool pointsMoved = true;       // the pixels' points changed (a camera move, a new image size)
   bool irradianceFinal = true;   // false while an occluded environment still adds directions
 
   GBuffer gbuffer;
@@ -212,6 +213,7 @@ struct LssTechnique::Impl : techniques::ClosedMeshState {
       accum = gpu::makeStorageBuffer(pixels * sizeof(glm::vec4));
       outPixels = pixels;
       accumulationDirty = true;
+      pointsMoved = true;
     }
     const glm::mat4 vp = techniques::cameraViewProjection(s.camera, s.clip_near, s.clip_far, center,
                                                           radius, width, height);
@@ -230,15 +232,21 @@ struct LssTechnique::Impl : techniques::ClosedMeshState {
       gpu::dispatch(p, {(unsigned(width) + 7u) / 8u, (unsigned(height) + 7u) / 8u, 1u});
     }
     // E of every pixel's point (every light type, shadowed); the update's shadow maps, lights and
-    // environment directions are timed as passes of their own. (A new image size is a new point
-    // count, which restarts an occluded environment by itself; a new scene or camera comes
-    // through prepare(), which sets lightingDirty.)
+    // environment directions are timed as passes of their own. The shadow maps depend on the
+    // mesh and the lights only: kept until prepare() or a shadow setting changes them. E does
+    // not survive a camera move (setCamera) or a new image size, unlike the point cloud's: lss
+    // lights the camera's pixels, so those are new points, whose E is computed again (the
+    // irradiance pass, not the shadow maps) and whose occluded environment starts again (its
+    // directions are accumulated per point). A still frame keeps E as it is.
+    const bool reuse = !lightingDirty;
     if (lightingDirty) lighting.restartEnvironment();
     lightingDirty = false;
     const bool wasFinal = irradianceFinal;
     irradianceFinal = lighting.update(*gpuMesh, points, pixels, static_cast<float>(s.medium.eta),
                                       techniques::shadowLookup(params),
-                                      techniques::environmentBudget(params, request.converge), &*timer);
+                                      techniques::environmentBudget(params, request.converge), &*timer,
+                                      reuse, pointsMoved);
+    pointsMoved = false;
     // While an occluded environment adds directions E changes from frame to frame: frames of
     // different E must not be averaged, so accumulation starts over until E is final.
     if (!wasFinal || !irradianceFinal) accumulationDirty = true;
@@ -311,6 +319,15 @@ void LssTechnique::prepare(const scene::Scene& scene, gpu::Context& gl) {
 
 techniques::Frame LssTechnique::render(const techniques::FrameRequest& request) {
   return impl_->render(request);
+}
+
+bool LssTechnique::setCamera(const reference::Camera& camera) {
+  if (!impl_->scene) return false;
+  camera.validate();
+  impl_->scene->camera = camera;
+  impl_->pointsMoved = true;
+  impl_->accumulationDirty = true;  // the accumulated image is the old view's
+  return true;
 }
 
 const std::array<bssrdf::ProfileTable, 3>& LssTechnique::profileTables() const { return impl_->tables; }

@@ -14,7 +14,8 @@
 //   pack         a surface point per pixel: position, normal, area (lss/pack.comp)
 //   shadow maps, irradiance, environment samples
 //                E of every pixel's surface point, transmitted (Ft(η, ω_i)), shadowed: the shared
-//                pass of techniques/common/surface_irradiance.h
+//                pass of techniques/common/surface_irradiance.h (the shadow maps only after
+//                prepare() or a shadow setting; E after those, a camera move or a new size)
 //   radiance     B per pixel from N image-plane samples, L = s Ft(η, ω_o) B/π (s: the
 //                radiance_convention as the point cloud's); accumulated over frames
 //                (lss/radiance.comp)
@@ -65,6 +66,9 @@ class LssTechnique final : public techniques::Technique {
   techniques::ParameterValue parameter(std::string_view name) const override;
   void prepare(const scene::Scene& scene, gpu::Context& gl) override;
   techniques::Frame render(const techniques::FrameRequest& request) override;
+  // The profile tables, the mesh and the shadow maps are kept; the irradiance is the camera's
+  // pixels' and is computed again (an occluded environment restarts), as is the image.
+  bool setCamera(const reference::Camera& camera) override;
 
   // ---- Inspection (tests; valid after a render) -----------------------------------------------
   const std::array<bssrdf::ProfileTable, 3>& profileTables() const;

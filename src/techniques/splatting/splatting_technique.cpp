@@ -107,8 +107,14 @@ struct SplattingTechnique::Impl : techniques::ClosedMeshState {
     // mip levels each.
     gpu::Texture hierA, hierB, hierC;
     int hierLevels = 0;
+    bool hierBuilt = false;  // the hierarchy holds the current map
   };
   std::vector<LightState> lights;
+  // The irradiance buffers (light-view maps) and their hierarchies depend on the mesh, the lights
+  // and the vertex profiles, nothing of the camera's: rendered after prepare() or a new
+  // irradiance_size only, and kept over camera moves and still frames. The splatting buffer is
+  // the camera's G-buffer: it, the splats, the upsampling and the radiance are redone each frame.
+  bool mapsDirty = true;
 
   techniques::GBuffer gbuffer;
   gpu::Texture accum;
@@ -170,6 +176,7 @@ struct SplattingTechnique::Impl : techniques::ClosedMeshState {
       st.map = std::make_unique<techniques::LightViewMap>(size);
       lights.push_back(std::move(st));
     }
+    mapsDirty = true;
   }
 
   // Per-vertex profiles at the rest pose (once per mesh and material).
@@ -289,6 +296,7 @@ struct SplattingTechnique::Impl : techniques::ClosedMeshState {
 
   // The hierarchical irradiance buffer of one light (levels mip levels).
   void buildHierarchy(LightState& st, int levels) {
+    if (st.hierBuilt && st.hierLevels == levels) return;
     const int size = st.map->size();
     if (st.hierLevels != levels) {
       auto make = [&] {
@@ -325,6 +333,7 @@ struct SplattingTechnique::Impl : techniques::ClosedMeshState {
       glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
     }
     gpu::checkGlError("building the hierarchical irradiance buffer");
+    st.hierBuilt = true;
   }
 
   void resizeAccum(int w, int h) {
@@ -361,9 +370,13 @@ struct SplattingTechnique::Impl : techniques::ClosedMeshState {
       gbuffer.resize(width, height);
       gbuffer.render(*gpuMesh, *gbufferProgram, vp);
     }
-    {
+    if (mapsDirty) {
       auto t = timer->scope("irradiance");
-      for (auto& st : lights) renderMap(st);
+      for (auto& st : lights) {
+        renderMap(st);
+        st.hierBuilt = false;
+      }
+      mapsDirty = false;
     }
     const bool adaptive = !shah && params.getBool("adaptive");
     // Irradiance-buffer levels: as many as splatting levels (the paper's three for both),
@@ -373,8 +386,12 @@ struct SplattingTechnique::Impl : techniques::ClosedMeshState {
       irrLevels = params.getInt("levels");
       const int size = params.getInt("irradiance_size");
       while (irrLevels > 1 && (size >> (irrLevels - 1)) < 1) --irrLevels;
-      auto t = timer->scope("irradiance hierarchy");
-      for (auto& st : lights) buildHierarchy(st, irrLevels);
+      bool build = false;
+      for (const auto& st : lights) build = build || !st.hierBuilt || st.hierLevels != irrLevels;
+      if (build) {
+        auto t = timer->scope("irradiance hierarchy");
+        for (auto& st : lights) buildHierarchy(st, irrLevels);
+      }
     }
     resizeAccum(width, height);
     const int levels = (!shah && params.getBool("multires")) ? params.getInt("levels") : 1;
@@ -568,6 +585,13 @@ void SplattingTechnique::prepare(const scene::Scene& scene, gpu::Context& gl) {
 
 techniques::Frame SplattingTechnique::render(const techniques::FrameRequest& request) {
   return impl_->render(request);
+}
+
+bool SplattingTechnique::setCamera(const reference::Camera& camera) {
+  if (!impl_->scene) return false;
+  camera.validate();
+  impl_->scene->camera = camera;
+  return true;
 }
 
 const material::PointProfiles& SplattingTechnique::vertexProfiles() const { return impl_->profiles; }

@@ -9,7 +9,9 @@
 // and the radiance L = s Ft(η, n·ω_o) B / π (Eq. 7; s the radiance_convention scale, as tsm).
 //   irradiance buffer  a LightViewMap per light (techniques/common/light_view_map.h): x_i, its
 //                      normal, E (Ft and cos θ included) and ΔA (lvmSurfaceArea), plus the
-//                      triangle index of x_i in the position's w (LVM_PRIMITIVE_ID);
+//                      triangle index of x_i in the position's w (LVM_PRIMITIVE_ID); rendered
+//                      (with its hierarchy, below) after prepare() or a new irradiance_size only,
+//                      so camera moves and still frames keep it;
 //   splatting buffer   the camera's G-buffer (world position, w = 1 + triangle; normal);
 //   splat              one instanced draw of screen-space squares, one instance per irradiance
 //                      texel, bounding the sphere of radius R_max about x_i; the fragment adds the
@@ -83,6 +85,9 @@ class SplattingTechnique final : public techniques::Technique {
   techniques::ParameterValue parameter(std::string_view name) const override;
   void prepare(const scene::Scene& scene, gpu::Context& gl) override;
   techniques::Frame render(const techniques::FrameRequest& request) override;
+  // The vertex profiles, the irradiance buffers and their hierarchies are light-side: kept. The
+  // splatting buffer is the camera's view, so the splats are redone, as every frame.
+  bool setCamera(const reference::Camera& camera) override;
 
   // ---- Inspection (tests; valid after prepare / render) ---------------------------------------
   const material::PointProfiles& vertexProfiles() const;

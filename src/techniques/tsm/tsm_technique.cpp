@@ -126,6 +126,9 @@ struct TsmTechnique::Impl : techniques::ClosedMeshState {
     std::unique_ptr<LightViewMap> map;
   };
   std::vector<LightState> lights;
+  // The light maps hold position, normal and E as each light sees the mesh: nothing of the
+  // camera's, so they are rendered after prepare() (mesh, lights, η) or a new map_size only.
+  bool mapsDirty = true;
 
   GBuffer gbuffer;
   gpu::Buffer radianceOut, exitanceOut;
@@ -168,6 +171,7 @@ struct TsmTechnique::Impl : techniques::ClosedMeshState {
       st.map = std::make_unique<LightViewMap>(size);
       lights.push_back(std::move(st));
     }
+    mapsDirty = true;
   }
 
   void buildKernel() {
@@ -246,9 +250,10 @@ struct TsmTechnique::Impl : techniques::ClosedMeshState {
                                                             radius, width, height);
       gbuffer.render(*gpuMesh, *gbufferProgram, vp);
     }
-    {
+    if (mapsDirty) {
       auto t = timer->scope("light maps");
       for (auto& st : lights) renderMap(st);
+      mapsDirty = false;
     }
     {
       auto t = timer->scope("filter");
@@ -341,6 +346,13 @@ void TsmTechnique::prepare(const scene::Scene& scene, gpu::Context& gl) {
 
 techniques::Frame TsmTechnique::render(const techniques::FrameRequest& request) {
   return impl_->render(request);
+}
+
+bool TsmTechnique::setCamera(const reference::Camera& camera) {
+  if (!impl_->scene) return false;
+  camera.validate();
+  impl_->scene->camera = camera;
+  return true;
 }
 
 const std::array<bssrdf::ProfileTable, 3>& TsmTechnique::profileTables() const { return impl_->tables; }

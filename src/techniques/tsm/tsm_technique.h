@@ -44,7 +44,8 @@
 //
 // Per frame (each pass timed on the GPU):
 //   g-buffer     world position and normal of the visible surface (pointcloud/gbuffer.*)
-//   light maps   position, normal, E per texel for each light (common/light_view_map.*)
+//   light maps   position, normal, E per texel for each light (common/light_view_map.*); only
+//                after prepare() or a new map_size: kept over camera moves and still frames
 //   filter       per pixel and light, the pattern sum above and the radiance (tsm/filter.comp)
 //
 // Parameters: pattern tsm21; weights region | point; filter_radius 1 [0.05, 4] × r_max;
@@ -109,6 +110,9 @@ class TsmTechnique final : public techniques::Technique {
   techniques::ParameterValue parameter(std::string_view name) const override;
   void prepare(const scene::Scene& scene, gpu::Context& gl) override;
   techniques::Frame render(const techniques::FrameRequest& request) override;
+  // The light maps, profile and region weights do not depend on the camera: kept; the camera's
+  // G-buffer and the filter pass are the frame's work anyway.
+  bool setCamera(const reference::Camera& camera) override;
 
   // ---- Inspection (tests; valid after prepare) ------------------------------------------------
   const std::array<bssrdf::ProfileTable, 3>& profileTables() const;
