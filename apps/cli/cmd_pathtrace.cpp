@@ -57,11 +57,11 @@ uint64_t parsePhotons(const std::string& text) {
   return static_cast<uint64_t>(v);
 }
 
-void writeCsv(const std::string& path, const SlabResult& r) {
+void writeCsv(OutputFiles& out, const std::string& path, const SlabResult& r) {
   std::string text = "r,rd,rd_stderr\n";
   for (size_t i = 0; i < r.radial.r.size(); ++i)
     text += fmt::format("{},{},{}\n", r.radial.r[i], r.radial.rd[i], r.radial.rd_stderr[i]);
-  writeTextOutput("--csv", path, text);
+  out.text("--csv", path, text);
 }
 
 void runSlab(const PathtraceArgs& a) {
@@ -91,6 +91,8 @@ void runSlab(const PathtraceArgs& a) {
     outputs.output("--csv", a.csv);
     outputs.check();
   }
+  if (a.shard.active()) (void)a.shard.range(options.totalBlocks());  // --shard I/N well-formed
+  if (!beginWork()) return;
   if (options.long_path_roulette > 0)
     printStderr(
                "pathtrace: warning: long-path roulette keeps estimates unbiased, but each roulette "
@@ -135,8 +137,10 @@ void runSlab(const PathtraceArgs& a) {
 
   nlohmann::json j = reference::slabResultJson(run, r);
   if (run.layered) j["layers_file"] = a.layers;
-  writeTextOutput("--json", a.json, j.dump(2) + "\n");
-  if (!a.csv.empty()) writeCsv(a.csv, r);
+  OutputFiles out;  // all or nothing
+  out.text("--json", a.json, j.dump(2) + "\n");
+  if (!a.csv.empty()) writeCsv(out, a.csv, r);
+  out.commit();
   printStderr(
              "pathtrace: {}{} photons in {:.2f} s ({:.3g} photons/s, {}): Rsp {:.5f}, "
              "Rd {:.5f} ± {:.5f}, T {:.5f} ± {:.5f}, A {:.5f} ± {:.5f}; wrote {}{}\n",
