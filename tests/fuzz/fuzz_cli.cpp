@@ -15,7 +15,9 @@
 // the checks depends on where a folder is.
 //
 // Expected outcomes, as main() handles them: a CLI::ParseError (a usage error, --help, --version;
-// formatted by app.exit into a string) and a ParameterError (our checks). Anything else is a
+// formatted by app.exit into a string), a ParameterError (our checks) and the registries' errors
+// for a name they do not have (bssrdf::UnknownModelError, techniques::UnknownTechniqueError, which
+// list the valid names). Anything else is a
 // finding: a crash, a sanitizer report, a hang, another exception (std::out_of_range from a
 // conversion, a JSON library error, std::bad_alloc: messages that would not name the option), or
 // a file created, changed or removed in the scratch folder.
@@ -36,8 +38,10 @@
 #include <typeinfo>
 #include <vector>
 
+#include "bssrdf/registry.h"  // UnknownModelError
 #include "commands.h"
 #include "optics/medium.h"  // ParameterError
+#include "techniques/registry.h"  // UnknownTechniqueError
 
 namespace {
 namespace fs = std::filesystem;
@@ -161,6 +165,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       std::ostringstream out, err;
       (void)app.exit(e, out, err);
     } catch (const translucent::ParameterError&) {
+    } catch (const translucent::bssrdf::UnknownModelError&) {
+    } catch (const translucent::techniques::UnknownTechniqueError&) {
     } catch (const std::exception& e) {
       unexpected = std::string("unexpected exception (") + typeid(e).name() + "): " + e.what();
     } catch (...) {

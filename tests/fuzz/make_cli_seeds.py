@@ -25,6 +25,8 @@ INPUT_OPTIONS = {"--scene": "scene.json", "--layers": "layers.json", "--bunny": 
 
 def scratch_name(arg, previous):
     """The scratch folder's file for an argument that names a file, else the argument."""
+    if previous == "--shard":
+        return arg
     if previous in INPUT_OPTIONS and not arg.startswith("-"):
         return INPUT_OPTIONS[previous]
     if previous == "--model" or previous == "--models":
