@@ -449,7 +449,10 @@ void runRender(const RenderArgs& a) {
     if (frame.layers.empty() && frame.views.empty())
       wrote.push_back(fmt::format("--debug-dir: technique {} has no debug layers\n", s.technique));
     // The technique's inspection views: display-ready [0, 1], written as they are.
-    for (const auto& [name, view] : frame.views) {
+    // (Named references, not structured bindings: clang 14 cannot capture those in the lambdas.)
+    for (const auto& entry : frame.views) {
+      const std::string& name = entry.first;
+      const auto& view = entry.second;
       const std::string base = (std::filesystem::path(a.debug_dir) / ("view-" + name)).string();
       out.file("--debug-dir", base + ".exr", [&](const std::string& p) {
         analysis::writeExr(p, view.width, view.height, view.rgb);
@@ -459,7 +462,9 @@ void runRender(const RenderArgs& a) {
       });
       wrote.push_back(fmt::format("wrote {}.exr/.png: {}\n", base, view.description));
     }
-    for (const auto& [name, data] : frame.layers) {
+    for (const auto& entry : frame.layers) {
+      const std::string& name = entry.first;
+      const auto& data = entry.second;
       const std::string base = (std::filesystem::path(a.debug_dir) / name).string();
       out.file("--debug-dir", base + ".exr", [&](const std::string& p) {
         analysis::writeExr(p, frame.width, frame.height, data);
