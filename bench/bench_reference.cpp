@@ -225,7 +225,8 @@ material::Material veinedMarble() {
   return m;
 }
 
-void BM_Bunny(benchmark::State& state, bool gpu, bool veins) {
+// split: the images kept per scattering order too (TracerOptions::split_orders), what that costs.
+void BM_Bunny(benchmark::State& state, bool gpu, bool veins, bool split) {
   static const geometry::TriangleMesh mesh = [] {
     geometry::TriangleMesh m = geometry::loadMesh("/usr/share/glmark2/models/bunny.obj");
     const geometry::Bounds b = m.bounds();
@@ -243,10 +244,10 @@ void BM_Bunny(benchmark::State& state, bool gpu, bool veins) {
   if (gpu) state.SetLabel(gpuContext().info().renderer);
   runPasses(state, 32, [&](uint64_t seed) {
     static const material::Material veined = veinedMarble();
-    auto t = veins ? std::make_unique<reference::MeshPathTracer>(mesh, veined, lights, cam, 5.0,
-                                                                 reference::TracerOptions{seed, 1})
-                   : std::make_unique<reference::MeshPathTracer>(mesh, medium, lights, cam, 5.0,
-                                                                 reference::TracerOptions{seed, 1});
+    reference::TracerOptions o{seed, 1};
+    o.split_orders = split;
+    auto t = veins ? std::make_unique<reference::MeshPathTracer>(mesh, veined, lights, cam, 5.0, o)
+                   : std::make_unique<reference::MeshPathTracer>(mesh, medium, lights, cam, 5.0, o);
     if (gpu) t->setWalker(reference::makeGpuMeshWalker(gpuContext(), mesh));
     return t;
   });
@@ -256,9 +257,12 @@ const bool registered = [] {
   for (bool veins : {false, true})
     for (bool gpu : {false, true})
       benchmark::RegisterBenchmark((std::string(veins ? "bunny_veins/" : "bunny/") + (gpu ? "gpu" : "cpu_1t")).c_str(),
-                                   BM_Bunny, gpu, veins)
+                                   BM_Bunny, gpu, veins, false)
           ->UseRealTime()
           ->Unit(benchmark::kMillisecond);
+  benchmark::RegisterBenchmark("bunny/cpu_1t_split_orders", BM_Bunny, false, false, true)
+      ->UseRealTime()
+      ->Unit(benchmark::kMillisecond);
   for (bool gpu : {false, true})
     benchmark::RegisterBenchmark(gpu ? "sphere/gpu" : "sphere/cpu_1t", BM_Sphere, gpu)
         ->UseRealTime()

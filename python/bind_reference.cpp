@@ -34,33 +34,44 @@ using reference::SlabResult;
 
 // The CLI's JSON (reference::slabResultJson, what `pathtrace slab --json` writes) as a dict; the
 // radial and angular arrays become NumPy arrays.
-py::dict slabDict(const reference::SlabRun& run, SlabResult&& r) {
-  py::dict d = toPython(reference::slabResultJson(run, r));
-  const reference::TraceOptions& o = run.options;
+// The radial and angular tallies of `d` (the JSON's lists) as float64 arrays.
+void profileArrays(py::dict& d, const reference::TraceOptions& o, reference::RadialProfileTally&& rad,
+                   reference::AngularTally&& ang) {
   auto vec = [](std::vector<double>&& v) {
     const auto n = static_cast<py::ssize_t>(v.size());
     return ownedArray(std::move(v), {n});
   };
   if (o.radial_bins > 0) {
     py::dict radial = d["radial"];
-    radial["r"] = vec(std::move(r.radial.r));
-    radial["rd"] = vec(std::move(r.radial.rd));
-    radial["rd_stderr"] = vec(std::move(r.radial.rd_stderr));
+    radial["r"] = vec(std::move(rad.r));
+    radial["rd"] = vec(std::move(rad.rd));
+    radial["rd_stderr"] = vec(std::move(rad.rd_stderr));
   }
   if (o.angle_bins > 0) {
     py::dict angular = d["angular"];
     std::vector<double> deg;
-    for (double t : r.angular.theta) deg.push_back(t * 180.0 / std::numbers::pi);
+    for (double t : ang.theta) deg.push_back(t * 180.0 / std::numbers::pi);
     angular["theta_deg"] = vec(std::move(deg));
-    angular["rd"] = vec(std::move(r.angular.rd));
-    angular["rd_stderr"] = vec(std::move(r.angular.rd_stderr));
+    angular["rd"] = vec(std::move(ang.rd));
+    angular["rd_stderr"] = vec(std::move(ang.rd_stderr));
     if (o.radial_bins > 0) {
       const auto rows = static_cast<py::ssize_t>(o.radial_bins);
       const auto cols = static_cast<py::ssize_t>(o.angle_bins);
-      angular["rd_r_theta"] = ownedArray(std::move(r.angular.rd_r_theta), {rows, cols});
-      angular["rd_r_theta_stderr"] =
-          ownedArray(std::move(r.angular.rd_r_theta_stderr), {rows, cols});
+      angular["rd_r_theta"] = ownedArray(std::move(ang.rd_r_theta), {rows, cols});
+      angular["rd_r_theta_stderr"] = ownedArray(std::move(ang.rd_r_theta_stderr), {rows, cols});
     }
+  }
+}
+
+py::dict slabDict(const reference::SlabRun& run, SlabResult&& r) {
+  py::dict d = toPython(reference::slabResultJson(run, r));
+  const reference::TraceOptions& o = run.options;
+  profileArrays(d, o, std::move(r.radial), std::move(r.angular));
+  py::dict orders = d["scattering_orders"];
+  for (reference::ScatteringOrder k : reference::kAllScatteringOrders) {
+    py::dict part = orders[reference::toString(k)];
+    auto& ord = r.orders[static_cast<size_t>(k)];
+    profileArrays(part, o, std::move(ord.radial), std::move(ord.angular));
   }
   return d;
 }
@@ -131,6 +142,27 @@ py::dict imageDict(const reference::CameraImages& images) {
   }
   return d;
 }
+
+template <class Tracer>
+py::dict tracerImageDict(const Tracer& tracer) {
+  py::dict d = imageDict(tracer.images());
+  if (tracer.splitsOrders())
+    for (reference::ScatteringOrder o : reference::kAllScatteringOrders) {
+      const py::dict part = imageDict(tracer.orderImages(o));
+      for (const auto& [key, value] : part) {
+        // "exitance" -> "exitance_single", "exitance_stderr" -> "exitance_single_stderr": the
+        // CLI's EXR layers with --split-orders.
+        std::string name = py::cast<std::string>(key);
+        const auto cut = name.rfind("_stderr");
+        const std::string order = std::string("_") + reference::toString(o);
+        name = cut == std::string::npos ? name + order : name.substr(0, cut) + order + "_stderr";
+        d[name.c_str()] = value;
+      }
+    }
+  return d;
+}
+template py::dict tracerImageDict(const reference::SpherePathTracer&);
+template py::dict tracerImageDict(const reference::MeshPathTracer&);
 
 py::list fluxList(const reference::TransportStats& s) {
   return toPython(reference::fluxPerChannelJson(s));
@@ -235,8 +267,11 @@ time_limit [s]: stop then and return what was traced, "partial": True.
 Returns a dict with the keys of the CLI's --json output: specular_reflectance,
 diffuse_reflectance, transmittance, diffuse_transmittance, unscattered_transmittance, absorbed
 (per incident photon), each with <key>_stderr (its standard error); "radial" with "r", "rd",
-"rd_stderr" as float64 arrays (Rd(r) per unit area per incident photon), photons, seconds,
-photons_per_second, threads, seed, partial, medium, ... The GIL is released while tracing;
+"rd_stderr" as float64 arrays (Rd(r) per unit area per incident photon); "scattering_orders"
+with "unscattered", "single" and "multiple", each holding diffuse_reflectance, transmittance
+and "radial" (and "angular") of that light alone (seed Eq. 2.13; they add up to the totals);
+photons, seconds, photons_per_second, threads, seed, partial, medium, ... The GIL is released
+while tracing;
 Ctrl-C raises KeyboardInterrupt with the partial dict as its `partial_result`.
 )doc");
 
@@ -357,7 +392,8 @@ partial, seed, medium. GIL released; Ctrl-C: KeyboardInterrupt with `partial_res
          const py::object& sigma_s, std::optional<double> g, std::optional<double> eta,
          double scale, double radius, const py::object& light_dir, const py::object& view_dir,
          int width, int height, double cone_angle, double photons, int passes, uint64_t seed,
-         int threads, const std::string& device, std::optional<double> time_limit) {
+         int threads, const std::string& device, std::optional<double> time_limit,
+         bool split_orders) {
         validatePasses(passes, threads);
         Interruptible stop(time_limit);
         const Medium medium = mediumFromArgs(preset, sigma_a, sigma_s, g, eta, scale);
@@ -366,7 +402,9 @@ partial, seed, medium. GIL released; Ctrl-C: KeyboardInterrupt with `partial_res
         const uint64_t n = photonCount(photons);
         // Before the tracer: the context outlives the walker the tracer holds.
         const reference::TraceDevice dev = reference::openTraceDevice(device, "device");
-        reference::SpherePathTracer tracer(scene, medium, {seed, threads});
+        reference::TracerOptions options{seed, threads};
+        options.split_orders = split_orders;
+        reference::SpherePathTracer tracer(scene, medium, options);
         reference::useDevice(dev, tracer);
         {
           py::gil_scoped_release release;
@@ -376,7 +414,7 @@ partial, seed, medium. GIL released; Ctrl-C: KeyboardInterrupt with `partial_res
         }
         stop.finish();
         const auto& st = tracer.stats();
-        py::dict d = imageDict(tracer.images());
+        py::dict d = tracerImageDict(tracer);
         d["photons_per_channel"] = st.photons.empty() ? 0 : st.photons[0];
         d["passes"] = tracer.passes();
         d["seconds"] = st.seconds;
@@ -398,7 +436,8 @@ partial, seed, medium. GIL released; Ctrl-C: KeyboardInterrupt with `partial_res
       py::arg("view_dir") = std::vector<double>{0.0, 0.0, 1.0}, py::arg("width") = 256,
       py::arg("height") = 256, py::arg("cone_angle") = 5.0, py::arg("photons") = 1e6,
       py::arg("passes") = 1, py::arg("seed") = 1, py::arg("threads") = 0,
-      py::arg("device") = "auto", py::arg("time_limit") = py::none(), R"doc(
+      py::arg("device") = "auto", py::arg("time_limit") = py::none(),
+      py::arg("split_orders") = false, R"doc(
 The lit sphere reference: a sphere of the medium under a directional light of unit irradiance,
 seen by an orthographic camera, by photon tracing: `translucent pathtrace sphere`. Keyword
 arguments only.
@@ -417,9 +456,12 @@ hardware GPU, else the CPU); "device" in the result names what traced.
 Returns a dict: "exitance" (radiant exitance B [W/unit²], pixel averages), "radiance" (the
 diffusion models' radiance Ft(η, ω_o) B / π [W/(unit² sr)]), "cone_radiance" (true radiance
 towards the camera, cone-averaged), each an (height, width, 3) float32 array, rows from the
-top, with "<name>_stderr" its per-pixel standard error (the layers of the CLI's EXR); and
+top, with "<name>_stderr" its per-pixel standard error (the layers of the CLI's EXR); with
+split_orders, the same per scattering order ("exitance_unscattered", "exitance_single",
+"exitance_multiple", ..., each with "_stderr"; they add up to "exitance", seed Eq. 2.13); and
 photons_per_channel, passes, seconds, photons_per_second, threads, flux_per_channel (emitted,
-entered, exited, escaped per channel with standard errors), partial, seed, medium.
+entered, exited, escaped per channel with standard errors, and exited_by_order), partial, seed,
+medium.
 The GIL is released while tracing; Ctrl-C raises KeyboardInterrupt with the partial dict as its
 `partial_result`.
 )doc");

@@ -133,7 +133,8 @@ search path ($TRANSLUCENT_DATA).
   m.def(
       "pathtrace_mesh",
       [](const py::object& sceneArg, double photons, int passes, uint64_t seed, int threads,
-         std::optional<double> time, const std::string& device, std::optional<double> time_limit) {
+         std::optional<double> time, const std::string& device, std::optional<double> time_limit,
+         bool split_orders) {
         validatePasses(passes, threads);
         Interruptible stop(time_limit);
         scene::Scene scene = py::isinstance<scene::Scene>(sceneArg)
@@ -157,7 +158,11 @@ search path ($TRANSLUCENT_DATA).
           scene::requireOutsideMesh(scene, mesh);
           tracer = std::make_unique<reference::MeshPathTracer>(
               mesh, scene::sceneMaterial(scene, mesh), scene::referenceLights(scene),
-              scene.camera, scene.cone_angle, reference::TracerOptions{seed, threads});
+              scene.camera, scene.cone_angle, [&] {
+                reference::TracerOptions o{seed, threads};
+                o.split_orders = split_orders;
+                return o;
+              }());
           reference::useDevice(dev, device, *tracer, mesh, scene.mesh_file.string(), "device");
           stop.restart();  // the CLI's time limit counts the tracing, not the loading
           runPasses(passes, stop, [&](const reference::ProgressCallback& cb) {
@@ -167,7 +172,7 @@ search path ($TRANSLUCENT_DATA).
         }
         stop.finish();
         const auto& st = tracer->stats();
-        py::dict d = imageDict(tracer->images());
+        py::dict d = tracerImageDict(*tracer);
         d["scene"] = toPython(nlohmann::json::parse(scene::toJson(scene)));
         d["triangles"] = tracer->body().triangleCount();
         d["photons_per_channel"] = st.photons.empty() ? 0 : st.photons[0];
@@ -194,7 +199,8 @@ search path ($TRANSLUCENT_DATA).
       },
       py::arg("scene"), py::kw_only(), py::arg("photons") = 1e6, py::arg("passes") = 1,
       py::arg("seed") = 1, py::arg("threads") = 0, py::arg("time") = py::none(),
-      py::arg("device") = "auto", py::arg("time_limit") = py::none(), R"doc(
+      py::arg("device") = "auto", py::arg("time_limit") = py::none(),
+      py::arg("split_orders") = false, R"doc(
 Photon tracing in the scene's closed triangle mesh under its lights, seen by its camera:
 `translucent pathtrace mesh --scene FILE`.
 
@@ -209,7 +215,9 @@ GPU on a hardware GPU where the walk can trace the scene, else the CPU), as `pat
 
 Returns a dict: "exitance" (radiant exitance B [W/unit²]), "radiance" (Ft(η, ω_o) B / π),
 "cone_radiance" (true radiance towards the camera, cone-averaged [W/(unit² sr)]), each a
-(height, width, 3) float32 array, rows from the top, with "<name>_stderr"; and the keys of the
+(height, width, 3) float32 array, rows from the top, with "<name>_stderr"; with split_orders,
+the same per scattering order ("exitance_unscattered", "exitance_single", "exitance_multiple",
+..., each with "_stderr"; they add up to "exitance", seed Eq. 2.13); and the keys of the
 CLI's --json: scene, triangles, photons_per_channel, seconds, photons_per_second,
 scattering_events, photons_in_several_pixels, median_relative_stderr, majorant_violations,
 threads, flux_per_channel, partial, seed, reference_key (what compare's --reference-from checks).

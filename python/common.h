@@ -82,6 +82,10 @@ class Interruptible {
 // (height, width, 3) float32 arrays: "exitance", "exitance_stderr", "radiance", ... (the layers
 // of the CLI's EXR).
 py::dict imageDict(const reference::CameraImages& images);
+// imageDict of a path tracer's images (SpherePathTracer, MeshPathTracer), and when it splits
+// scattering orders those of each order as "exitance_single", "exitance_single_stderr", ...
+template <class Tracer>
+py::dict tracerImageDict(const Tracer& tracer);
 // Per channel: emitted, entered, exited, escaped flux with standard errors (the CLI's
 // "flux_per_channel").
 py::list fluxList(const reference::TransportStats& stats);

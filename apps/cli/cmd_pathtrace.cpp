@@ -58,9 +58,17 @@ uint64_t parsePhotons(const std::string& text) {
 }
 
 void writeCsv(OutputFiles& out, const std::string& path, const SlabResult& r) {
-  std::string text = "r,rd,rd_stderr\n";
-  for (size_t i = 0; i < r.radial.r.size(); ++i)
-    text += fmt::format("{},{},{}\n", r.radial.r[i], r.radial.rd[i], r.radial.rd_stderr[i]);
+  // The total, then the scattering orders' parts of it (seed Eq. 2.13; they add up to rd).
+  std::string text = "r,rd,rd_stderr";
+  for (reference::ScatteringOrder k : reference::kAllScatteringOrders)
+    text += fmt::format(",rd_{0},rd_{0}_stderr", reference::toString(k));
+  text += "\n";
+  for (size_t i = 0; i < r.radial.r.size(); ++i) {
+    text += fmt::format("{},{},{}", r.radial.r[i], r.radial.rd[i], r.radial.rd_stderr[i]);
+    for (reference::ScatteringOrder k : reference::kAllScatteringOrders)
+      text += fmt::format(",{},{}", r.order(k).radial.rd[i], r.order(k).radial.rd_stderr[i]);
+    text += "\n";
+  }
   out.text("--csv", path, text);
 }
 
@@ -143,11 +151,14 @@ void runSlab(const PathtraceArgs& a) {
   out.commit();
   printStderr(
              "pathtrace: {}{} photons in {:.2f} s ({:.3g} photons/s, {}): Rsp {:.5f}, "
-             "Rd {:.5f} ± {:.5f}, T {:.5f} ± {:.5f}, A {:.5f} ± {:.5f}; wrote {}{}\n",
+             "Rd {:.5f} ± {:.5f} (single scattering {:.5f}, multiple {:.5f}), T {:.5f} ± {:.5f}, "
+             "A {:.5f} ± {:.5f}; wrote {}{}\n",
              r.partial ? "stopped early, partial result: " : "", r.photons, r.seconds,
              r.photonsPerSecond(),
              tracedBy(r.device, r.threads), r.specular_reflectance.value,
-             r.diffuse_reflectance.value, r.diffuse_reflectance.std_error, r.transmittance.value,
+             r.diffuse_reflectance.value, r.diffuse_reflectance.std_error,
+             r.order(reference::ScatteringOrder::Single).diffuse_reflectance.value,
+             r.order(reference::ScatteringOrder::Multiple).diffuse_reflectance.value, r.transmittance.value,
              r.transmittance.std_error, r.absorbed.value, r.absorbed.std_error, a.json,
              a.csv.empty() ? "" : " and " + a.csv);
 }
@@ -216,7 +227,7 @@ void addPathtraceCommand(CLI::App& app) {
   cmd->add_option("--time-limit", args->time_limit,
                   "Stop after this many seconds and write the partial result");
   outputOption(cmd->add_option("--json", args->json, "Output JSON file (required but with --shard)"));
-  outputOption(cmd->add_option("--csv", args->csv, "Radial profile as CSV: r,rd,rd_stderr"));
+  outputOption(cmd->add_option("--csv", args->csv, "Radial profile as CSV: r,rd,rd_stderr, then rd and its stderr of the light scattered 0, 1 and more times (rd_unscattered, rd_single, rd_multiple)"));
   args->shard.add(*cmd);
   cmd->callback([args] { runSlab(*args); });
 }

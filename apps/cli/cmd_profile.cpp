@@ -46,6 +46,7 @@ struct ProfileArgs {
   int height = plot::PlotOptions{}.height;
   std::string title;
   bool reference = false;
+  std::string scattering = "all";  // --scattering: all | single | multiple | split
   bool study = false;
   std::string csv, json;
   std::vector<std::string> study_presets;
@@ -118,11 +119,22 @@ std::array<reference::SlabResult, 3> traceReference(const Medium& medium,
   return results;
 }
 
-analysis::Curve referenceCurve(const std::array<reference::SlabResult, 3>& results,
-                               const std::array<bool, 3>& traced, analysis::Channel ch,
-                               const ProfileArgs& a) {
+// The reference curves of channel `ch` that --scattering asks for: all orders (the seed's "multi
+// + single scattering"), single or multiple scattering alone, or all three.
+std::vector<analysis::Curve> referenceCurves(const std::array<reference::SlabResult, 3>& results,
+                                             const std::array<bool, 3>& traced,
+                                             analysis::Channel ch, const ProfileArgs& a) {
   const auto ptr = [&](size_t c) { return traced[c] ? &results[c] : nullptr; };
-  return analysis::pencilReferenceCurve({ptr(0), ptr(1), ptr(2)}, ch, a.times_r);
+  const std::array<const reference::SlabResult*, 3> r{ptr(0), ptr(1), ptr(2)};
+  using reference::ScatteringOrder;
+  std::vector<analysis::Curve> out;
+  if (a.scattering == "all" || a.scattering == "split")
+    out.push_back(analysis::pencilReferenceCurve(r, ch, a.times_r));
+  if (a.scattering == "single" || a.scattering == "split")
+    out.push_back(analysis::pencilReferenceCurve(r, ch, a.times_r, ScatteringOrder::Single));
+  if (a.scattering == "multiple" || a.scattering == "split")
+    out.push_back(analysis::pencilReferenceCurve(r, ch, a.times_r, ScatteringOrder::Multiple));
+  return out;
 }
 
 // Diffuse reflectance per unit flux entering the medium, as the models' Rd (pencil_reference.h).
@@ -278,6 +290,10 @@ void runProfile(const ProfileArgs& a) {
   if (a.theta != 0.0 && !a.save_profile.empty())
     throw ParameterError("--save-profile with --theta: a tabulated model is a normal-incidence "
                          "profile; trace it without --theta");
+  if (a.scattering != "all" && !a.reference)
+    throw ParameterError(fmt::format(
+        "--scattering {}: needs --reference (it selects the path-traced reference's light)",
+        a.scattering));
   if (a.reference && !(a.photons >= 1000.0 && a.photons <= 1e12))
     throw ParameterError(
         fmt::format("--photons is {}: expected between 1e3 and 1e12 per channel", a.photons));
@@ -345,7 +361,8 @@ void runProfile(const ProfileArgs& a) {
       for (size_t c = 0; c < 3; ++c)
         if (ch == analysis::Channel::Luminance || static_cast<size_t>(ch) == c) needed[c] = true;
     const auto results = traceReference(medium, needed, rMax, a.points, a);
-    for (analysis::Channel ch : channels) curves.push_back(referenceCurve(results, needed, ch, a));
+    for (analysis::Channel ch : channels)
+      for (auto& c : referenceCurves(results, needed, ch, a)) curves.push_back(std::move(c));
   }
   // The saved model should hold (nearly) all of the energy: without --rmax its table reaches
   // 3x the plotted default (the 95% radius), where ~0.1% of Rd is left for the fitted tail.
@@ -413,6 +430,11 @@ void addProfileCommand(CLI::App& app) {
                 "Add the path-traced reference (pencil beam on a semi-infinite slab) with error "
                 "bars");
   cmd->add_option("--photons", args->photons, "Reference photons per channel")
+      ->capture_default_str();
+  cmd->add_option("--scattering", args->scattering,
+                  "Which light of the reference: all (multi + single scattering), single, "
+                  "multiple, or split (the three curves; seed Eq. 2.13, Fig. 3.6)")
+      ->check(CLI::IsMember({"all", "single", "multiple", "split"}))
       ->capture_default_str();
   cmd->add_flag("--study", args->study,
                 "Error study: every model (or --model list) against the path-traced reference for "

@@ -81,6 +81,22 @@ struct RunArgs {
   std::string exr, png, json;
   double exposure = 0.0, gamma = 2.2;
   ShardArgs shard;  // the path tracers' --shard I/N --partial FILE (shard.h)
+  bool split_orders = false;  // the path tracers' --split-orders
+
+  // The path tracers' flag: images by scattering order as further EXR layers.
+  void addSplitOrders(CLI::App& cmd) {
+    cmd.add_flag("--split-orders", split_orders,
+                 "Also write every quantity split by scattering order (seed Eq. 2.13): layers "
+                 "<quantity>_unscattered, _single and _multiple (each with _stderr), which add "
+                 "up to <quantity>");
+  }
+  reference::TracerOptions tracerOptions() const {
+    reference::TracerOptions o;
+    o.seed = seed;
+    o.threads = threads;
+    o.split_orders = split_orders;
+    return o;
+  }
 
   void add(CLI::App& cmd, const char* countOption, const char* countHelp,
            const std::vector<std::string>& quantities) {
@@ -193,6 +209,18 @@ void writeImage(OutputFiles& out, const RunArgs& a, const McImage& img,
 
 std::vector<std::pair<std::string, const McImage*>> layersOf(const reference::CameraImages& i) {
   return {{"exitance", &i.exitance}, {"radiance", &i.radiance}, {"cone_radiance", &i.cone_radiance}};
+}
+
+// A path tracer's images, and with --split-orders those of each scattering order
+// ("exitance_single", ...).
+template <class Tracer>
+std::vector<std::pair<std::string, const McImage*>> layersOf(const Tracer& tracer) {
+  auto all = layersOf(tracer.images());
+  if (tracer.splitsOrders())
+    for (reference::ScatteringOrder o : reference::kAllScatteringOrders)
+      for (const auto& [name, image] : layersOf(tracer.orderImages(o)))
+        all.emplace_back(name + "_" + reference::toString(o), image);
+  return all;
 }
 
 void writeJson(OutputFiles& out, const RunArgs& a, nlohmann::json j) {
@@ -346,7 +374,7 @@ void runPathtraceSphere(const SphereArgs& s, const RunArgs& a, std::string devic
   // Declared before the tracer: the context outlives the walker the tracer holds.
   const reference::TraceDevice dev =
       merged ? reference::TraceDevice{} : reference::openTraceDevice(device);
-  reference::SpherePathTracer tracer(scene, medium, {a.seed, a.threads});
+  reference::SpherePathTracer tracer(scene, medium, a.tracerOptions());
   reference::useDevice(dev, tracer);
   const std::string traced = merged ? mergedDevice(device) : tracer.device();
   if (a.shard.active()) return runShard(a, tracer, photons, "pathtrace sphere", {});
@@ -354,7 +382,7 @@ void runPathtraceSphere(const SphereArgs& s, const RunArgs& a, std::string devic
   auto write = [&](bool partial) {
     OutputFiles out;  // the images and the JSON of this pass, all or nothing
     const auto& st = tracer.stats();
-    writeImage(out, a, pick(tracer.images(), a.quantity), layersOf(tracer.images()),
+    writeImage(out, a, pick(tracer.images(), a.quantity), layersOf(tracer),
                "translucent pathtrace sphere", partial,
                fmt::format("{} photons per channel", st.photons.empty() ? 0 : st.photons[0]));
     nlohmann::json j = {{"command", "pathtrace sphere"}, {"scene", sceneJson(s, medium)},
@@ -362,7 +390,8 @@ void runPathtraceSphere(const SphereArgs& s, const RunArgs& a, std::string devic
                         {"passes", merged ? a.passes : tracer.passes()}, {"seconds", st.seconds},
                         {"photons_per_second", st.photonsPerSecond()}, {"threads", st.threads},
                         {"device", traced},
-                        {"cone_angle", s.cone_angle}, {"flux_per_channel", reference::fluxPerChannelJson(st)},
+                        {"cone_angle", s.cone_angle}, {"split_orders", tracer.splitsOrders()},
+                        {"flux_per_channel", reference::fluxPerChannelJson(st)},
                         {"partial", partial}};
     writeJson(out, a, j);
     out.commit();
@@ -491,7 +520,7 @@ void runPathtraceMesh(const std::string& sceneFile, std::optional<double> time, 
   // through a majorant grid; a 2D-map material has no volume and is refused with the reason.
   reference::MeshPathTracer tracer(mesh, scene::sceneMaterial(scene, mesh),
                                    scene::referenceLights(scene), scene.camera, scene.cone_angle,
-                                   {a.seed, a.threads});
+                                   a.tracerOptions());
   reference::useDevice(dev, device, tracer, mesh, sceneFile);
   const std::string traced = merged ? mergedDevice(device) : tracer.device();
   if (a.shard.active()) return runShard(a, tracer, photons, "pathtrace mesh", inputs);
@@ -499,7 +528,7 @@ void runPathtraceMesh(const std::string& sceneFile, std::optional<double> time, 
   auto write = [&](bool partial) {
     OutputFiles out;  // the images and the JSON of this pass, all or nothing
     const auto& st = tracer.stats();
-    writeImage(out, a, pick(tracer.images(), a.quantity), layersOf(tracer.images()),
+    writeImage(out, a, pick(tracer.images(), a.quantity), layersOf(tracer),
                fmt::format("translucent pathtrace mesh --scene {}", sceneFile), partial,
                fmt::format("{} photons per channel", st.photons.empty() ? 0 : st.photons[0]));
     nlohmann::json j = {{"command", "pathtrace mesh"}, {"scene_file", sceneFile},
@@ -512,6 +541,7 @@ void runPathtraceMesh(const std::string& sceneFile, std::optional<double> time, 
                         // Over the pixels with exitance > 0 (silhouette pixels included).
                         {"median_relative_stderr", medianRelativeError(tracer.images().exitance)},
                         {"majorant_violations", tracer.majorantViolations()},
+                        {"split_orders", tracer.splitsOrders()},
                         {"threads", st.threads}, {"device", traced},
                         {"flux_per_channel", reference::fluxPerChannelJson(st)},
                         {"partial", partial}};
@@ -639,6 +669,7 @@ void addRenderReferenceCommands(CLI::App& app) {
                   "exitance (or radiance) by photon tracing, as EXR/PNG");
     s->add(*cmd, true);
     a->add(*cmd, "--photons", "Photons per channel per pass (e.g. 1e6)", tracerQuantities);
+    a->addSplitOrders(*cmd);
     auto device = std::make_shared<std::string>("auto");
     cmd->add_option("--device", *device,
                     "cpu: the CPU tracer; gpu: the GL compute-shader walk (any GL 4.5 context, "
@@ -660,6 +691,7 @@ void addRenderReferenceCommands(CLI::App& app) {
     cmd->add_option("--time", *time,
                     "Time of the mesh's deformations (mesh.deform; default: the scene's \"time\", 0)");
     a->add(*cmd, "--photons", "Photons per channel per pass (e.g. 1e6)", tracerQuantities);
+    a->addSplitOrders(*cmd);
     auto device = std::make_shared<std::string>("auto");
     cmd->add_option("--device", *device,
                     "cpu: the CPU tracer (Embree); gpu: the GL compute-shader walk against a BVH "

@@ -283,9 +283,21 @@ std::unique_ptr<QChart> makeProfileChart(const std::vector<analysis::Curve>& cur
   auto modelIndex = [&](const std::string& m) {
     return static_cast<size_t>(std::find(models.begin(), models.end(), m) - models.begin());
   };
+  // References (curves with errors): the first black, set apart from the models; further ones
+  // (a reference's parts by scattering order) in dark greys and browns of their own.
+  std::vector<std::string> references;
+  for (const auto& c : curves)
+    if (!c.stderr_.empty() && std::find(references.begin(), references.end(), c.model) == references.end())
+      references.push_back(c.model);
   auto colourOf = [&](const analysis::Curve& c) {
     if (byChannel) return channelColour(c.channel);
-    if (!c.stderr_.empty()) return QColor(Qt::black);  // the reference stands apart from models
+    if (!c.stderr_.empty()) {
+      static const QColor kReferenceColours[] = {QColor(Qt::black), QColor(150, 75, 0),
+                                                 QColor(0, 110, 110), QColor(110, 110, 110)};
+      const auto k = static_cast<size_t>(std::find(references.begin(), references.end(), c.model) -
+                                         references.begin());
+      return kReferenceColours[k % std::size(kReferenceColours)];
+    }
     return kModelColours[modelIndex(c.model) % kModelColours.size()];
   };
   auto nameOf = [&](const analysis::Curve& c) {

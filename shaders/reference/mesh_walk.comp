@@ -130,7 +130,9 @@ void recordExit(dvec3 x, vec3 n, vec3 d, double w) {
     exits[k].dy = d.y;
     exits[k].dz = d.z;
     exits[k].photon = gIndex;
-    exits[k].rank = gExits;
+    // The exit's rank in its photon, with its scattering order (0, 1, 2: more) in the top two
+    // bits (mesh_gpu.cpp; slab.h: ScatteringOrder).
+    exits[k].rank = gExits | (min(gScatters, 2u) << 30);
   }
   ++gExits;
   gExited += w;

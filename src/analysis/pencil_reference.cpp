@@ -61,13 +61,24 @@ void accumulateSlab(SlabResult& total, const SlabResult& pass) {
   pool(total.diffuse_transmittance, pass.diffuse_transmittance);
   pool(total.unscattered_transmittance, pass.unscattered_transmittance);
   pool(total.absorbed, pass.absorbed);
-  for (size_t i = 0; i < total.radial.rd.size(); ++i) {
-    Estimate e{total.radial.rd[i], total.radial.rd_stderr[i]};
-    pool(e, {pass.radial.rd[i], pass.radial.rd_stderr[i]});
-    total.radial.rd[i] = e.value;
-    total.radial.rd_stderr[i] = e.std_error;
+  auto poolRadial = [&](reference::RadialProfileTally& t, const reference::RadialProfileTally& p) {
+    for (size_t i = 0; i < t.rd.size(); ++i) {
+      Estimate e{t.rd[i], t.rd_stderr[i]};
+      pool(e, {p.rd[i], p.rd_stderr[i]});
+      t.rd[i] = e.value;
+      t.rd_stderr[i] = e.std_error;
+    }
+    pool(t.beyond, p.beyond);
+  };
+  poolRadial(total.radial, pass.radial);
+  for (size_t k = 0; k < total.orders.size(); ++k) {
+    SlabResult::Order& t = total.orders[k];
+    const SlabResult::Order& p = pass.orders[k];
+    pool(t.diffuse_reflectance, p.diffuse_reflectance);
+    pool(t.transmittance, p.transmittance);
+    poolRadial(t.radial, p.radial);
+    t.angular = {};
   }
-  pool(total.radial.beyond, pass.radial.beyond);
   // The angular tallies are not pooled (the pencil plot does not ask for them).
   total.angular = {};
   total.photons = na + nb;
@@ -77,7 +88,7 @@ void accumulateSlab(SlabResult& total, const SlabResult& pass) {
 }
 
 Curve pencilReferenceCurve(const std::array<const SlabResult*, 3>& results, Channel ch,
-                           bool times_r) {
+                           bool times_r, std::optional<reference::ScatteringOrder> order) {
   const auto needed = channelsNeeded(ch);
   const SlabResult* any = nullptr;
   for (size_t c = 0; c < 3; ++c) {
@@ -87,7 +98,12 @@ Curve pencilReferenceCurve(const std::array<const SlabResult*, 3>& results, Chan
                                        channelName(ch), kChannelNames[c]));
     if (any == nullptr) any = results[c];
   }
-  Curve curve{"reference", channelName(ch), any->radial.r, {}, {}};
+  auto radialOf = [&](const SlabResult& r) -> const reference::RadialProfileTally& {
+    return order ? r.order(*order).radial : r.radial;
+  };
+  Curve curve{order ? std::string("reference (") + reference::toString(*order) + ")"
+                    : std::string("reference"),
+              channelName(ch), any->radial.r, {}, {}};
   static constexpr double kLum[3] = {0.2126, 0.7152, 0.0722};
   for (size_t i = 0; i < curve.r.size(); ++i) {
     double v = 0.0, var = 0.0;
@@ -95,8 +111,9 @@ Curve pencilReferenceCurve(const std::array<const SlabResult*, 3>& results, Chan
       if (!needed[c]) continue;
       const double w = (ch == Channel::Luminance ? kLum[c] : 1.0) /
                        (1.0 - results[c]->specular_reflectance.value);
-      v += w * results[c]->radial.rd[i];
-      var += w * w * results[c]->radial.rd_stderr[i] * results[c]->radial.rd_stderr[i];
+      const reference::RadialProfileTally& rad = radialOf(*results[c]);
+      v += w * rad.rd[i];
+      var += w * w * rad.rd_stderr[i] * rad.rd_stderr[i];
     }
     const double k = times_r ? curve.r[i] : 1.0;
     curve.value.push_back(k * v);

@@ -31,15 +31,19 @@ reference::Estimate poolEstimates(const reference::Estimate& a, uint64_t n_a,
                                   const reference::Estimate& b, uint64_t n_b);
 
 // Adds `pass` (same setup and tallies, another seed) into `total` (diffuse reflectance,
-// transmittances, absorption and the radial tally; photons, events and seconds add up). An empty
-// total (0 photons) becomes a copy of `pass`. Throws ParameterError when the radial grids differ.
+// transmittances, absorption and the radial tally, and those by scattering order; photons, events
+// and seconds add up). An empty total (0 photons) becomes a copy of `pass`. Throws ParameterError
+// when the radial grids differ.
 void accumulateSlab(reference::SlabResult& total, const reference::SlabResult& pass);
 
 // The reference curve of channel `ch` from per-channel results (index 0, 1, 2 = red, green,
 // blue; only those the channel needs are read: one, or all three for luminance, whose error
-// combines in quadrature). Named "reference", optionally multiplied by r.
+// combines in quadrature). Named "reference", optionally multiplied by r. With `order`, only the
+// light of that scattering order (the seed's "multi + single scattering" selector): named
+// "reference (single)" etc.
 Curve pencilReferenceCurve(const std::array<const reference::SlabResult*, 3>& results, Channel ch,
-                           bool times_r);
+                           bool times_r,
+                           std::optional<reference::ScatteringOrder> order = std::nullopt);
 
 struct PencilReferenceOptions {
   double r_max = 0.0;       // radial tally on [0, r_max] [scene units]

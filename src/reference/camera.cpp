@@ -96,9 +96,11 @@ double CameraModel::pixelMeasure(int i, int j) const {
 
 class ImageTally::Deposits final : public ExitTally::Block {
  public:
+  // One photon's scores into one (pixel, channel), by scattering order (slab.h).
   struct Deposit {
     size_t index;  // McImage index (pixel, channel)
-    double exitance, radiance, cone;
+    std::array<double, kScatteringOrders> exitance{}, radiance{}, cone{};
+    double total(const std::array<double, kScatteringOrders>& v) const { return v[0] + v[1] + v[2]; }
   };
   explicit Deposits(const ImageTally& t) : t_(t) {}
 
@@ -122,15 +124,17 @@ class ImageTally::Deposits final : public ExitTally::Block {
     const double ft = eta == 1.0 ? 1.0 : fresnelTransmittance(cosO, eta);
     Deposit d;
     d.index = t_.images_.exitance.index(i, j, e.channel);
-    d.exitance = score;
-    d.radiance = score * ft / std::numbers::pi;
-    d.cone = glm::dot(e.direction, v) >= t_.cosCone_ ? score / (cosO * t_.coneMeasure_) : 0.0;
+    const size_t k = static_cast<size_t>(e.order);
+    d.exitance[k] = score;
+    d.radiance[k] = score * ft / std::numbers::pi;
+    d.cone[k] = glm::dot(e.direction, v) >= t_.cosCone_ ? score / (cosO * t_.coneMeasure_) : 0.0;
     photon_.push_back(d);
   }
 
   // A photon's scores into one (pixel, channel) are summed into one sample before the image
-  // squares it (the per-photon second moment, transport.h). A photon rarely scores more than
-  // twice, so the quadratic search is cheaper than sorting.
+  // squares it (the per-photon second moment, transport.h); so are its scores of each order for
+  // the orders' images. A photon rarely scores more than twice, so the quadratic search is
+  // cheaper than sorting.
   void endPhoton() override {
     const size_t first = deposits.size();
     for (const Deposit& d : photon_) {
@@ -139,9 +143,11 @@ class ImageTally::Deposits final : public ExitTally::Block {
       if (same == deposits.end()) {
         deposits.push_back(d);
       } else {
-        same->exitance += d.exitance;
-        same->radiance += d.radiance;
-        same->cone += d.cone;
+        for (size_t k = 0; k < kScatteringOrders; ++k) {
+          same->exitance[k] += d.exitance[k];
+          same->radiance[k] += d.radiance[k];
+          same->cone[k] += d.cone[k];
+        }
       }
     }
     if (deposits.size() - first > 1) ++severalPixels;
@@ -157,7 +163,7 @@ class ImageTally::Deposits final : public ExitTally::Block {
 };
 
 ImageTally::ImageTally(const Body& body, const Camera& camera, std::vector<double> etas,
-                       double cone_half_angle_degrees, double photon_flux)
+                       double cone_half_angle_degrees, double photon_flux, bool split_orders)
     : body_(body), camera_(camera), etas_(std::move(etas)) {
   if (etas_.empty()) throw ParameterError("image tally: no channels");
   if (!(cone_half_angle_degrees > 0.0 && cone_half_angle_degrees <= 90.0))
@@ -185,6 +191,8 @@ ImageTally::ImageTally(const Body& body, const Camera& camera, std::vector<doubl
   images_.exitance = McImage(w, h, nc, McImage::Statistics::PerPhoton, FixedScale::around(typical));
   images_.radiance = images_.exitance;
   images_.cone_radiance = images_.exitance;
+  // The orders' images on the same grid as the totals', so that (exact sums) they add up to them.
+  if (split_orders) orders_.emplace(std::array<CameraImages, kScatteringOrders>{images_, images_, images_});
 }
 
 std::unique_ptr<ExitTally::Block> ImageTally::newBlock() const {
@@ -195,32 +203,63 @@ void ImageTally::merge(Block& block) {
   auto& deposits = static_cast<Deposits&>(block);
   severalPixelPhotons_ += deposits.severalPixels;
   for (const auto& d : deposits.deposits) {
-    images_.exitance.add(d.index, d.exitance);
-    images_.radiance.add(d.index, d.radiance);
-    if (d.cone != 0.0) images_.cone_radiance.add(d.index, d.cone);
+    images_.exitance.add(d.index, d.total(d.exitance));
+    images_.radiance.add(d.index, d.total(d.radiance));
+    const double cone = d.total(d.cone);
+    if (cone != 0.0) images_.cone_radiance.add(d.index, cone);
+    if (!orders_) continue;
+    for (size_t k = 0; k < kScatteringOrders; ++k) {
+      CameraImages& o = (*orders_)[k];
+      if (d.exitance[k] != 0.0) o.exitance.add(d.index, d.exitance[k]);
+      if (d.radiance[k] != 0.0) o.radiance.add(d.index, d.radiance[k]);
+      if (d.cone[k] != 0.0) o.cone_radiance.add(d.index, d.cone[k]);
+    }
   }
 }
 
+const CameraImages& ImageTally::orderImages(ScatteringOrder order) const {
+  if (!orders_)
+    throw std::logic_error("ImageTally::orderImages: the tally does not split scattering orders");
+  return (*orders_)[static_cast<size_t>(order)];
+}
+
+namespace {
+// Calls f(image, name) for the three images of `images`, named `<prefix>.exitance` etc.
+template <class Images, class F>
+void forEachImage(Images& images, const std::string& prefix, F&& f) {
+  f(images.exitance, prefix + ".exitance");
+  f(images.radiance, prefix + ".radiance");
+  f(images.cone_radiance, prefix + ".cone_radiance");
+}
+}  // namespace
+
 void ImageTally::write(RunState& state, const std::string& prefix) const {
-  images_.exitance.write(state, prefix + ".exitance");
-  images_.radiance.write(state, prefix + ".radiance");
-  images_.cone_radiance.write(state, prefix + ".cone_radiance");
+  forEachImage(images_, prefix, [&](const McImage& im, const std::string& n) { im.write(state, n); });
+  if (orders_)
+    for (ScatteringOrder o : kAllScatteringOrders)
+      forEachImage((*orders_)[static_cast<size_t>(o)], prefix + ".order." + toString(o),
+                   [&](const McImage& im, const std::string& n) { im.write(state, n); });
   state.putCounts(prefix + ".several_pixel_photons", {severalPixelPhotons_});
 }
 
 void ImageTally::read(const RunState& state, const std::string& prefix) {
-  images_.exitance.read(state, prefix + ".exitance");
-  images_.radiance.read(state, prefix + ".radiance");
-  images_.cone_radiance.read(state, prefix + ".cone_radiance");
+  forEachImage(images_, prefix, [&](McImage& im, const std::string& n) { im.read(state, n); });
+  if (orders_)
+    for (ScatteringOrder o : kAllScatteringOrders)
+      forEachImage((*orders_)[static_cast<size_t>(o)], prefix + ".order." + toString(o),
+                   [&](McImage& im, const std::string& n) { im.read(state, n); });
   severalPixelPhotons_ = state.getCounts(prefix + ".several_pixel_photons", 1)[0];
 }
 
 void ImageTally::addPhotons(std::span<const uint64_t> photons) {
-  for (size_t c = 0; c < photons.size(); ++c) {
-    images_.exitance.addCount(static_cast<int>(c), photons[c]);
-    images_.radiance.addCount(static_cast<int>(c), photons[c]);
-    images_.cone_radiance.addCount(static_cast<int>(c), photons[c]);
-  }
+  auto add = [&](CameraImages& images) {
+    forEachImage(images, "", [&](McImage& im, const std::string&) {
+      for (size_t c = 0; c < photons.size(); ++c) im.addCount(static_cast<int>(c), photons[c]);
+    });
+  };
+  add(images_);
+  if (orders_)
+    for (CameraImages& o : *orders_) add(o);
 }
 
 }  // namespace translucent::reference

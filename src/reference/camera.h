@@ -19,6 +19,10 @@
 // and is in none of the images (cone_radiance is the radiance of the light leaving the
 // subsurface; specular reflections, of the lights or of the body's own glow, are not included).
 //
+// With split_orders the same three images are also kept for each scattering order (slab.h:
+// ScatteringOrder): the light that left after 0, 1 or more scattering events, whose images add up
+// to the totals (each photon's scores of one order summed before squaring, as above).
+//
 // Three images are scored for every photon (for the lights as given: a directional light of
 // irradiance 1 gives B per unit irradiance):
 //   exitance       B(x), radiant exitance [W/unit²];
@@ -34,7 +38,9 @@
 //                  low by the part of the cone that no photon can enter.
 #pragma once
 
+#include <array>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -94,14 +100,20 @@ class ImageTally final : public ExitTally {
   // `photon_flux`: about the flux one photon carries [W] (the images' sums are kept on a grid
   // of the size of a typical score, exact_sum.h; any value within a few orders of magnitude
   // gives full double precision).
+  // `split_orders`: also keep the three images per scattering order (slab.h: ScatteringOrder;
+  // the seed's S(0), S(1) and S_d), which add up to the totals.
   ImageTally(const Body& body, const Camera& camera, std::vector<double> etas,
-             double cone_half_angle_degrees, double photon_flux = 1.0);
+             double cone_half_angle_degrees, double photon_flux = 1.0, bool split_orders = false);
   std::unique_ptr<Block> newBlock() const override;
   void merge(Block& block) override;
 
   // Adds `photons` per channel to the sample counts (the tracers call it after each pass).
   void addPhotons(std::span<const uint64_t> photons);
   const CameraImages& images() const { return images_; }
+  bool splitsOrders() const { return orders_.has_value(); }
+  // The images of the light that left after `order` scattering events (std::logic_error unless
+  // splitsOrders()).
+  const CameraImages& orderImages(ScatteringOrder order) const;
   const CameraModel& camera() const { return camera_; }
   double coneHalfAngle() const { return coneHalfAngle_; }
   // Photons (all channels) that scored into more than one pixel: the cross terms of McImage::
@@ -119,6 +131,7 @@ class ImageTally final : public ExitTally {
   double coneHalfAngle_, cosCone_, coneMeasure_;
   std::vector<double> measure_;  // per pixel
   CameraImages images_;
+  std::optional<std::array<CameraImages, kScatteringOrders>> orders_;
   uint64_t severalPixelPhotons_ = 0;
 };
 

@@ -148,7 +148,8 @@ bool traceBlock(const Walk& W, const Layers& L, uint64_t seed, uint64_t block, u
           continue;
         }
         if (top)
-          detail::scoreTop(W, T, static_cast<float>(x), static_cast<float>(y), c.cosOut, w);
+          detail::scoreTop(W, T, static_cast<float>(x), static_cast<float>(y), c.cosOut, scatters,
+                           w);
         else
           detail::scoreBottom(T, scatters, w);
         left = true;

@@ -106,7 +106,8 @@ void MeshPathTracer::init(const Camera& camera, double cone_half_angle) {
     for (const Light& l : lights_) channel += emittedFlux(l, body_.bounds(), static_cast<int>(c));
     flux = std::max(flux, channel);
   }
-  tally_ = std::make_unique<ImageTally>(body_, camera, etas, cone_half_angle, flux);
+  tally_ = std::make_unique<ImageTally>(body_, camera, etas, cone_half_angle, flux,
+                                        options_.split_orders);
 }
 
 TransportStats MeshPathTracer::addPass(uint64_t photons, const ProgressCallback& progress) {

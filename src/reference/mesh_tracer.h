@@ -109,6 +109,9 @@ class MeshPathTracer {
   void read(const RunState& state, double seconds = 0.0, int threads = 0);
 
   const CameraImages& images() const { return tally_->images(); }
+  // With TracerOptions::split_orders, the images by scattering order (ImageTally::orderImages).
+  bool splitsOrders() const { return tally_->splitsOrders(); }
+  const CameraImages& orderImages(ScatteringOrder order) const { return tally_->orderImages(order); }
   const TransportStats& stats() const { return stats_; }
   const MeshBody& body() const { return body_; }
   // The heterogeneous medium (null for a homogeneous one) and its majorant grid.

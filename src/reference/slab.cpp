@@ -17,6 +17,15 @@ namespace translucent::reference {
 // ---------------------------------------------------------------------------------------------
 // Parameters
 
+const char* toString(ScatteringOrder order) {
+  switch (order) {
+    case ScatteringOrder::Unscattered: return "unscattered";
+    case ScatteringOrder::Single: return "single";
+    case ScatteringOrder::Multiple: return "multiple";
+  }
+  return "?";
+}
+
 SlabSetup SlabSetup::semiInfinite(const ScalarMedium& m) {
   SlabSetup s;
   s.sigma_a = m.sigma_a;
@@ -92,6 +101,49 @@ Walk makeWalk(const SlabSetup& S, const TraceOptions& O, double& rsp) {
   return W;
 }
 
+namespace {
+
+// The radial and angular estimates of one class of exits (finishSlab).
+void finishProfiles(const ExitSums& E, const TraceOptions& O, uint64_t n, RadialProfileTally& rad,
+                    AngularTally& ang) {
+  if (O.radial_bins > 0) {
+    rad.dr = O.radial_max / O.radial_bins;
+    for (int i = 0; i < O.radial_bins; ++i) {
+      // Annulus area π (r_{i+1}² - r_i²) = 2π r_i dr at the centre r_i (MCML's Rd_r).
+      const double rc = (i + 0.5) * rad.dr;
+      const Estimate e = E.radial[static_cast<size_t>(i)].estimate(n, 2.0 * std::numbers::pi * rc * rad.dr);
+      rad.r.push_back(rc);
+      rad.rd.push_back(e.value);
+      rad.rd_stderr.push_back(e.std_error);
+    }
+    rad.beyond = E.radial.back().estimate(n);
+  }
+  if (O.angle_bins > 0) {
+    ang.dtheta = 0.5 * std::numbers::pi / O.angle_bins;
+    std::vector<double> solid(static_cast<size_t>(O.angle_bins));
+    for (int j = 0; j < O.angle_bins; ++j) {
+      // Solid angle of the cone ring [θj, θj+1]: 2π (cos θj - cos θj+1).
+      solid[static_cast<size_t>(j)] =
+          2.0 * std::numbers::pi * (std::cos(j * ang.dtheta) - std::cos((j + 1) * ang.dtheta));
+      const Estimate e = E.angular[static_cast<size_t>(j)].estimate(n, solid[static_cast<size_t>(j)]);
+      ang.theta.push_back((j + 0.5) * ang.dtheta);
+      ang.rd.push_back(e.value);
+      ang.rd_stderr.push_back(e.std_error);
+    }
+    for (int i = 0; i < O.radial_bins; ++i) {
+      const double area = 2.0 * std::numbers::pi * rad.r[static_cast<size_t>(i)] * rad.dr;
+      for (int j = 0; j < O.angle_bins; ++j) {
+        const size_t k = static_cast<size_t>(i) * static_cast<size_t>(O.angle_bins) + static_cast<size_t>(j);
+        const Estimate e = E.radialAngle[k].estimate(n, area * solid[static_cast<size_t>(j)]);
+        ang.rd_r_theta.push_back(e.value);
+        ang.rd_r_theta_stderr.push_back(e.std_error);
+      }
+    }
+  }
+}
+
+}  // namespace
+
 SlabResult finishSlab(const Tally& T, const TraceOptions& O, double rsp) {
   SlabResult R;
   const uint64_t n = T.photons;
@@ -105,41 +157,12 @@ SlabResult finishSlab(const Tally& T, const TraceOptions& O, double rsp) {
   Sums diffuseT{T.transmitted.s - T.unscattered.s, T.transmitted.s2 - T.unscattered.s2};
   R.diffuse_transmittance = diffuseT.estimate(n);
   R.absorbed = T.absorbed.estimate(n);
-  if (O.radial_bins > 0) {
-    auto& rad = R.radial;
-    rad.dr = O.radial_max / O.radial_bins;
-    for (int i = 0; i < O.radial_bins; ++i) {
-      // Annulus area π (r_{i+1}² - r_i²) = 2π r_i dr at the centre r_i (MCML's Rd_r).
-      const double rc = (i + 0.5) * rad.dr;
-      const Estimate e = T.radial[static_cast<size_t>(i)].estimate(n, 2.0 * std::numbers::pi * rc * rad.dr);
-      rad.r.push_back(rc);
-      rad.rd.push_back(e.value);
-      rad.rd_stderr.push_back(e.std_error);
-    }
-    rad.beyond = T.radial.back().estimate(n);
-  }
-  if (O.angle_bins > 0) {
-    auto& ang = R.angular;
-    ang.dtheta = 0.5 * std::numbers::pi / O.angle_bins;
-    std::vector<double> solid(static_cast<size_t>(O.angle_bins));
-    for (int j = 0; j < O.angle_bins; ++j) {
-      // Solid angle of the cone ring [θj, θj+1]: 2π (cos θj - cos θj+1).
-      solid[static_cast<size_t>(j)] =
-          2.0 * std::numbers::pi * (std::cos(j * ang.dtheta) - std::cos((j + 1) * ang.dtheta));
-      const Estimate e = T.angular[static_cast<size_t>(j)].estimate(n, solid[static_cast<size_t>(j)]);
-      ang.theta.push_back((j + 0.5) * ang.dtheta);
-      ang.rd.push_back(e.value);
-      ang.rd_stderr.push_back(e.std_error);
-    }
-    for (int i = 0; i < O.radial_bins; ++i) {
-      const double area = 2.0 * std::numbers::pi * R.radial.r[static_cast<size_t>(i)] * R.radial.dr;
-      for (int j = 0; j < O.angle_bins; ++j) {
-        const size_t k = static_cast<size_t>(i) * static_cast<size_t>(O.angle_bins) + static_cast<size_t>(j);
-        const Estimate e = T.radialAngle[k].estimate(n, area * solid[static_cast<size_t>(j)]);
-        ang.rd_r_theta.push_back(e.value);
-        ang.rd_r_theta_stderr.push_back(e.std_error);
-      }
-    }
+  finishProfiles(T, O, n, R.radial, R.angular);
+  for (size_t k = 0; k < kScatteringOrders; ++k) {
+    SlabResult::Order& o = R.orders[k];
+    o.diffuse_reflectance = T.orders[k].reflected.estimate(n);
+    o.transmittance = T.orders[k].transmitted.estimate(n);
+    finishProfiles(T.orders[k], O, n, o.radial, o.angular);
   }
   return R;
 }
@@ -196,17 +219,35 @@ uint64_t TraceOptions::photonsInBlocks(uint64_t first, uint64_t count) const {
 
 namespace detail {
 
+void ExactExitSums::merge(const ExitSums& t) {
+  // Adding a zero changes no exact sum: skipping the bins a block never reached keeps the merge
+  // cheap for the orders' tallies (most of their bins stay empty in a block).
+  auto add = [](MomentSum& m, const Sums& x) {
+    if (x.s != 0.0 || x.s2 != 0.0) m.add(x.s, x.s2);
+  };
+  add(reflected, t.reflected);
+  add(transmitted, t.transmitted);
+  for (size_t i = 0; i < radial.size(); ++i) add(radial[i], t.radial[i]);
+  for (size_t i = 0; i < angular.size(); ++i) add(angular[i], t.angular[i]);
+  for (size_t i = 0; i < radialAngle.size(); ++i) add(radialAngle[i], t.radialAngle[i]);
+}
+
+void ExactExitSums::toSums(ExitSums& t) const {
+  auto get = [](const MomentSum& m) { return Sums{m.s(), m.s2()}; };
+  t.reflected = get(reflected);
+  t.transmitted = get(transmitted);
+  for (size_t i = 0; i < radial.size(); ++i) t.radial[i] = get(radial[i]);
+  for (size_t i = 0; i < angular.size(); ++i) t.angular[i] = get(angular[i]);
+  for (size_t i = 0; i < radialAngle.size(); ++i) t.radialAngle[i] = get(radialAngle[i]);
+}
+
 void ExactTally::merge(const Tally& t) {
   photons += t.photons;
   events += t.events;
-  reflected.add(t.reflected.s, t.reflected.s2);
-  transmitted.add(t.transmitted.s, t.transmitted.s2);
+  ExactExitSums::merge(t);
   unscattered.add(t.unscattered.s, t.unscattered.s2);
   absorbed.add(t.absorbed.s, t.absorbed.s2);
-  for (size_t i = 0; i < radial.size(); ++i) radial[i].add(t.radial[i].s, t.radial[i].s2);
-  for (size_t i = 0; i < angular.size(); ++i) angular[i].add(t.angular[i].s, t.angular[i].s2);
-  for (size_t i = 0; i < radialAngle.size(); ++i)
-    radialAngle[i].add(t.radialAngle[i].s, t.radialAngle[i].s2);
+  for (size_t k = 0; k < orders.size(); ++k) orders[k].merge(t.orders[k]);
 }
 
 Tally ExactTally::toTally() const {
@@ -214,14 +255,10 @@ Tally ExactTally::toTally() const {
   Tally t(nr, static_cast<int>(angular.size()));
   t.photons = photons;
   t.events = events;
-  auto get = [](const MomentSum& m) { return Sums{m.s(), m.s2()}; };
-  t.reflected = get(reflected);
-  t.transmitted = get(transmitted);
-  t.unscattered = get(unscattered);
-  t.absorbed = get(absorbed);
-  for (size_t i = 0; i < radial.size(); ++i) t.radial[i] = get(radial[i]);
-  for (size_t i = 0; i < angular.size(); ++i) t.angular[i] = get(angular[i]);
-  for (size_t i = 0; i < radialAngle.size(); ++i) t.radialAngle[i] = get(radialAngle[i]);
+  toSums(t);
+  t.unscattered = Sums{unscattered.s(), unscattered.s2()};
+  t.absorbed = Sums{absorbed.s(), absorbed.s2()};
+  for (size_t k = 0; k < orders.size(); ++k) orders[k].toSums(t.orders[k]);
   return t;
 }
 
@@ -236,13 +273,18 @@ void forEachSums(Self& t, F&& f) {
     for (auto& m : v) p.push_back(&m);
     return p;
   };
-  f("reflected", one(t.reflected));
-  f("transmitted", one(t.transmitted));
+  auto exits = [&](auto& e, const std::string& prefix) {
+    f(prefix + "reflected", one(e.reflected));
+    f(prefix + "transmitted", one(e.transmitted));
+    f(prefix + "radial", all(e.radial));
+    f(prefix + "angular", all(e.angular));
+    f(prefix + "radial_angle", all(e.radialAngle));
+  };
+  exits(t, "");
   f("unscattered", one(t.unscattered));
   f("absorbed", one(t.absorbed));
-  f("radial", all(t.radial));
-  f("angular", all(t.angular));
-  f("radial_angle", all(t.radialAngle));
+  for (ScatteringOrder o : kAllScatteringOrders)
+    exits(t.orders[static_cast<size_t>(o)], std::string("order.") + toString(o) + ".");
 }
 }  // namespace
 

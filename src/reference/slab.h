@@ -36,6 +36,8 @@
 // fused multiply-adds, so its results differ in the last bits from the portable build's.)
 #pragma once
 
+#include <array>
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <limits>
@@ -112,6 +114,21 @@ struct Estimate {
   double std_error = 0.0;
 };
 
+// The seed's split of the BSSRDF by scattering order (Eq. 2.13, S = S(0) + S(1) + S_d): light
+// that leaves without scattering (reduced radiance), after exactly one scattering event, or after
+// more. Internal reflections at the boundary do not count as scattering. Every tally of the
+// tracers is kept for each order too; the three add up to the total.
+enum class ScatteringOrder { Unscattered = 0, Single = 1, Multiple = 2 };
+inline constexpr size_t kScatteringOrders = 3;
+inline constexpr ScatteringOrder scatteringOrder(uint64_t scatters) {
+  return scatters == 0 ? ScatteringOrder::Unscattered
+                       : scatters == 1 ? ScatteringOrder::Single : ScatteringOrder::Multiple;
+}
+// "unscattered", "single", "multiple": the orders' names in outputs (JSON keys, EXR layers).
+const char* toString(ScatteringOrder order);
+inline constexpr std::array<ScatteringOrder, kScatteringOrders> kAllScatteringOrders{
+    ScatteringOrder::Unscattered, ScatteringOrder::Single, ScatteringOrder::Multiple};
+
 struct RadialProfileTally {
   double dr = 0.0;
   std::vector<double> r;          // annulus centres (i + 1/2) dr
@@ -138,6 +155,16 @@ struct SlabResult {
   Estimate absorbed;
   RadialProfileTally radial;
   AngularTally angular;
+  // The exit tallies by scattering order, indexed by ScatteringOrder: diffuse reflectance and
+  // transmittance (order 0 of the transmittance is unscattered_transmittance), the radial and
+  // angular profiles (each the same layout as `radial` and `angular`, empty where those are).
+  struct Order {
+    Estimate diffuse_reflectance, transmittance;
+    RadialProfileTally radial;
+    AngularTally angular;
+  };
+  std::array<Order, kScatteringOrders> orders;
+  const Order& order(ScatteringOrder o) const { return orders[static_cast<size_t>(o)]; }
   uint64_t photons = 0;             // photons traced (fewer than asked when stopped)
   uint64_t scattering_events = 0;   // collisions that scattered, summed over photons
   double seconds = 0.0;

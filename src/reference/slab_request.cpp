@@ -209,27 +209,43 @@ nlohmann::json slabResultJson(const SlabRun& run, const SlabResult& r) {
   estimate(j, "diffuse_transmittance", r.diffuse_transmittance);
   estimate(j, "unscattered_transmittance", r.unscattered_transmittance);
   estimate(j, "absorbed", r.absorbed);
-  if (o.radial_bins > 0) {
-    j["radial"] = {{"dr", r.radial.dr},
-                   {"r", r.radial.r},
-                   {"rd", r.radial.rd},
-                   {"rd_stderr", r.radial.rd_stderr},
-                   {"beyond_rmax", r.radial.beyond.value},
-                   {"beyond_rmax_stderr", r.radial.beyond.std_error},
-                   {"unit", fmt::format("per {}^2 per incident photon", run.length_unit)}};
-  }
-  if (o.angle_bins > 0) {
-    std::vector<double> deg;
-    for (double t : r.angular.theta) deg.push_back(t * 180.0 / std::numbers::pi);
-    j["angular"] = {{"theta_deg", deg},
-                    {"rd", r.angular.rd},
-                    {"rd_stderr", r.angular.rd_stderr},
-                    {"unit", "per steradian per incident photon (exit angle outside)"}};
+  // The radial and angular tallies of all exits or of one scattering order.
+  auto profiles = [&](nlohmann::json& out, const RadialProfileTally& rad, const AngularTally& ang) {
     if (o.radial_bins > 0) {
-      j["angular"]["rd_r_theta"] = r.angular.rd_r_theta;
-      j["angular"]["rd_r_theta_stderr"] = r.angular.rd_r_theta_stderr;
+      out["radial"] = {{"dr", rad.dr},
+                       {"r", rad.r},
+                       {"rd", rad.rd},
+                       {"rd_stderr", rad.rd_stderr},
+                       {"beyond_rmax", rad.beyond.value},
+                       {"beyond_rmax_stderr", rad.beyond.std_error},
+                       {"unit", fmt::format("per {}^2 per incident photon", run.length_unit)}};
     }
+    if (o.angle_bins > 0) {
+      std::vector<double> deg;
+      for (double t : ang.theta) deg.push_back(t * 180.0 / std::numbers::pi);
+      out["angular"] = {{"theta_deg", deg},
+                        {"rd", ang.rd},
+                        {"rd_stderr", ang.rd_stderr},
+                        {"unit", "per steradian per incident photon (exit angle outside)"}};
+      if (o.radial_bins > 0) {
+        out["angular"]["rd_r_theta"] = ang.rd_r_theta;
+        out["angular"]["rd_r_theta_stderr"] = ang.rd_r_theta_stderr;
+      }
+    }
+  };
+  profiles(j, r.radial, r.angular);
+  // Seed Eq. 2.13: the same tallies for the light that left unscattered, after one scattering
+  // event, or after more; each set adds up to the totals above.
+  nlohmann::json orders = nlohmann::json::object();
+  for (ScatteringOrder k : kAllScatteringOrders) {
+    const SlabResult::Order& ord = r.order(k);
+    nlohmann::json oj;
+    estimate(oj, "diffuse_reflectance", ord.diffuse_reflectance);
+    estimate(oj, "transmittance", ord.transmittance);
+    profiles(oj, ord.radial, ord.angular);
+    orders[toString(k)] = std::move(oj);
   }
+  j["scattering_orders"] = std::move(orders);
   j["photons"] = r.photons;
   j["scattering_events"] = r.scattering_events;
   j["seconds"] = r.seconds;

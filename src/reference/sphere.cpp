@@ -69,7 +69,8 @@ SpherePathTracer::SpherePathTracer(const SphereScene& scene, const Medium& mediu
   medium.validate();
   for (int c = 0; c < 3; ++c) channels_.push_back(medium.channel(c));
   tally_ = std::make_unique<ImageTally>(body_, scene_.camera(), etasOf(channels_),
-                                        scene_.cone_half_angle, photonFlux());
+                                        scene_.cone_half_angle, photonFlux(),
+                                        options_.split_orders);
 }
 
 SpherePathTracer::SpherePathTracer(const SphereScene& scene, const ScalarMedium& medium,
@@ -78,7 +79,8 @@ SpherePathTracer::SpherePathTracer(const SphereScene& scene, const ScalarMedium&
   scene_.validate();
   medium.validate();
   tally_ = std::make_unique<ImageTally>(body_, scene_.camera(), etasOf(channels_),
-                                        scene_.cone_half_angle, photonFlux());
+                                        scene_.cone_half_angle, photonFlux(),
+                                        options_.split_orders);
 }
 
 TransportStats SpherePathTracer::addPass(uint64_t photons, const ProgressCallback& progress) {

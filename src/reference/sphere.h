@@ -119,6 +119,9 @@ class SpherePathTracer {
   void read(const RunState& state, double seconds = 0.0, int threads = 0);
 
   const CameraImages& images() const { return tally_->images(); }
+  // With TracerOptions::split_orders, the images by scattering order (ImageTally::orderImages).
+  bool splitsOrders() const { return tally_->splitsOrders(); }
+  const CameraImages& orderImages(ScatteringOrder order) const { return tally_->orderImages(order); }
   const TransportStats& stats() const { return stats_; }  // all passes
   const SphereScene& scene() const { return scene_; }
   const SphereBody& body() const { return body_; }

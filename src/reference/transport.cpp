@@ -93,6 +93,7 @@ void TransportStats::merge(const TransportStats& o) {
     entered[c].merge(o.entered[c]);
     exited[c].merge(o.exited[c]);
     escaped[c].merge(o.escaped[c]);
+    for (size_t k = 0; k < kScatteringOrders; ++k) exited_by_order[k][c].merge(o.exited_by_order[k][c]);
   }
   scattering_events += o.scattering_events;
   next_block = std::max(next_block, o.next_block);
@@ -102,11 +103,17 @@ void TransportStats::merge(const TransportStats& o) {
 }
 
 namespace {
-// The four flux sums of a channel, by name (write/read below).
+// The flux sums of a channel, by name (write/read below).
 template <class Stats>
 auto fluxSums(Stats& st, size_t c) {
-  return std::array{std::pair{"emitted", &st.emitted[c]}, std::pair{"entered", &st.entered[c]},
-                    std::pair{"exited", &st.exited[c]}, std::pair{"escaped", &st.escaped[c]}};
+  using M = decltype(&st.emitted[c]);
+  std::vector<std::pair<std::string, M>> sums{
+      {"emitted", &st.emitted[c]}, {"entered", &st.entered[c]}, {"exited", &st.exited[c]},
+      {"escaped", &st.escaped[c]}};
+  for (ScatteringOrder o : kAllScatteringOrders)
+    sums.emplace_back(std::string("exited_order.") + toString(o),
+                      &st.exited_by_order[static_cast<size_t>(o)][c]);
+  return sums;
 }
 }  // namespace
 
@@ -167,9 +174,15 @@ nlohmann::json fluxPerChannelJson(const TransportStats& s) {
     const auto en = s.entered[c].estimate(s.photons[c]);
     const auto ex = s.exited[c].estimate(s.photons[c]);
     const auto es = s.escaped[c].estimate(s.photons[c]);
+    nlohmann::json byOrder = nlohmann::json::object();
+    for (ScatteringOrder o : kAllScatteringOrders) {
+      const auto e = s.exited_by_order[static_cast<size_t>(o)][c].estimate(s.photons[c]);
+      byOrder[toString(o)] = {{"exited", e.value}, {"exited_stderr", e.std_error}};
+    }
     j.push_back({{"emitted", em.value}, {"entered", en.value}, {"entered_stderr", en.std_error},
                  {"exited", ex.value}, {"exited_stderr", ex.std_error},
-                 {"escaped", es.value}, {"escaped_stderr", es.std_error}});
+                 {"escaped", es.value}, {"escaped_stderr", es.std_error},
+                 {"exited_by_order", std::move(byOrder)}});
   }
   return j;
 }
@@ -186,6 +199,7 @@ TransportStats emptyStats(const BoundingSphere& bounds, size_t channels,
     stats.entered.push_back(zero);
     stats.exited.push_back(zero);
     stats.escaped.push_back(zero);
+    for (auto& v : stats.exited_by_order) v.push_back(zero);
   }
   return stats;
 }
@@ -234,6 +248,7 @@ TransportStats scoreWalkedBlocks(const BoundingSphere& bounds, std::span<const L
           const WalkedPhoton& ph = w.photons[b * kBlockPhotons + p];
           k.emitted[c].add(channels[c].flux);
           k.entered[c].add(ph.entered);
+          std::array<double, kScatteringOrders> byOrder{};
           for (uint32_t e = 0; e < ph.exits; ++e) {
             const WalkedExit& x = w.exits[ph.first_exit + e];
             ExitRecord r;
@@ -242,9 +257,12 @@ TransportStats scoreWalkedBlocks(const BoundingSphere& bounds, std::span<const L
             r.direction = x.direction;
             r.weight = x.weight;
             r.channel = static_cast<int>(c);
+            r.order = x.order;
             block->record(r);
+            byOrder[static_cast<size_t>(x.order)] += x.weight;
           }
           k.exited[c].add(ph.exited);
+          k.addExitedByOrder(c, byOrder);
           k.escaped[c].add(ph.escaped);
           k.events += ph.scatters;
           block->endPhoton();

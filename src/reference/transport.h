@@ -158,6 +158,8 @@ struct ExitRecord {
   glm::dvec3 direction{};  // direction of flight outside (refracted)
   double weight = 0.0;     // flux it carries [W]
   int channel = 0;
+  // How often the photon scattered before this exit (the seed's S(0), S(1), S_d; slab.h).
+  ScatteringOrder order = ScatteringOrder::Unscattered;
 };
 
 // Where exiting photons go. Each block of photons is recorded into its own Block by one worker
@@ -212,6 +214,8 @@ struct TracerOptions {
   uint64_t seed = 1;
   int threads = 0;  // 0: all hardware threads
   uint64_t long_path_roulette = TransportOptions{}.long_path_roulette;
+  // Also keep the images per scattering order (ImageTally's split_orders; camera.h).
+  bool split_orders = false;
 };
 
 // Per-channel sums of one run (or of several, merged). The flux sums are order-independent
@@ -225,6 +229,9 @@ struct TransportStats {
                                     // photon that re-enters and leaves again counts twice)
   std::vector<MomentSum> escaped;   // flux of the final departures (entered = absorbed +
                                     // escaped; equals exited for a convex body)
+  // `exited` by the scattering order of each exit (slab.h: ScatteringOrder), per channel; the
+  // three add up to `exited`.
+  std::array<std::vector<MomentSum>, kScatteringOrders> exited_by_order;
   uint64_t scattering_events = 0;
   uint64_t next_block = 0;  // first block a following pass should use
   double seconds = 0.0;
@@ -271,6 +278,7 @@ struct WalkedPhoton {
 struct WalkedExit {
   glm::dvec3 position{}, normal{}, direction{};  // as ExitRecord
   double weight = 0.0;
+  ScatteringOrder order = ScatteringOrder::Unscattered;
 };
 struct WalkedBatch {
   std::vector<WalkedPhoton> photons;
@@ -323,7 +331,8 @@ TransportStats scoreWalkedBlocks(const BoundingSphere& bounds, std::span<const L
 double emittedFlux(const Light& light, const BoundingSphere& bounds, int channel);
 
 // Per channel the flux estimates of a run (emitted, entered, exited, escaped, with standard
-// errors), as the "flux_per_channel" array of the path tracers' JSON (CLI and Python).
+// errors, and "exited_by_order": exited split into unscattered, single and multiple), as the
+// "flux_per_channel" array of the path tracers' JSON (CLI and Python).
 nlohmann::json fluxPerChannelJson(const TransportStats& stats);
 
 // The statistics of a run that has traced nothing yet: `channels` channels of zero sums, each on

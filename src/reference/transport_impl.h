@@ -33,9 +33,16 @@ struct ChannelWalk {
 // Per-block counters (per channel).
 struct BlockCounters {
   std::vector<Moments> emitted, entered, exited, escaped;
+  std::array<std::vector<Moments>, kScatteringOrders> exitedByOrder;
   uint64_t events = 0;
   explicit BlockCounters(size_t channels)
-      : emitted(channels), entered(channels), exited(channels), escaped(channels) {}
+      : emitted(channels), entered(channels), exited(channels), escaped(channels),
+        exitedByOrder{std::vector<Moments>(channels), std::vector<Moments>(channels),
+                      std::vector<Moments>(channels)} {}
+  // One photon's exits of channel c summed by order (before squaring: transport.h).
+  void addExitedByOrder(size_t c, const std::array<double, kScatteringOrders>& byOrder) {
+    for (size_t k = 0; k < kScatteringOrders; ++k) exitedByOrder[k][c].add(byOrder[k]);
+  }
 };
 
 // A block's counters into the run's statistics (every channel traced kBlockPhotons photons).
@@ -46,6 +53,8 @@ inline void addBlock(TransportStats& stats, const BlockCounters& k) {
     stats.entered[c].add(k.entered[c].s, k.entered[c].s2);
     stats.exited[c].add(k.exited[c].s, k.exited[c].s2);
     stats.escaped[c].add(k.escaped[c].s, k.escaped[c].s2);
+    for (size_t o = 0; o < kScatteringOrders; ++o)
+      stats.exited_by_order[o][c].add(k.exitedByOrder[o][c].s, k.exitedByOrder[o][c].s2);
   }
   stats.scattering_events += k.events;
 }
@@ -178,6 +187,7 @@ bool launch(const BodyT& body, const BoundingSphere& bounds, std::span<const Lig
     k.entered[ci].add(0.0);
     k.exited[ci].add(0.0);
     k.escaped[ci].add(0.0);
+    k.addExitedByOrder(ci, {});
     tally.endPhoton();
     return false;
   }
@@ -202,7 +212,8 @@ enum class AtBoundary { Reflected, Reentered, Escaped };
 template <class BodyT>
 AtBoundary crossBoundary(const BodyT& body, const ChannelWalk& W, double eps, int c, double w,
                          const glm::dvec3& normal, glm::dvec3& x, glm::dvec3& d, Rng& rng,
-                         ExitTally::Block& tally, double& exitedSum) {
+                         ExitTally::Block& tally, uint64_t scatters, double& exitedSum,
+                         std::array<double, kScatteringOrders>& exitedByOrder) {
   const glm::dvec3 outward = glm::dot(normal, d) > 0.0 ? normal : -normal;
   const double cosIn = glm::dot(d, outward);
   const double F = W.matched ? 0.0 : fresnelReflectance(cosIn, 1.0 / W.eta);
@@ -216,8 +227,10 @@ AtBoundary crossBoundary(const BodyT& body, const ChannelWalk& W, double eps, in
   e.direction = W.matched ? d : refract(d, outward, W.eta, refractedCosine(cosIn, 1.0 / W.eta));
   e.weight = w;
   e.channel = c;
+  e.order = scatteringOrder(scatters);
   tally.record(e);
   exitedSum += w;
+  exitedByOrder[static_cast<size_t>(e.order)] += w;
   if constexpr (!convexBody<BodyT>()) {
     d = e.direction;
     if (reenter(body, W, eps, x, d, rng)) return AtBoundary::Reentered;
@@ -258,6 +271,7 @@ void tracePhoton(const BodyT& body, const BoundingSphere& bounds, std::span<cons
   bool onSurface = true;  // the next ray starts on the boundary: ignore hits closer than eps
   uint64_t scatters = 0;
   double exitedSum = 0.0;  // this photon's exits, summed before squaring (transport.h)
+  std::array<double, kScatteringOrders> exitedByOrder{};  // the same by scattering order
   double escapedWeight = 0.0;
 
   for (;;) {
@@ -275,7 +289,8 @@ void tracePhoton(const BodyT& body, const BoundingSphere& bounds, std::span<cons
       onSurface = true;
       // The rest of the free path s goes on after a reflection or from the re-entry point
       // (memoryless flights, transport.h).
-      const AtBoundary b = crossBoundary(body, W, eps, c, w, hit.normal, x, d, rng, tally, exitedSum);
+      const AtBoundary b = crossBoundary(body, W, eps, c, w, hit.normal, x, d, rng, tally, scatters,
+                                           exitedSum, exitedByOrder);
       if (b != AtBoundary::Escaped) continue;
       escaped = true;
       escapedWeight = w;
@@ -288,6 +303,7 @@ void tracePhoton(const BodyT& body, const BoundingSphere& bounds, std::span<cons
   }
   k.exited[ci].add(exitedSum);
   k.escaped[ci].add(escapedWeight);
+  k.addExitedByOrder(ci, exitedByOrder);
   k.events += scatters;
   tally.endPhoton();
 }
@@ -319,6 +335,7 @@ void traceVolumePhoton(const BodyT& body, const BoundingSphere& bounds,
   bool onSurface = true;
   uint64_t scatters = 0;
   double exitedSum = 0.0, escapedWeight = 0.0;
+  std::array<double, kScatteringOrders> exitedByOrder{};  // as tracePhoton
   material::LocalMedium local;  // the medium at the last tentative collision
   double localSigmaT = 0.0;     // its σt in channel c [1/scene unit]
 
@@ -352,13 +369,15 @@ void traceVolumePhoton(const BodyT& body, const BoundingSphere& bounds,
     }
     x = o + hit.t * d;
     onSurface = true;
-    const AtBoundary b = crossBoundary(body, W, eps, c, w, hit.normal, x, d, rng, tally, exitedSum);
+    const AtBoundary b = crossBoundary(body, W, eps, c, w, hit.normal, x, d, rng, tally, scatters,
+                                           exitedSum, exitedByOrder);
     if (b != AtBoundary::Escaped) continue;
     escapedWeight = w;
     break;
   }
   k.exited[ci].add(exitedSum);
   k.escaped[ci].add(escapedWeight);
+  k.addExitedByOrder(ci, exitedByOrder);
   k.events += scatters;
   tally.endPhoton();
 }

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <cstdint>
@@ -37,43 +38,68 @@ struct Sums {
   }
 };
 
-struct Tally {
-  uint64_t photons = 0, events = 0;
-  Sums reflected, transmitted, unscattered, absorbed;
+// The tallies scored at exits, for one class of photons (all, or one scattering order).
+struct ExitSums {
+  Sums reflected, transmitted;
   std::vector<Sums> radial;       // radial bins, then one "beyond radial_max" bin
   std::vector<Sums> angular;      // exit-angle bins
   std::vector<Sums> radialAngle;  // [radial bin][angle bin]
 
-  Tally(int nr, int na)
+  ExitSums(int nr, int na)
       : radial(nr > 0 ? static_cast<size_t>(nr) + 1 : 0),
         angular(static_cast<size_t>(na)),
         radialAngle(static_cast<size_t>(nr) * static_cast<size_t>(na)) {}
-
-  void merge(const Tally& o) {
-    photons += o.photons;
-    events += o.events;
+  void merge(const ExitSums& o) {
     reflected.merge(o.reflected);
     transmitted.merge(o.transmitted);
-    unscattered.merge(o.unscattered);
-    absorbed.merge(o.absorbed);
     for (size_t i = 0; i < radial.size(); ++i) radial[i].merge(o.radial[i]);
     for (size_t i = 0; i < angular.size(); ++i) angular[i].merge(o.angular[i]);
     for (size_t i = 0; i < radialAngle.size(); ++i) radialAngle[i].merge(o.radialAngle[i]);
   }
 };
 
+struct Tally : ExitSums {
+  uint64_t photons = 0, events = 0;
+  Sums unscattered, absorbed;
+  // The exit tallies again by scattering order (slab.h: ScatteringOrder). Each photon leaves
+  // once, into one order, so the orders' sums of squares add up to the total's as well.
+  std::array<ExitSums, kScatteringOrders> orders;
+
+  Tally(int nr, int na)
+      : ExitSums(nr, na), orders{ExitSums(nr, na), ExitSums(nr, na), ExitSums(nr, na)} {}
+
+  void merge(const Tally& o) {
+    photons += o.photons;
+    events += o.events;
+    ExitSums::merge(o);
+    unscattered.merge(o.unscattered);
+    absorbed.merge(o.absorbed);
+    for (size_t k = 0; k < orders.size(); ++k) orders[k].merge(o.orders[k]);
+  }
+};
+
 // The run total of the block tallies, order-independent (exact_sum.h) so that shards merge into
 // it bit for bit; weights are those of one incident photon (<= 1 but for the roulettes'
 // factors of 10), on the unit grid.
-struct ExactTally {
-  uint64_t photons = 0, events = 0;
-  MomentSum reflected, transmitted, unscattered, absorbed;
+struct ExactExitSums {
+  MomentSum reflected, transmitted;
   std::vector<MomentSum> radial, angular, radialAngle;
-
-  ExactTally(int nr, int na)
+  ExactExitSums(int nr, int na)
       : radial(nr > 0 ? static_cast<size_t>(nr) + 1 : 0),
         angular(static_cast<size_t>(na)),
         radialAngle(static_cast<size_t>(nr) * static_cast<size_t>(na)) {}
+  void merge(const ExitSums& block);
+  void toSums(ExitSums& out) const;
+};
+
+struct ExactTally : ExactExitSums {
+  uint64_t photons = 0, events = 0;
+  MomentSum unscattered, absorbed;
+  std::array<ExactExitSums, kScatteringOrders> orders;
+
+  ExactTally(int nr, int na)
+      : ExactExitSums(nr, na),
+        orders{ExactExitSums(nr, na), ExactExitSums(nr, na), ExactExitSums(nr, na)} {}
   void merge(const Tally& block);
   Tally toTally() const;  // the sums as doubles (for finishSlab)
   void write(RunState& state) const;
@@ -150,29 +176,40 @@ inline Crossing cross(const Interface& f, double cos_in) {
   return {fresnelReflectance(cos_in, f.eta), refractedCosine(cos_in, f.eta)};
 }
 
-// A photon of weight w leaves through the top at (x, y) with outside cosine cos_out.
-inline void scoreTop(const Walk& W, Tally& T, float x, float y, double cos_out, double w) {
-  T.reflected.add(w);
-  int ir = -1;
+// Adds w to one exit's bins of `E`: the radial bin `ir` (-1: none) and the angle bin `ia`.
+inline void addTop(ExitSums& E, const Walk& W, int ir, int ia, double w) {
+  E.reflected.add(w);
+  if (ir >= 0) E.radial[static_cast<size_t>(ir)].add(w);
+  if (ia >= 0) {
+    E.angular[static_cast<size_t>(ia)].add(w);
+    if (ir >= 0 && ir < W.nr)
+      E.radialAngle[static_cast<size_t>(ir) * static_cast<size_t>(W.na) + static_cast<size_t>(ia)]
+          .add(w);
+  }
+}
+
+// A photon of weight w leaves through the top at (x, y) with outside cosine cos_out after
+// `scatters` scattering events.
+inline void scoreTop(const Walk& W, Tally& T, float x, float y, double cos_out, uint64_t scatters,
+                     double w) {
+  int ir = -1, ia = -1;
   if (W.nr > 0) {
     const float fr = std::sqrt(x * x + y * y) * W.invDr;
     ir = fr < static_cast<float>(W.nr) ? static_cast<int>(fr) : W.nr;
-    T.radial[static_cast<size_t>(ir)].add(w);
   }
   if (W.na > 0) {
     const double theta = std::acos(std::clamp(cos_out, 0.0, 1.0));
-    const int ia = std::min(static_cast<int>(theta * W.invDtheta), W.na - 1);
-    T.angular[static_cast<size_t>(ia)].add(w);
-    if (ir >= 0 && ir < W.nr)
-      T.radialAngle[static_cast<size_t>(ir) * static_cast<size_t>(W.na) + static_cast<size_t>(ia)]
-          .add(w);
+    ia = std::min(static_cast<int>(theta * W.invDtheta), W.na - 1);
   }
+  addTop(T, W, ir, ia, w);
+  addTop(T.orders[static_cast<size_t>(scatteringOrder(scatters))], W, ir, ia, w);
 }
 
 // A photon of weight w leaves through the bottom after `scatters` scattering events.
 inline void scoreBottom(Tally& T, uint64_t scatters, double w) {
   T.transmitted.add(w);
   if (scatters == 0) T.unscattered.add(w);
+  T.orders[static_cast<size_t>(scatteringOrder(scatters))].transmitted.add(w);
 }
 
 // The run constants of a slab (entry direction and weight, interfaces, tallies; rsp: the exact

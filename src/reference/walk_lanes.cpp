@@ -126,7 +126,7 @@ class LaneWalker {
         if (f & kExitTop) {
           const double cosOut =
               W_.na > 0 ? cross(W_.top, std::abs(static_cast<double>(L_.dz[i]))).cosOut : 0.0;
-          scoreTop(W_, T_, L_.x[i], L_.y[i], cosOut, w);
+          scoreTop(W_, T_, L_.x[i], L_.y[i], cosOut, L_.scatterBase[i] + L_.scatters[i], w);
         } else {
           scoreBottom(T_, L_.scatterBase[i] + L_.scatters[i], w);
         }

@@ -56,7 +56,7 @@ bool traceBlock(const Walk& W, uint64_t seed, uint64_t block, uint64_t count, Ta
           continue;
         }
         if (top)
-          scoreTop(W, T, x, y, c.cosOut, w);
+          scoreTop(W, T, x, y, c.cosOut, scatters, w);
         else
           scoreBottom(T, scatters, w);
         left = true;

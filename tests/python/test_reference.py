@@ -213,6 +213,36 @@ def test_sphere_matches_cli_exr(cli, tmp_path):
         assert 0 < f["entered"] < f["emitted"]
 
 
+def test_sphere_split_by_scattering_order_matches_cli_exr(cli, tmp_path):
+    # --split-orders / split_orders=True (seed Eq. 2.13): every quantity per scattering order,
+    # the CLI's EXR layers array for array; the orders add up to the total (float32 rounding);
+    # without the option there are no such keys.
+    exr, js = tmp_path / "s.exr", tmp_path / "s.json"
+    cli("pathtrace", "sphere", "--sigma-a", "0.5", "--sigma-s", "2.5", "--g", "0.3", "--eta", "1.4",
+        "--width", "24", "--height", "20", "--photons", "2e4", "--seed", "5", "--split-orders",
+        "--exr", exr, "--json", js)
+    d = translucent.pathtrace_sphere(sigma_a=0.5, sigma_s=2.5, g=0.3, eta=1.4, width=24, height=20,
+                                     photons=2e4, seed=5, split_orders=True)
+    layers = read_exr_layers(exr)
+    orders = ["unscattered", "single", "multiple"]
+    for name in ["exitance", "radiance", "cone_radiance"]:
+        for order in orders:
+            for key in [f"{name}_{order}", f"{name}_{order}_stderr"]:
+                assert np.array_equal(d[key], layers[key]), key
+        parts = sum(d[f"{name}_{order}"].astype(np.float64) for order in orders)
+        assert np.allclose(parts, d[name], rtol=1e-6, atol=1e-7 * d[name].max()), name
+    assert d["exitance_single"].sum() > 0 and d["exitance_multiple"].sum() > 0
+    with open(js) as f:
+        expected = json.load(f)
+    assert expected["split_orders"] is True
+    assert d["flux_per_channel"] == expected["flux_per_channel"]
+    for f in d["flux_per_channel"]:
+        by = f["exited_by_order"]
+        assert abs(sum(by[o]["exited"] for o in orders) - f["exited"]) <= 1e-12 * f["exited"]
+    plain = translucent.pathtrace_sphere(width=8, height=8, photons=4096)
+    assert "exitance_single" not in plain
+
+
 def test_sphere_on_the_gpu_matches_cli_exr(cli, tmp_path):
     exr, js = tmp_path / "s.exr", tmp_path / "s.json"
     cli("pathtrace", "sphere", "--preset", "Skin1", "--scale", "5", "--width", "24", "--height",

@@ -31,6 +31,17 @@ if(TARGET translucent_cli)
   render_test(sphere_device_gpu_time_limit ARGS pathtrace sphere --preset Marble ${SMALL}
               --photons 1e15 --device gpu --time-limit 0.5 --exr ${OUT}/rsg2.exr
               --json ${OUT}/rsg2.json FILE ${OUT}/rsg2.json MATCH "\"partial\": true")
+  # The split by scattering order (issue 14 §4): EXR layers per order, fluxes per order.
+  # (The layers themselves: tests/python/test_reference.py reads them with OpenImageIO.)
+  render_test(sphere_split_orders ARGS pathtrace sphere --preset Skin1 --scale 2 ${SMALL}
+              --photons 4000 --split-orders --exr ${OUT}/rso.exr --json ${OUT}/rso.json
+              FILE ${OUT}/rso.json MATCH "\"split_orders\": true")
+  render_test(sphere_flux_by_order ARGS pathtrace sphere --preset Skin1 --scale 2 ${SMALL}
+              --photons 4000 --exr ${OUT}/rso2.exr --json ${OUT}/rso2.json
+              FILE ${OUT}/rso2.json MATCH "\"exited_by_order\": {[^}]*\"multiple\"")
+  render_test(mesh_split_orders ARGS pathtrace mesh --scene ${PROJECT_SOURCE_DIR}/data/scenes/cube.json
+              --photons 2000 --split-orders --exr ${OUT}/rmso.exr --json ${OUT}/rmso.json
+              FILE ${OUT}/rmso.json MATCH "\"split_orders\": true")
   render_test(sphere_device_bad FAIL ARGS pathtrace sphere ${SMALL} --device tpu
               --exr ${OUT}/x.exr MATCH "--device")
   render_test(mesh_device_gpu ARGS pathtrace mesh --scene ${PROJECT_SOURCE_DIR}/data/scenes/cube.json

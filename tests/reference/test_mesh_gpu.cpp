@@ -24,23 +24,16 @@
 #include "reference/gpu/mesh_gpu.h"
 #include "reference/mesh_tracer.h"
 #include "image_zmap.h"
+#include "mesh_test_scenes.h"
+#include "scattering_orders_checks.h"
 
 namespace translucent::reference {
 namespace {
 
 using gpu::testing::GpuTest;
 
-Camera orthographic(glm::dvec3 position, double height, int size) {
-  Camera c;
-  c.projection = Camera::Projection::Orthographic;
-  c.position = position;
-  c.look_at = glm::dvec3(0.0);
-  c.up = std::abs(position.y) > 0.9 * glm::length(position) ? glm::dvec3(1.0, 0.0, 0.0)
-                                                              : glm::dvec3(0.0, 1.0, 0.0);
-  c.view_height = height;
-  c.width = c.height = size;
-  return c;
-}
+using test_support::orthographic;
+using test_support::threeCubes;
 
 Light directional(glm::dvec3 toLight, double irradiance, Rgb color = {1.0, 1.0, 1.0}) {
   return Light{DirectionalLight{glm::normalize(toLight), irradiance}, color};
@@ -98,20 +91,6 @@ void expectFluxAgree(const TransportStats& g, const TransportStats& c) {
     }
 }
 
-// Three unit cubes along z, 0.5 apart (one closed mesh of three parts): z in [-2.5, -1.5],
-// [-1, 0], [0.5, 1.5].
-geometry::TriangleMesh threeCubes() {
-  geometry::TriangleMesh row;
-  for (int k = 0; k < 3; ++k) {
-    const double z0 = -2.5 + 1.5 * k;
-    const geometry::TriangleMesh box = geometry::makeBox({-0.5, -0.5, z0}, {0.5, 0.5, z0 + 1.0});
-    const auto base = static_cast<unsigned>(row.positions.size());
-    row.positions.insert(row.positions.end(), box.positions.begin(), box.positions.end());
-    for (const auto& tri : box.triangles) row.triangles.push_back(tri + glm::uvec3(base));
-  }
-  return row;
-}
-
 class MeshGpu : public GpuTest {};
 
 TEST_F(MeshGpu, CubeUnderABeamEntersTheAnalyticFlux) {
@@ -151,6 +130,15 @@ TEST_F(MeshGpu, ThreeMatchedCubesInARowExitAndReenterAsTheChordsSay) {
   EXPECT_NEAR(exited.value, T + T * T + T * T * T, 4.0 * exited.std_error);
   EXPECT_NEAR(escaped.value, T * T * T, 4.0 * escaped.std_error);
   EXPECT_LT(exited.std_error, 0.01);  // the test has power
+}
+
+TEST_F(MeshGpu, ExitsThroughThreeCubesAreScoredInTheirOwnScatteringOrders) {
+  // The order of each exit comes back from the GPU with its rank (mesh_walk.comp): the checks of
+  // the CPU test (scattering_orders_checks.h), on the GPU walk.
+  const geometry::TriangleMesh row = threeCubes();
+  MeshPathTracer t = test_support::threeCubesTracer({6, 1});
+  useGpu(t, row);
+  test_support::expectThreeCubesOrders(t, 64 * kBlockPhotons);
 }
 
 TEST_F(MeshGpu, ThreeMismatchedCubesMatchTheCpuTracerThroughEveryReentry) {

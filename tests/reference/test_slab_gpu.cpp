@@ -17,6 +17,8 @@
 #include "reference/philox.h"
 #include "reference/run_state.h"
 #include "published_setups.h"
+#include "image_zmap.h"
+#include "single_scattering.h"
 
 namespace translucent::reference {
 namespace {
@@ -195,6 +197,41 @@ TEST_F(SlabGpu, SemiInfiniteMismatchedObliqueAndLongPathRunsMatchTheCpuTracer) {
     o.angle_bins = 9;
     o.long_path_roulette = c.longPath;
     expectSameSlab(traceSlabGpu(c.setup, o), traceSlab(c.setup, o));
+  }
+}
+
+TEST_F(SlabGpu, SingleScatteringMatchesTheAnalyticTerm) {
+  // The order split of the GPU walks (the slab's and the layered slab's; their records carry the
+  // scattering count): the single-scattering part of a half space's reflectance, in total and
+  // per annulus, against the closed form (single_scattering.h), 13 z-tests at the Bonferroni
+  // bound for 1%.
+  SlabSetup s;
+  s.sigma_a = 0.4;
+  s.sigma_s = 1.6;
+  s.g = 0.5;
+  s.n_inside = 1.3;
+  TraceOptions o = opts(1'000'000, 29);
+  o.radial_bins = 12;
+  o.radial_max = 1.2;
+  LayeredSlabSetup l;
+  l.layers = {{std::numeric_limits<double>::infinity(), s.sigma_a, s.sigma_s, s.g}};
+  l.n_inside = s.n_inside;
+  const double z = test_support::bonferroniZ(13, 0.01);
+  for (const SlabResult& r : {traceSlabGpu(s, o), traceLayeredSlabGpu(l, o)}) {
+    const double entering = 1.0 - r.specular_reflectance.value;
+    const SlabResult::Order& single = r.order(ScatteringOrder::Single);
+    const double total = entering * test_support::singleScatteringRd(0.8, s.g, s.n_inside);
+    EXPECT_NEAR(single.diffuse_reflectance.value, total, z * single.diffuse_reflectance.std_error);
+    EXPECT_LT(single.diffuse_reflectance.std_error, 0.01 * total);
+    for (size_t k = 0; k < single.radial.rd.size(); ++k) {
+      const double a = k * single.radial.dr, area = 2.0 * std::numbers::pi * (a + 0.5 * single.radial.dr) * single.radial.dr;
+      const double expected =
+          entering * test_support::singleScatteringAnnulus(0.8, 2.0, s.g, s.n_inside, a, a + single.radial.dr) / area;
+      EXPECT_NEAR(single.radial.rd[k], expected, z * single.radial.rd_stderr[k]) << "annulus " << k;
+    }
+    double sum = 0.0;
+    for (ScatteringOrder k : kAllScatteringOrders) sum += r.order(k).diffuse_reflectance.value;
+    EXPECT_NEAR(sum, r.diffuse_reflectance.value, 1e-12);
   }
 }
 

@@ -120,6 +120,38 @@ TEST_F(SphereGpu, ImagesMatchTheCpuTracerPixelByPixel) {
   EXPECT_NEAR(double(sg.scattering_events) / double(sc.scattering_events), 1.0, 0.01);
 }
 
+TEST_F(SphereGpu, ScatteringOrdersMatchTheCpuTracerPixelByPixel) {
+  // A small sphere (σt R = 3), so that light of every order leaves: the GPU walk's images of
+  // the single and multiple light against the CPU's (z maps as above), and the exited fluxes of
+  // all three orders within 4 combined standard errors.
+  SphereScene s = scene(1.0, 12, {0.3, 0.4, 1.0});
+  const ScalarMedium m{0.5, 2.5, 0.3, 1.4};
+  TracerOptions o{31, 1};
+  o.split_orders = true;
+  SpherePathTracer gpu(s, m, o);
+  gpu.setWalker(makeGpuSphereWalker(gpu::testing::context()));
+  o.seed = 32;
+  o.threads = 2;
+  SpherePathTracer cpu(s, m, o);
+  gpu.addPass(96 * kBlockPhotons);
+  cpu.addPass(96 * kBlockPhotons);
+  for (ScatteringOrder k : kAllScatteringOrders) {
+    // Unscattered light leaves on the far side of the light, almost all of it out of view: its
+    // flux is compared below, its image is nearly empty.
+    if (k != ScatteringOrder::Unscattered) {
+      const test_support::ZMap z = test_support::zmap(gpu.orderImages(k).exitance, cpu.orderImages(k).exitance);
+      EXPECT_GT(z.n, 40) << toString(k);
+      EXPECT_NEAR(z.meanZ2, 1.0, 6.0 * std::sqrt(2.0 / z.n)) << toString(k) << ": mean z² over " << z.n;
+      EXPECT_LT(z.maxAbs, test_support::bonferroniZ(z.n, 0.01)) << toString(k) << ": largest |z|";
+    }
+    const auto& gs = gpu.stats().exited_by_order[static_cast<size_t>(k)][0];
+    const auto& cs = cpu.stats().exited_by_order[static_cast<size_t>(k)][0];
+    const Estimate eg = gs.estimate(gpu.stats().photons[0]), ec = cs.estimate(cpu.stats().photons[0]);
+    EXPECT_NEAR(eg.value, ec.value, 4.0 * std::hypot(eg.std_error, ec.std_error)) << toString(k);
+    EXPECT_LT(eg.std_error, 0.05 * eg.value) << toString(k);  // the test has power
+  }
+}
+
 TEST_F(SphereGpu, LongPathRouletteCutsPathsAsTheCpuTracerDoes) {
   // The seed's roulette (after N events, go on with chance 1/10 at weight x10, at every further
   // event) with N = 2 in a sphere where photons scatter ~5 times: the scattering events per

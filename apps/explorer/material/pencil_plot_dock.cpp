@@ -18,6 +18,7 @@
 #include <array>
 #include <memory>
 #include <numbers>
+#include <optional>
 #include <map>
 
 #include "bssrdf/registry.h"
@@ -111,6 +112,17 @@ PencilPlotDock::PencilPlotDock(ExplorerState& state, QWidget* parent)
   theta_->setToolTip(tr("Polar angle θL of the pencil beam: the reference is traced at it; a "
                         "directional model (directional-dipole) is drawn as its azimuthal average "
                         "there; radial models assume normal incidence"));
+  // The seed's "multi + single scattering" selector (Fig. 3.6): which light of the reference is
+  // drawn (Eq. 2.13); "split" draws the three curves. The tally keeps every order, so switching
+  // redraws without tracing again.
+  scattering_ = new QComboBox;
+  scattering_->setObjectName(QStringLiteral("scattering"));
+  scattering_->addItem(tr("multi + single"), QStringLiteral("all"));
+  scattering_->addItem(tr("single"), QStringLiteral("single"));
+  scattering_->addItem(tr("multiple"), QStringLiteral("multiple"));
+  scattering_->addItem(tr("split"), QStringLiteral("split"));
+  scattering_->setToolTip(tr("The reference's light: all of it, only what scattered once, only "
+                             "what scattered more often, or all three curves"));
   status_ = new QLabel;
   status_->setObjectName(QStringLiteral("reference_status"));
   controls->addWidget(new QLabel(tr("y")), 0, 0);
@@ -125,6 +137,8 @@ PencilPlotDock::PencilPlotDock(ExplorerState& state, QWidget* parent)
   controls->addWidget(device_, 1, 4);
   controls->addWidget(new QLabel(tr("θL")), 2, 0);
   controls->addWidget(theta_, 2, 1);
+  controls->addWidget(new QLabel(tr("scattering")), 2, 2);
+  controls->addWidget(scattering_, 2, 3);
   controls->addWidget(status_, 3, 0, 1, 5);
   layout->addLayout(controls);
   view_ = new QChartView;
@@ -154,6 +168,7 @@ PencilPlotDock::PencilPlotDock(ExplorerState& state, QWidget* parent)
   connect(timesR_, &QCheckBox::toggled, this, [this] { requestModels(); });
   connect(theta_, &QDoubleSpinBox::valueChanged, this, onMaterial);
   connect(yScale_, &QComboBox::currentIndexChanged, this, [this] { redraw(); });
+  connect(scattering_, &QComboBox::currentIndexChanged, this, [this] { redraw(); });
   connect(reference_, &QCheckBox::toggled, this, [this](bool on) {
     if (on)
       restartReference();
@@ -355,9 +370,18 @@ std::vector<Curve> PencilPlotDock::referenceCurves() const {
   std::vector<Curve> out;
   if (!ref_ || ref_r_max_ != r_max_) return out;
   const auto& res = ref_->results;
+  const QString which = scattering_->currentData().toString();
+  using reference::ScatteringOrder;
+  std::vector<std::optional<ScatteringOrder>> orders;
+  if (which == QLatin1String("all") || which == QLatin1String("split")) orders.emplace_back();
+  if (which == QLatin1String("single") || which == QLatin1String("split"))
+    orders.emplace_back(ScatteringOrder::Single);
+  if (which == QLatin1String("multiple") || which == QLatin1String("split"))
+    orders.emplace_back(ScatteringOrder::Multiple);
   for (Channel ch : channels())
-    out.push_back(analysis::pencilReferenceCurve({&res[0], &res[1], &res[2]}, ch,
-                                                 timesR_->isChecked()));
+    for (const auto& order : orders)
+      out.push_back(analysis::pencilReferenceCurve({&res[0], &res[1], &res[2]}, ch,
+                                                   timesR_->isChecked(), order));
   return out;
 }
 

@@ -85,6 +85,7 @@ class PencilPlotDock : public QDockWidget {
   QComboBox* device_;  // "reference_device": auto, cpu, gpu
   QDoubleSpinBox* photons_;
   QDoubleSpinBox* theta_;  // "incidence" [degrees]
+  QComboBox* scattering_;  // "scattering": all, single, multiple, split (seed Eq. 2.13)
   QLabel* status_;
 
   std::vector<analysis::Curve> curves_;  // model curves (all channels, R(r))

@@ -70,7 +70,9 @@ constexpr uint64_t kCapSamples = 16;
 std::string key(const SphereRunConfig& c, const std::string& model) {
   const Medium& m = c.medium;
   const bool integrated = c.model || !c.bssrdf_file.empty();
-  return fmt::format("{}|{}x{}|{},{},{}|{}|{}|{}|{}|{}|{}|{}", integrated ? model : "path traced on " + c.device,
+  const std::string traced = "path traced on " + c.device + " (" +
+                            (c.order ? reference::toString(*c.order) : "all") + ")";
+  return fmt::format("{}|{}x{}|{},{},{}|{}|{}|{}|{}|{}|{}|{}", integrated ? model : traced,
                      c.scene.width, c.scene.height, c.scene.light_direction.x,
                      c.scene.light_direction.y, c.scene.light_direction.z, fmt::join(m.sigma_a, ","),
                      fmt::join(m.sigma_s, ","), m.g, m.eta, m.scale, c.first, c.budget);
@@ -158,6 +160,13 @@ void LitSpheresDock::buildUi() {
   samples_box_->setValue(static_cast<int>(sample_budget_));
   samples_box_->setKeyboardTracking(false);
   device_box_ = makeTraceDeviceBox(QStringLiteral("tracer_device"), tr("the path tracer"), root);
+  light_box_ = new QComboBox(root);
+  light_box_->setObjectName("tracer_light");
+  light_box_->addItem(tr("multi + single"), QStringLiteral("all"));
+  light_box_->addItem(tr("single scattering"), QStringLiteral("single"));
+  light_box_->addItem(tr("multiple scattering"), QStringLiteral("multiple"));
+  light_box_->setToolTip(tr("The path tracer's light by scattering order (seed Eq. 2.13): the "
+                            "diffusion models describe multiple scattering only"));
   auto angleBox = [&](const char* name, double lo, double hi, double value, const QString& tip) {
     auto* b = new QDoubleSpinBox(root);
     b->setObjectName(name);
@@ -200,6 +209,8 @@ void LitSpheresDock::buildUi() {
   controls->addWidget(light_theta_box_, 4, 1, 1, 2);
   controls->addWidget(new QLabel(tr("φL"), root), 4, 3);
   controls->addWidget(light_phi_box_, 4, 4, 1, 2);
+  controls->addWidget(new QLabel(tr("Traced light"), root), 5, 0);
+  controls->addWidget(light_box_, 5, 1, 1, 2);
   controls->setColumnStretch(1, 1);
   controls->setColumnStretch(4, 1);
   layout->addLayout(controls);
@@ -275,6 +286,9 @@ void LitSpheresDock::buildUi() {
           [this](int n) { setSampleBudget(static_cast<uint64_t>(n)); });
   connect(device_box_, &QComboBox::currentIndexChanged, this, [this](int i) {
     setTracerDevice(device_box_->itemData(i).toString().toStdString());
+  });
+  connect(light_box_, &QComboBox::currentIndexChanged, this, [this](int i) {
+    setTracerLight(light_box_->itemData(i).toString().toStdString());
   });
 }
 
@@ -490,6 +504,19 @@ void LitSpheresDock::setTracerDevice(const std::string& device) {
   restart(Pane::PathTraced, false);
 }
 
+void LitSpheresDock::setTracerLight(const std::string& light) {
+  if (light == tracer_light_) return;
+  if (light != "all" && light != "single" && light != "multiple") {
+    state_.error(tr("Lit spheres: traced light '%1': expected all, single or multiple")
+                     .arg(QString::fromStdString(light)));
+    return;
+  }
+  tracer_light_ = light;
+  const QSignalBlocker block(light_box_);
+  light_box_->setCurrentIndex(light_box_->findData(QString::fromStdString(light)));
+  restart(Pane::PathTraced, false);
+}
+
 void LitSpheresDock::restartForMaterial() {
   restart(Pane::PathTraced, false);
   restart(Pane::Integrated, false);
@@ -503,6 +530,8 @@ void LitSpheresDock::restart(Pane p, bool force) {
   c.seed = kSeed;
   c.threads = 0;
   c.device = tracer_device_;
+  if (tracer_light_ == "single") c.order = reference::ScatteringOrder::Single;
+  if (tracer_light_ == "multiple") c.order = reference::ScatteringOrder::Multiple;
   try {
     // Both spheres use the medium the model is shown with, so that they compare like with like.
     c.medium = state_.mediumFor(model);

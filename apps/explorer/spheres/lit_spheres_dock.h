@@ -87,6 +87,11 @@ class LitSpheresDock : public QDockWidget {
   // be opened is an error on the console; the previous image stays.
   void setTracerDevice(const std::string& device);
   const std::string& tracerDevice() const { return tracer_device_; }
+  // Which of the path tracer's light it shows (the seed's "multi + single scattering"
+  // selector): "all", "single" or "multiple" scattering (seed Eq. 2.13). The diffusion models
+  // describe multiple scattering only, so "multiple" compares them with what they model.
+  void setTracerLight(const std::string& light);
+  const std::string& tracerLight() const { return tracer_light_; }
   int resolution() const { return resolution_; }
   uint64_t photonBudget() const { return photon_budget_; }
   uint64_t sampleBudget() const { return sample_budget_; }
@@ -152,6 +157,7 @@ class LitSpheresDock : public QDockWidget {
   uint64_t photon_budget_ = uint64_t{1} << 20;
   uint64_t sample_budget_ = 64;
   std::string tracer_device_ = "auto";
+  std::string tracer_light_ = "all";  // setTracerLight
   std::unique_ptr<PaneData> panes_[2];
   // Runs asked to stop, kept until their thread says it has finished (then joined at once).
   struct Retiring {
@@ -184,6 +190,7 @@ class LitSpheresDock : public QDockWidget {
   QSpinBox* photons_box_ = nullptr;
   QSpinBox* samples_box_ = nullptr;
   QComboBox* device_box_ = nullptr;
+  QComboBox* light_box_ = nullptr;  // "tracer_light": all, single, multiple
 };
 
 }  // namespace translucent::explorer

@@ -84,13 +84,17 @@ void SphereRun::run() {
     } else {
       // Before the tracer: the context outlives the walker the tracer holds.
       const reference::TraceDevice dev = reference::openTraceDevice(config_.device, "tracer device");
-      reference::SpherePathTracer tracer(config_.scene, config_.medium,
-                                         {config_.seed, config_.threads});
+      reference::TracerOptions options{config_.seed, config_.threads};
+      options.split_orders = config_.order.has_value();
+      reference::SpherePathTracer tracer(config_.scene, config_.medium, options);
       reference::useDevice(dev, tracer);
       device = tracer.device();
+      auto shown = [&]() -> const reference::CameraImages& {
+        return config_.order ? tracer.orderImages(*config_.order) : tracer.images();
+      };
       stopped = reference::runProgressive(
                     tracer, passes, stop_,
-                    [&](int k, uint64_t done) { publish(tracer.images(), k, done); }, progress)
+                    [&](int k, uint64_t done) { publish(shown(), k, done); }, progress)
                     .stopped;
     }
   } catch (const std::exception& e) {

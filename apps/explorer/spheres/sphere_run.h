@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <thread>
 
@@ -52,6 +53,9 @@ struct SphereRunConfig {
   // The path tracer's device (reference/gpu/device.h): "cpu", "gpu" (a GL 4.5 context of the
   // run's own, made on its thread) or "auto" (the GPU on a hardware GPU, else the CPU).
   std::string device = "auto";
+  // The path tracer's images of this scattering order only (seed Eq. 2.13: e.g. the multiple
+  // scattering that the diffusion models describe); nullopt: all of the light.
+  std::optional<reference::ScatteringOrder> order;
 };
 
 // The images after a complete pass.

@@ -190,7 +190,9 @@ class GpuMeshWalker final : public MeshWalker {
     out.exits.assign(exitCount, WalkedExit{});
     for (const ExitOut& e : hostExits_) {
       const WalkedPhoton& ph = out.photons.at(e.photon);
-      WalkedExit& x = out.exits.at(ph.first_exit + e.rank);
+      // mesh_walk.comp: the rank in the low 30 bits, the scattering order in the top two.
+      WalkedExit& x = out.exits.at(ph.first_exit + (e.rank & 0x3fffffffu));
+      x.order = static_cast<ScatteringOrder>(e.rank >> 30);
       x.position = glm::dvec3(e.px, e.py, e.pz);
       x.normal = glm::dvec3(e.nx, e.ny, e.nz);
       x.direction = glm::dvec3(e.dx, e.dy, e.dz);

@@ -60,7 +60,7 @@ gpu::ShaderProgram walkProgram(const SlabSetup& setup, const TraceOptions& optio
 void scoreBlock(const detail::Walk& W, std::span<const ExitRecord> records, detail::Tally& T) {
   for (const ExitRecord& e : records) {
     if (e.kind == 0)
-      detail::scoreTop(W, T, e.x, e.y, static_cast<double>(e.cos_out), e.weight);
+      detail::scoreTop(W, T, e.x, e.y, static_cast<double>(e.cos_out), e.scatters, e.weight);
     else if (e.kind == 1)
       detail::scoreBottom(T, e.scatters, e.weight);
     T.absorbed.add(e.absorbed);

@@ -74,6 +74,7 @@ class GpuSphereWalker final : public SphereWalker {
       e.normal = glm::normalize(e.position);
       e.direction = glm::dvec3(r.dx, r.dy, r.dz);
       e.weight = r.exited;
+      e.order = scatteringOrder(r.scatters);  // the sphere is convex: its only exit is its last event
       out.exits.push_back(e);
     }
   }

@@ -11,10 +11,12 @@
 #include <glm/geometric.hpp>
 
 #include "bssrdf/exit_radiance.h"
+#include "geometry/atlas.h"
 #include "gpu/compute.h"
 #include "gpu/pass_timer.h"
 #include "material/material.h"
 #include "material/material_desc.h"
+#include "material/surface_uv.h"
 #include <fmt/ranges.h>
 #include "scene/scene.h"
 #include "techniques/common/profile_kernel.h"
@@ -178,17 +180,20 @@ struct SplattingTechnique::Impl : techniques::ClosedMeshState {
     if (key == profileKey && profileDesc && *profileDesc == s.material) return;
     profileKey.clear();
     const material::Material mat = scene::sceneMaterial(s, restMesh);
-    if (mat.kind == material::Material::Kind::Surface)
-      throw ParameterError(fmt::format("material.type '{}': the {} technique renders homogeneous and "
-                                       "volume materials only (a surface map needs an atlas)",
-                                       s.material.type(), techniqueName()));
     const std::vector<glm::dvec3> normals = techniques::vertexNormals(restMesh);
     std::vector<glm::vec3> vp(restMesh.vertexCount()), vn(restMesh.vertexCount());
     for (size_t i = 0; i < vp.size(); ++i) {
       vp[i] = glm::vec3(restMesh.positions[i]);
       vn[i] = glm::vec3(normals[i]);
     }
-    profiles = material::PointProfiles::build(mat, material::PointProfiles::surfaceMedia(mat, vp, vn));
+    // A surface map (Kind::Surface) is read at each vertex's UV in the rest pose's default atlas,
+    // as the point cloud reads it for its vertices (material/surface_uv.h: a vertex on a chart
+    // seam takes the UV of the first triangle that uses it), so the map follows a deformation.
+    std::vector<glm::vec2> uvs;
+    if (mat.kind == material::Material::Kind::Surface)
+      uvs = material::vertexAtlasUvs(restMesh,
+                                     geometry::loadOrBuildAtlas(restMesh, geometry::AtlasOptions{}).atlas);
+    profiles = material::PointProfiles::build(mat, material::PointProfiles::surfaceMedia(mat, vp, vn, uvs));
     const int m = profiles.segments() + 1;
     std::vector<glm::vec4> nodes;
     nodes.reserve(profiles.size() * size_t(m));

@@ -53,7 +53,8 @@
 //
 // Lights: directional and point (outside the bounding sphere); environment, beam and filtered
 // directional lights are refused with a ParameterError naming lights[i] and the supported types.
-// Materials: homogeneous and volume (3D) materials; surface-map materials are refused.
+// Materials: homogeneous, volume (3D) and surface-map (2D) materials; a surface map is read at each
+// vertex's UV in the default atlas of the rest pose (as the point cloud reads it for its vertices).
 #pragma once
 
 #include <memory>

@@ -243,6 +243,50 @@ class MaterialDocksTest : public QObject {
             1e-12 * f.plot.radiusMax());
   }
 
+  // The seed's "multi + single scattering" selector (issue 14 §4): the reference's light by
+  // scattering order, from the same tallies (no new trace): split draws the total and its single
+  // and multiple parts, which add up to it bin by bin (a beam at normal incidence on a half
+  // space has no unscattered exitance); single draws that part alone.
+  void scatteringSelectorDrawsTheReferencesLightByOrder() {
+    Fixture f(true);
+    f.plot.findChild<QDoubleSpinBox*>("photons")->setValue(16384.0);  // 1 pass
+    QTRY_VERIFY_WITH_TIMEOUT(f.plot.referencePhotons() == 16384, 60000);
+    const int runs = f.plot.referenceRuns();
+    auto* scattering = f.plot.findChild<QComboBox*>("scattering");
+    QVERIFY(scattering);
+    scattering->setCurrentIndex(scattering->findData(QStringLiteral("split")));
+    QCOMPARE(f.plot.referenceRuns(), runs);  // a redraw, not a new trace
+    const auto split = f.plot.referenceCurves();
+    QCOMPARE(split.size(), size_t{3});
+    QCOMPARE(split[0].model, std::string("reference"));
+    QCOMPARE(split[1].model, std::string("reference (single)"));
+    QCOMPARE(split[2].model, std::string("reference (multiple)"));
+    double singleShare = 0.0, total = 0.0;
+    for (size_t i = 0; i < split[0].value.size(); ++i) {
+      const double sum = split[1].value[i] + split[2].value[i];
+      QVERIFY2(std::abs(sum - split[0].value[i]) <= 1e-12 * (1.0 + split[0].value[i]),
+               qPrintable(QString("bin %1: %2 + %3 vs %4").arg(i).arg(split[1].value[i])
+                              .arg(split[2].value[i]).arg(split[0].value[i])));
+      singleShare += split[1].value[i] * split[0].r[i];
+      total += split[0].value[i] * split[0].r[i];
+    }
+    // Skin1 (g = 0, albedo 0.7 to 0.96 by channel): over the plotted range, single scattering is
+    // a real part of the light but not most of it (a half space at α = 0.9, η = 1.3: R1 ≈ 0.07
+    // of Rd ≈ 0.29; single_scattering.h).
+    QVERIFY2(singleShare > 0.02 * total && singleShare < 0.6 * total,
+             qPrintable(QString("single share %1").arg(singleShare / total)));
+    int named = 0;
+    for (QAbstractSeries* series : f.plot.chart()->series())
+      if (qobject_cast<QScatterSeries*>(series) && series->name().startsWith("reference ("))
+        ++named;
+    QVERIFY(named >= 2);  // the parts are drawn
+    scattering->setCurrentIndex(scattering->findData(QStringLiteral("single")));
+    const auto single = f.plot.referenceCurves();
+    QCOMPARE(single.size(), size_t{1});
+    QCOMPARE(single[0].model, std::string("reference (single)"));
+    QCOMPARE(single[0].value, split[1].value);
+  }
+
   void referenceOnTheGpuRestartsAndSaysWhatTracedIt() {
     // The reference's device: auto is the CPU on llvmpipe; GPU restarts it, traced by the GL walk
     // (its status and referenceDevice() name the renderer), and its Rd curve is the CPU's within
