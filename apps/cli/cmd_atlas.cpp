@@ -95,6 +95,7 @@ void run(const AtlasArgs& a) {
     outputs.input("the mesh", a.mesh);
     outputs.check();
   }
+  if (!beginWork()) return;
   options.size = a.size;
   options.gutter = a.gutter;
   options.useMeshUVs = a.meshUVs;
@@ -135,7 +136,9 @@ void run(const AtlasArgs& a) {
   const geometry::AtlasCoverage cov = geometry::rasterizeCoverage(atlas);
   const geometry::AtlasStatistics st = geometry::atlasStatistics(atlas, cov);
   if (!cached.note.empty()) printStderr("atlas: {}\n", cached.note);
-  if (!a.out.empty()) drawAtlas(a.out, atlas, cov, a.range);
+  if (!a.out.empty())
+    writeOutput("--out", a.out,
+                [&](const std::string& p) { drawAtlas(p, atlas, cov, a.range); });
 
   if (a.json) {
     nlohmann::json j{

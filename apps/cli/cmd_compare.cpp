@@ -164,6 +164,8 @@ SceneOutcome compareScene(const CompareArgs& a, const Parsed& parsed, const std:
   // Technique::prepare), and the references' cache key holds it (the scene's JSON).
   if (a.time) s.time = *a.time;
   s.camera.validate();
+  // A suite's scenes come here in its work only; a single scene's checks end here.
+  if (!beginWork()) return {};
   analysis::prepareReportDirectory(out, a.force, cacheDir, "--out");
   geometry::HoleFillStats fill;
   geometry::AlphaWrapStats wrap;
@@ -528,7 +530,10 @@ void runCompare(const CompareArgs& a) {
     throw ParameterError(fmt::format("--suite '{}' and scene '{}': expected one of them",
                                      a.suite, a.scene));
   const Parsed o = parseOptions(a);
-  if (!a.suite.empty()) return runSuite(a, o);
+  if (!a.suite.empty()) {
+    if (!beginWork()) return;
+    return runSuite(a, o);
+  }
   InterruptGuard guard;
   const fs::path out = fs::absolute(a.out);
   const SceneOutcome r = compareScene(a, o, a.scene, out);

@@ -350,6 +350,7 @@ void runStudy(const StudyArgs& a) {
     outputs.sceneInputs(a.bunny, scene::loadScene(a.bunny));
     outputs.check();
   }
+  if (!beginWork()) return;
   std::vector<Run> runs;
   for (const auto& m : materials) {
     runs.push_back(runSphere(a, m));

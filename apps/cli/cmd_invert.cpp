@@ -45,6 +45,7 @@ void addInvertCommand(CLI::App& app) {
     if (isBssrdfFile(args->model)) {
       if (!std::filesystem::is_regular_file(args->model))
         throw ParameterError(fmt::format("--model {}: no such .bssrdf file", args->model));
+      if (!beginWork()) return;  // the file is compiled and inverted on the GPU
       const auto gl = bssrdfContext("--model " + args->model);
       const auto e = loadBssrdfModel(args->model, args->params);
       checkParamsUsed(args->params, {e.get()});
@@ -54,6 +55,7 @@ void addInvertCommand(CLI::App& app) {
         throw ParameterError("--param applies to .bssrdf models only");
       const auto& m = bssrdf::model(args->model);
       med = invertMedium([&](double a) { return m.totalReflectance(a, eta); }, rd, ld, eta);
+      if (!beginWork()) return;  // a registered model's inversion is part of the checks
     }
     Rgb sp{};
     for (size_t c = 0; c < 3; ++c) sp[c] = med.channel(static_cast<int>(c)).sigmaSPrime();

@@ -57,7 +57,7 @@ uint64_t parsePhotons(const std::string& text) {
   return static_cast<uint64_t>(v);
 }
 
-void writeCsv(const std::string& path, const SlabResult& r) {
+void writeCsv(OutputFiles& out, const std::string& path, const SlabResult& r) {
   // The total, then the scattering orders' parts of it (seed Eq. 2.13; they add up to rd).
   std::string text = "r,rd,rd_stderr";
   for (reference::ScatteringOrder k : reference::kAllScatteringOrders)
@@ -69,7 +69,7 @@ void writeCsv(const std::string& path, const SlabResult& r) {
       text += fmt::format(",{},{}", r.order(k).radial.rd[i], r.order(k).radial.rd_stderr[i]);
     text += "\n";
   }
-  writeTextOutput("--csv", path, text);
+  out.text("--csv", path, text);
 }
 
 void runSlab(const PathtraceArgs& a) {
@@ -99,6 +99,8 @@ void runSlab(const PathtraceArgs& a) {
     outputs.output("--csv", a.csv);
     outputs.check();
   }
+  if (a.shard.active()) (void)a.shard.range(options.totalBlocks());  // --shard I/N well-formed
+  if (!beginWork()) return;
   if (options.long_path_roulette > 0)
     printStderr(
                "pathtrace: warning: long-path roulette keeps estimates unbiased, but each roulette "
@@ -143,8 +145,10 @@ void runSlab(const PathtraceArgs& a) {
 
   nlohmann::json j = reference::slabResultJson(run, r);
   if (run.layered) j["layers_file"] = a.layers;
-  writeTextOutput("--json", a.json, j.dump(2) + "\n");
-  if (!a.csv.empty()) writeCsv(a.csv, r);
+  OutputFiles out;  // all or nothing
+  out.text("--json", a.json, j.dump(2) + "\n");
+  if (!a.csv.empty()) writeCsv(out, a.csv, r);
+  out.commit();
   printStderr(
              "pathtrace: {}{} photons in {:.2f} s ({:.3g} photons/s, {}): Rsp {:.5f}, "
              "Rd {:.5f} ± {:.5f} (single scattering {:.5f}, multiple {:.5f}), T {:.5f} ± {:.5f}, "

@@ -41,6 +41,7 @@ void run(const PointCloudArgs& a) {
     outputs.input("the mesh", a.mesh);
     outputs.check();
   }
+  if (!beginWork()) return;
   geometry::TriangleMesh mesh;
   try {
     mesh = geometry::loadMesh(a.mesh);
@@ -57,7 +58,7 @@ void run(const PointCloudArgs& a) {
   }
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  writeOutput(a.out, [&](const std::string& p) { geometry::writePointCloudPly(cloud, p); });
+  writeOutput("--out", a.out, [&](const std::string& p) { geometry::writePointCloudPly(cloud, p); });
   const auto nn = geometry::nearestNeighbourStats(cloud);
   const size_t open = mesh.openEdgeCount();
   fmt::print("point cloud of {}: {} points ({}, seed {}) in {:.2f} s\n", a.mesh, cloud.size(),

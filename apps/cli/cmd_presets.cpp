@@ -13,6 +13,7 @@ void addPresetsCommand(CLI::App& app) {
   auto json = std::make_shared<bool>(false);
   cmd->add_flag("--json", *json, "Print JSON instead of a table");
   cmd->callback([json] {
+    if (!beginWork()) return;  // no checks: the work is the table
     if (*json) {
       nlohmann::json j;
       j["source"] = presetsSource();

@@ -151,8 +151,8 @@ double enteringRd(const reference::SlabResult& r) {
 // --points 200 alone Skin1's blue Rd came out 10% low), and the tail keeps --points' noise level.
 constexpr int kFineBins = 32;
 
-void saveReferenceProfile(const std::string& path, const Medium& medium, double r_max,
-                          const ProfileArgs& a) {
+std::string saveReferenceProfile(OutputFiles& out, const std::string& path, const Medium& medium,
+                                 double r_max, const ProfileArgs& a) {
   const auto res = traceReference(medium, {true, true, true}, r_max, a.points * kFineBins, a);
   bssrdf::ProfileSamples t;
   t.eta = medium.eta;
@@ -190,8 +190,8 @@ void saveReferenceProfile(const std::string& path, const Medium& medium, double 
       fmt::format("traced Rd per unit flux entering (as the table's R; incl. beyond the table): "
                   "{:.6g}, {:.6g}, {:.6g}", enteringRd(res[0]), enteringRd(res[1]),
                   enteringRd(res[2]))};
-  writeOutput(path, [&](const std::string& p) { bssrdf::writeProfileSamples(p, t, comment); });
-  printStderr("wrote {} (tabulated profile, {} radii per channel)\n", path, t.r_mm.size());
+  out.file("--save-profile", path, [&](const std::string& p) { bssrdf::writeProfileSamples(p, t, comment); });
+  return fmt::format("wrote {} (tabulated profile, {} radii per channel)\n", path, t.r_mm.size());
 }
 
 // --study: every model against the path-traced reference for every traceable preset and RGB
@@ -211,6 +211,7 @@ void runStudy(const ProfileArgs& a, const std::string& command) {
   if (a.models != "all")
     for (const auto& m : splitList(a.models)) outputs.input("a BSSRDF model file (--model)", m);
   outputs.check();
+  if (!beginWork()) return;
   analysis::ModelStudyOptions o;
   if (a.models != "all") o.models = splitList(a.models);
   o.presets = a.study_presets;
@@ -233,10 +234,12 @@ void runStudy(const ProfileArgs& a, const std::string& command) {
   });
   if (bar) bar->end();
   if (study.partial) printStderr("profile --study: stopped early, the outputs are partial\n");
+  OutputFiles out;  // all or nothing
   if (!a.out.empty())
-    writeOutput(a.out, [&](const std::string& p) { analysis::writeModelStudyMarkdown(p, study, command); });
-  if (!a.csv.empty()) writeOutput(a.csv, [&](const std::string& p) { analysis::writeModelStudyCsv(p, study); });
-  if (!a.json.empty()) writeOutput(a.json, [&](const std::string& p) { analysis::writeModelStudyJson(p, study); });
+    out.file("--out", a.out, [&](const std::string& p) { analysis::writeModelStudyMarkdown(p, study, command); });
+  if (!a.csv.empty()) out.file("--csv", a.csv, [&](const std::string& p) { analysis::writeModelStudyCsv(p, study); });
+  if (!a.json.empty()) out.file("--json", a.json, [&](const std::string& p) { analysis::writeModelStudyJson(p, study); });
+  out.commit();
   printStderr("profile --study: {} models x {} channels in {:.0f} s\n", study.models.size(),
              study.references.size(), study.seconds);
   fmt::print("{}", analysis::modelStudySummaryMarkdown(study));
@@ -267,26 +270,11 @@ void runProfile(const ProfileArgs& a) {
     if (bssrdf::isTabulatedFile(m)) outputs.input("a tabulated profile (--model)", m);
   outputs.check();
   for (const auto& m : models) (void)bssrdf::model(m);  // unknown names fail before any work
-  // .bssrdf files: evaluated on the GPU; the context exists only when one is requested.
-  std::unique_ptr<gpu::Context> gl;
-  std::vector<std::unique_ptr<gpu::BssrdfEvaluator>> evaluators;
-  std::vector<const gpu::BssrdfEvaluator*> loaded;
-  if (!files.empty()) {
-    for (const auto& f : files)
-      if (!std::filesystem::is_regular_file(f))
-        throw ParameterError(fmt::format("--model {}: no such .bssrdf file", f));
-    gl = bssrdfContext("--model " + files.front());
-    for (const auto& f : files) {
-      evaluators.push_back(loadBssrdfModel(f, a.params));
-      loaded.push_back(evaluators.back().get());
-      // A directional file's R(r) is its normal-incidence restriction (gpu/bssrdf_profiles.h),
-      // as for the registered directional-dipole.
-      if (!evaluators.back()->file().attributes.radial)
-        printStderr("profile: {} is directional (line 1 lacks `radial`): plotted at normal "
-                    "incidence\n", f);
-    }
-  }
-  checkParamsUsed(a.params, loaded);
+  for (const auto& f : files)
+    if (!std::filesystem::is_regular_file(f))
+      throw ParameterError(fmt::format("--model {}: no such .bssrdf file", f));
+  if (files.empty()) checkParamsUsed(a.params, {});  // --param without a .bssrdf model
+  // The options' values, before any GPU work.
   std::vector<analysis::Channel> channels;
   if (a.channel == "all")
     channels = {analysis::Channel::Red, analysis::Channel::Green, analysis::Channel::Blue};
@@ -302,6 +290,31 @@ void runProfile(const ProfileArgs& a) {
   if (a.theta != 0.0 && !a.save_profile.empty())
     throw ParameterError("--save-profile with --theta: a tabulated model is a normal-incidence "
                          "profile; trace it without --theta");
+  if (a.scattering != "all" && !a.reference)
+    throw ParameterError(fmt::format(
+        "--scattering {}: needs --reference (it selects the path-traced reference's light)",
+        a.scattering));
+  if (a.reference && !(a.photons >= 1000.0 && a.photons <= 1e12))
+    throw ParameterError(
+        fmt::format("--photons is {}: expected between 1e3 and 1e12 per channel", a.photons));
+  if (!beginWork()) return;
+  // .bssrdf files: evaluated on the GPU; the context exists only when one is requested.
+  std::unique_ptr<gpu::Context> gl;
+  std::vector<std::unique_ptr<gpu::BssrdfEvaluator>> evaluators;
+  std::vector<const gpu::BssrdfEvaluator*> loaded;
+  if (!files.empty()) {
+    gl = bssrdfContext("--model " + files.front());
+    for (const auto& f : files) {
+      evaluators.push_back(loadBssrdfModel(f, a.params));
+      loaded.push_back(evaluators.back().get());
+      // A directional file's R(r) is its normal-incidence restriction (gpu/bssrdf_profiles.h),
+      // as for the registered directional-dipole.
+      if (!evaluators.back()->file().attributes.radial)
+        printStderr("profile: {} is directional (line 1 lacks `radial`): plotted at normal "
+                    "incidence\n", f);
+    }
+  }
+  checkParamsUsed(a.params, loaded);
   opts.incidence = a.theta * std::numbers::pi / 180.0;
   if (a.theta != 0.0) {
     std::vector<std::string> radial;
@@ -313,13 +326,6 @@ void runProfile(const ProfileArgs& a) {
                   "directional model and the reference see the incidence)\n",
                   fmt::join(radial, ", "), radial.size() == 1 ? "is" : "are");
   }
-  if (a.scattering != "all" && !a.reference)
-    throw ParameterError(fmt::format(
-        "--scattering {}: needs --reference (it selects the path-traced reference's light)",
-        a.scattering));
-  if (a.reference && !(a.photons >= 1000.0 && a.photons <= 1e12))
-    throw ParameterError(
-        fmt::format("--photons is {}: expected between 1e3 and 1e12 per channel", a.photons));
   double rMax = 0.0;
   if (a.r_max) {
     rMax = *a.r_max;
@@ -360,10 +366,17 @@ void runProfile(const ProfileArgs& a) {
   }
   // The saved model should hold (nearly) all of the energy: without --rmax its table reaches
   // 3x the plotted default (the 95% radius), where ~0.1% of Rd is left for the fitted tail.
-  if (!a.save_profile.empty()) saveReferenceProfile(a.save_profile, medium, a.r_max ? rMax : 3.0 * rMax, a);
-  if (a.out.empty()) return;
+  OutputFiles out;  // all or nothing: --save-profile and --out
+  std::string saved;
+  if (!a.save_profile.empty())
+    saved = saveReferenceProfile(out, a.save_profile, medium, a.r_max ? rMax : 3.0 * rMax, a);
+  if (a.out.empty()) {
+    out.commit();
+    printStderr("{}", saved);
+    return;
+  }
   if (ext == ".csv") {
-    writeOutput(a.out, [&](const std::string& p) { analysis::writeCurvesCsv(p, curves); });
+    out.file("--out", a.out, [&](const std::string& p) { analysis::writeCurvesCsv(p, curves); });
   } else {
     plot::PlotOptions po;
     po.title = a.title.empty() ? defaultTitle(a) : a.title;
@@ -372,9 +385,10 @@ void runProfile(const ProfileArgs& a) {
     po.length_unit = lengthUnit(medium.scale);
     po.width = a.width;
     po.height = a.height;
-    writeOutput(a.out, [&](const std::string& p) { plot::writeProfilePlot(p, curves, po); });
+    out.file("--out", a.out, [&](const std::string& p) { plot::writeProfilePlot(p, curves, po); });
   }
-  printStderr("wrote {} ({} curves x {} points)\n", a.out, curves.size(), a.points);
+  out.commit();
+  printStderr("{}wrote {} ({} curves x {} points)\n", saved, a.out, curves.size(), a.points);
 }
 
 }  // namespace

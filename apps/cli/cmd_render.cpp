@@ -44,6 +44,8 @@
 namespace translucent::cli {
 namespace {
 
+constexpr int kMaxFrames = 100000;  // over an hour at 24 fps
+
 struct RenderArgs {
   std::string scene;
   std::optional<std::string> technique;
@@ -160,6 +162,11 @@ int runProgram(const std::vector<std::string>& argv) {
 
 void runRender(const RenderArgs& a) {
   if (a.frames < 1) throw ParameterError(fmt::format("--frames {}: expected at least 1", a.frames));
+  // Each frame is an output checked and named before the work: a limit keeps a typo from
+  // spending minutes (and gigabytes) on the names alone.
+  if (a.frames > kMaxFrames)
+    throw ParameterError(fmt::format("--frames {}: expected at most {} (render a longer animation "
+                                     "in parts, each from its own --time)", a.frames, kMaxFrames));
   if (!(std::isfinite(a.fps) && a.fps > 0.0))
     throw ParameterError(fmt::format("--fps {}: expected a finite number of frames per second > 0",
                                      a.fps));
@@ -190,13 +197,18 @@ void runRender(const RenderArgs& a) {
           "--video '{}': ffmpeg is not on PATH: expected Debian's ffmpeg (apt-get install "
           "ffmpeg), or --out frame_%04d.png for the frames alone", a.video));
   }
-  // --video without --out: the PNG frames go to a temporary folder beside the video.
+  // --video: ffmpeg's PNG frames go to a temporary folder beside the video (the --out frames are
+  // outputs, which appear only once the whole run has succeeded). A '%' of the video's name is
+  // written "%%" in the pattern, for FramePattern and ffmpeg alike.
   std::filesystem::path frameDir;
-  FramePattern framePattern = outPattern;
-  if (!a.video.empty() && a.out.empty()) {
+  FramePattern framePattern;
+  if (!a.video.empty()) {
     const std::filesystem::path v(a.video);
     frameDir = v.parent_path() / fmt::format(".{}.frames-{}", v.filename().string(), getpid());
-    framePattern = FramePattern::parse("--out", (frameDir / "frame_%06d.png").string());
+    std::string dir = frameDir.string();
+    for (size_t at = dir.find('%'); at != std::string::npos; at = dir.find('%', at + 2))
+      dir.insert(at, "%");
+    framePattern = FramePattern::parse("--video", dir + "/frame_%06d.png");
   }
 
   // Scene, with the command line's overrides.
@@ -229,6 +241,22 @@ void runRender(const RenderArgs& a) {
   outputs.output("--video", a.video);
   outputs.sceneInputs(a.scene, s);
   outputs.check();
+  // The technique with the scene's settings and the command line's (no GL yet): checked here on
+  // a technique made for it, and made again after the context below.
+  auto makeTechnique = [&] {
+    std::unique_ptr<techniques::Technique> t = techniques::make(s.technique);
+    techniques::applySettings(*t, s);
+    for (const auto& [name, value] : a.settings) {
+      try {
+        t->setParameter(name, value);
+      } catch (const ParameterError& e) {
+        throw ParameterError(fmt::format("{}: {}", optionName(name), e.what()));
+      }
+    }
+    return t;
+  };
+  (void)makeTechnique();
+  if (!beginWork()) return;
   // A camera or light inside the object renders nothing meaningful: refuse it (the mesh is
   // loaded once more for this, about 0.1 s for the bunny; for an animation at every frame's
   // time, since a deformation may move the surface over the camera).
@@ -236,15 +264,7 @@ void runRender(const RenderArgs& a) {
 
   // The context first: the technique's GL objects must be deleted while it is alive.
   gpu::Context gl;
-  std::unique_ptr<techniques::Technique> t = techniques::make(s.technique);
-  techniques::applySettings(*t, s);
-  for (const auto& [name, value] : a.settings) {
-    try {
-      t->setParameter(name, value);
-    } catch (const ParameterError& e) {
-      throw ParameterError(fmt::format("{}: {}", optionName(name), e.what()));
-    }
-  }
+  std::unique_ptr<techniques::Technique> t = makeTechnique();
 
   fmt::print("render: {} on {} ({}), {}x{}, scene: {}{}\n", s.technique, gl.info().renderer,
              gl.info().version, s.camera.width, s.camera.height,
@@ -280,8 +300,25 @@ void runRender(const RenderArgs& a) {
     }
     return f;
   };
+  // A debug folder this run creates goes again when the run fails (once the
+  // temporary files in it are gone: declared before them).
+  struct RemoveEmptyFolder {
+    std::filesystem::path dir;
+    ~RemoveEmptyFolder() {
+      std::error_code ec;
+      if (!dir.empty()) std::filesystem::remove(dir, ec);  // removes an empty folder only
+    }
+  } removeDebugDir;
+  // Every output of the run, put in place together at the end (all or nothing); the messages
+  // saying what was written follow.
+  OutputFiles out;
+  std::vector<std::string> wrote;
   auto writeFrame = [&](const techniques::Frame& f, int i) {
-    if (!framePattern.text.empty())
+    if (!outPattern.text.empty())
+      out.file("--out", outPattern.file(i), [&](const std::string& p) {
+        analysis::writePng(p, f.width, f.height, f.rgb, {s.exposure, s.gamma});
+      });
+    if (!framePattern.text.empty())  // ffmpeg's input
       analysis::writePng(framePattern.file(i), f.width, f.height, f.rgb, {s.exposure, s.gamma});
     if (!exrPattern.text.empty()) {
       std::vector<analysis::ExrLayer> layers;
@@ -289,7 +326,9 @@ void runRender(const RenderArgs& a) {
       const std::pair<std::string, std::string> attrs[] = {
           {"translucent:technique", s.technique},
           {"translucent:time", fmt::format("{}", s.time)}};
-      analysis::writeExr(exrPattern.file(i), f.width, f.height, f.rgb, layers, attrs);
+      out.file("--exr", exrPattern.file(i), [&](const std::string& p) {
+        analysis::writeExr(p, f.width, f.height, f.rgb, layers, attrs);
+      });
     }
   };
 
@@ -316,13 +355,13 @@ void runRender(const RenderArgs& a) {
     }
     bar.end();
     if (!a.out.empty())
-      fmt::print("wrote {} frames {} .. {}\n", a.frames, outPattern.file(0),
-                 outPattern.file(a.frames - 1));
+      wrote.push_back(fmt::format("wrote {} frames {} .. {}\n", a.frames, outPattern.file(0),
+                                  outPattern.file(a.frames - 1)));
     if (!exrPattern.text.empty())
-      fmt::print("wrote {} frames {} .. {}\n", a.frames, exrPattern.file(0),
-                 exrPattern.file(a.frames - 1));
+      wrote.push_back(fmt::format("wrote {} frames {} .. {}\n", a.frames, exrPattern.file(0),
+                                  exrPattern.file(a.frames - 1)));
     if (!a.video.empty()) {
-      writeOutput(a.video, [&](const std::string& tmp) {
+      out.file("--video", a.video, [&](const std::string& tmp) {
         const std::vector<std::string> argv = {
             ffmpeg, "-nostdin", "-loglevel", "error", "-y", "-framerate", fmt::format("{}", a.fps),
             "-i", framePattern.text, "-pix_fmt", "yuv420p",
@@ -333,8 +372,11 @@ void runRender(const RenderArgs& a) {
           throw ParameterError(fmt::format("--video '{}': ffmpeg ({}) failed{}", a.video, ffmpeg,
                                            rc < 0 ? " to start" : fmt::format(" with status {}", rc)));
       });
-      fmt::print("wrote {} ({} frames at {} fps, ffmpeg)\n", a.video, a.frames, a.fps);
+      wrote.push_back(fmt::format("wrote {} ({} frames at {} fps, ffmpeg)\n", a.video, a.frames,
+                                  a.fps));
     }
+    out.commit();
+    for (const std::string& line : wrote) fmt::print("{}", line);
     fmt::print("GPU times of the last frame (time {}):\n", s.time);
     for (const auto& p : frame.passes)
       fmt::print("  {:<{}}{:<22} {:9.3f} ms\n", "", 2 * p.depth, p.name, p.ms);
@@ -355,6 +397,7 @@ void runRender(const RenderArgs& a) {
   // by a layer of that name).
   if (!a.debug_dir.empty()) {
     std::error_code ec;
+    if (!std::filesystem::exists(a.debug_dir, ec)) removeDebugDir.dir = a.debug_dir;
     std::filesystem::create_directories(a.debug_dir, ec);
     if (ec)
       throw ParameterError(fmt::format("--debug-dir '{}': cannot create the folder: {}",
@@ -391,36 +434,56 @@ void runRender(const RenderArgs& a) {
         {"translucent:layers", "exitance: radiant exitance B (RGB)"},
         {"translucent:technique", s.technique},
         {"translucent:source", what}};
-    analysis::writeExr(exrFile, frame.width, frame.height, frame.rgb, layers, attrs);
-    fmt::print("wrote {}: {}\n", exrFile, quantity);
+    out.file("--exr", exrFile, [&](const std::string& p) {
+      analysis::writeExr(p, frame.width, frame.height, frame.rgb, layers, attrs);
+    });
+    wrote.push_back(fmt::format("wrote {}: {}\n", exrFile, quantity));
   }
   if (!a.out.empty()) {
-    analysis::writePng(outFile, frame.width, frame.height, frame.rgb, {s.exposure, s.gamma});
-    fmt::print("wrote {}\n", outFile);
+    out.file("--out", outFile, [&](const std::string& p) {
+      analysis::writePng(p, frame.width, frame.height, frame.rgb, {s.exposure, s.gamma});
+    });
+    wrote.push_back(fmt::format("wrote {}\n", outFile));
   }
   if (!a.debug_dir.empty()) {
     if (frame.layers.empty() && frame.views.empty())
-      fmt::print("--debug-dir: technique {} has no debug layers\n", s.technique);
+      wrote.push_back(fmt::format("--debug-dir: technique {} has no debug layers\n", s.technique));
     // The technique's inspection views: display-ready [0, 1], written as they are.
-    for (const auto& [name, view] : frame.views) {
-      const std::filesystem::path base = std::filesystem::path(a.debug_dir) / ("view-" + name);
-      analysis::writeExr(base.string() + ".exr", view.width, view.height, view.rgb);
-      analysis::writePng(base.string() + ".png", view.width, view.height, view.rgb, {0.0, 1.0});
-      fmt::print("wrote {}.exr/.png: {}\n", base.string(), view.description);
+    // (Named references, not structured bindings: clang 14 cannot capture those in the lambdas.)
+    for (const auto& entry : frame.views) {
+      const std::string& name = entry.first;
+      const auto& view = entry.second;
+      const std::string base = (std::filesystem::path(a.debug_dir) / ("view-" + name)).string();
+      out.file("--debug-dir", base + ".exr", [&](const std::string& p) {
+        analysis::writeExr(p, view.width, view.height, view.rgb);
+      });
+      out.file("--debug-dir", base + ".png", [&](const std::string& p) {
+        analysis::writePng(p, view.width, view.height, view.rgb, {0.0, 1.0});
+      });
+      wrote.push_back(fmt::format("wrote {}.exr/.png: {}\n", base, view.description));
     }
-    for (const auto& [name, data] : frame.layers) {
-      const std::filesystem::path base = std::filesystem::path(a.debug_dir) / name;
-      analysis::writeExr(base.string() + ".exr", frame.width, frame.height, data);
+    for (const auto& entry : frame.layers) {
+      const std::string& name = entry.first;
+      const auto& data = entry.second;
+      const std::string base = (std::filesystem::path(a.debug_dir) / name).string();
+      out.file("--debug-dir", base + ".exr", [&](const std::string& p) {
+        analysis::writeExr(p, frame.width, frame.height, data);
+      });
       // PNG for viewing: linear, scaled so that the layer's largest value is white.
       float peak = 0.0f;
       for (float v : data)
         if (std::isfinite(v)) peak = std::max(peak, v);
       std::vector<float> scaled(data.size());
       for (size_t i = 0; i < data.size(); ++i) scaled[i] = peak > 0.0f ? data[i] / peak : 0.0f;
-      analysis::writePng(base.string() + ".png", frame.width, frame.height, scaled, {0.0, 1.0});
-      fmt::print("wrote {}.exr/.png (PNG scaled by 1/{:.6g})\n", base.string(), peak);
+      out.file("--debug-dir", base + ".png", [&](const std::string& p) {
+        analysis::writePng(p, frame.width, frame.height, scaled, {0.0, 1.0});
+      });
+      wrote.push_back(fmt::format("wrote {}.exr/.png (PNG scaled by 1/{:.6g})\n", base, peak));
     }
   }
+  out.commit();
+  removeDebugDir.dir.clear();
+  for (const std::string& line : wrote) fmt::print("{}", line);
 }
 
 }  // namespace

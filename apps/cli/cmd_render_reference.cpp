@@ -168,7 +168,7 @@ struct Quantity {
 // The chosen quantity in R, G, B, its standard error in the layer "stderr", every quantity the
 // run computed as layers "<name>" and "<name>_stderr" (so one file holds B and both radiances),
 // and any further RGB layers (`extra`, e.g. coverage).
-void writeImage(const RunArgs& a, int width, int height, const Quantity& chosen,
+void writeImage(OutputFiles& out, const RunArgs& a, int width, int height, const Quantity& chosen,
                 const std::vector<Quantity>& all, const std::string& what, bool partial,
                 const std::string& samples,
                 const std::vector<std::pair<std::string, std::vector<float>>>& extra = {}) {
@@ -188,17 +188,22 @@ void writeImage(const RunArgs& a, int width, int height, const Quantity& chosen,
       {"translucent:samples", samples},
       {"translucent:seed", std::to_string(a.seed)},
       {"translucent:partial", partial ? "true" : "false"}};
-  analysis::writeExr(a.exr, width, height, rgb, layers, attrs);
-  if (!a.png.empty()) analysis::writePng(a.png, width, height, rgb, {a.exposure, a.gamma});
+  out.file("--exr", a.exr, [&](const std::string& p) {
+    analysis::writeExr(p, width, height, rgb, layers, attrs);
+  });
+  if (!a.png.empty())
+    out.file("--png", a.png, [&](const std::string& p) {
+      analysis::writePng(p, width, height, rgb, {a.exposure, a.gamma});
+    });
 }
 
-void writeImage(const RunArgs& a, const McImage& img,
+void writeImage(OutputFiles& out, const RunArgs& a, const McImage& img,
                 const std::vector<std::pair<std::string, const McImage*>>& all,
                 const std::string& what, bool partial, const std::string& samples) {
   std::vector<Quantity> quantities;
   for (const auto& [name, image] : all)
     quantities.push_back({name, image->rgb(), image->rgbStdError()});
-  writeImage(a, img.width(), img.height(), {"", img.rgb(), img.rgbStdError()}, quantities, what,
+  writeImage(out, a, img.width(), img.height(), {"", img.rgb(), img.rgbStdError()}, quantities, what,
              partial, samples);
 }
 
@@ -218,13 +223,13 @@ std::vector<std::pair<std::string, const McImage*>> layersOf(const Tracer& trace
   return all;
 }
 
-void writeJson(const RunArgs& a, nlohmann::json j) {
+void writeJson(OutputFiles& out, const RunArgs& a, nlohmann::json j) {
   if (a.json.empty()) return;
   j["quantity"] = describe(a.quantity);
   j["exr"] = a.exr;
   if (!a.png.empty()) j["png"] = a.png;
   j["seed"] = a.seed;
-  writeTextOutput("--json", a.json, j.dump(2) + "\n");
+  out.text("--json", a.json, j.dump(2) + "\n");
 }
 
 
@@ -364,6 +369,7 @@ void runPathtraceSphere(const SphereArgs& s, const RunArgs& a, std::string devic
   const reference::SphereScene scene = s.scene();
   const uint64_t photons = parseCount(a.count, "--photons");
   device = a.shard.device(device);
+  if (!beginWork()) return;
   const MergedRun* merged = mergedRun();
   // Declared before the tracer: the context outlives the walker the tracer holds.
   const reference::TraceDevice dev =
@@ -374,8 +380,9 @@ void runPathtraceSphere(const SphereArgs& s, const RunArgs& a, std::string devic
   if (a.shard.active()) return runShard(a, tracer, photons, "pathtrace sphere", {});
   auto pass = [&](const reference::ProgressCallback& cb) { return tracer.addPass(photons, cb).partial; };
   auto write = [&](bool partial) {
+    OutputFiles out;  // the images and the JSON of this pass, all or nothing
     const auto& st = tracer.stats();
-    writeImage(a, pick(tracer.images(), a.quantity), layersOf(tracer),
+    writeImage(out, a, pick(tracer.images(), a.quantity), layersOf(tracer),
                "translucent pathtrace sphere", partial,
                fmt::format("{} photons per channel", st.photons.empty() ? 0 : st.photons[0]));
     nlohmann::json j = {{"command", "pathtrace sphere"}, {"scene", sceneJson(s, medium)},
@@ -386,7 +393,8 @@ void runPathtraceSphere(const SphereArgs& s, const RunArgs& a, std::string devic
                         {"cone_angle", s.cone_angle}, {"split_orders", tracer.splitsOrders()},
                         {"flux_per_channel", reference::fluxPerChannelJson(st)},
                         {"partial", partial}};
-    writeJson(a, j);
+    writeJson(out, a, j);
+    out.commit();
   };
   if (merged) {
     checkMergedInputs({});
@@ -418,6 +426,8 @@ void runIntegrateSphere(const SphereArgs& s, const RunArgs& a, const std::string
   o.defensive = defensive;
   o.seed = a.seed;
   o.threads = a.threads;
+  if (!isBssrdfFile(model)) (void)bssrdf::model(model);  // an unknown name, before any work
+  if (!beginWork()) return;
   // A radial .bssrdf plug-in is integrated through its GPU values tabulated for this medium
   // (gpu::bssrdfTabulatedModel): the integrator samples and evaluates R(r) on the CPU. A
   // directional one (line 1 without `radial`) is integrated on the GPU with the light's and the
@@ -444,10 +454,11 @@ void runIntegrateSphere(const SphereArgs& s, const RunArgs& a, const std::string
       return integrator.addPass(samples, cb).partial;
     };
     auto write = [&](bool partial) {
+      OutputFiles out;  // the images and the JSON of this pass, all or nothing
       const auto& st = integrator.stats();
       const McImage& img =
           a.quantity == "radiance" ? integrator.images().radiance : integrator.images().exitance;
-      writeImage(a, img,
+      writeImage(out, a, img,
                  {{"exitance", &integrator.images().exitance},
                   {"radiance", &integrator.images().radiance}},
                  fmt::format("translucent integrate sphere --model {} --sampling {}", model, used),
@@ -457,7 +468,8 @@ void runIntegrateSphere(const SphereArgs& s, const RunArgs& a, const std::string
                           {"device", where},
                           {"scene", sceneJson(s, medium)}, {"samples_per_pixel", st.samples},
                           {"seconds", st.seconds}, {"threads", st.threads}, {"partial", partial}};
-      writeJson(a, j);
+      writeJson(out, a, j);
+      out.commit();
     };
     runPasses(a, "integrate sphere", "samples", pass, write);
     const auto& st = integrator.stats();
@@ -495,10 +507,11 @@ void runPathtraceMesh(const std::string& sceneFile, std::optional<double> time, 
   OutputSet inputs;
   inputs.sceneInputs(sceneFile, scene);
   a.validate(inputs);
-  const geometry::TriangleMesh mesh = scene::loadSceneMesh(scene);  // normalised and placed
-  scene::requireOutsideMesh(scene, mesh);
   const uint64_t photons = parseCount(a.count, "--photons");
   device = a.shard.device(device);
+  if (!beginWork()) return;
+  const geometry::TriangleMesh mesh = scene::loadSceneMesh(scene);  // normalised and placed
+  scene::requireOutsideMesh(scene, mesh);
   const MergedRun* merged = mergedRun();
   // Declared before the tracer: the context outlives the walker the tracer holds.
   const reference::TraceDevice dev =
@@ -513,8 +526,9 @@ void runPathtraceMesh(const std::string& sceneFile, std::optional<double> time, 
   if (a.shard.active()) return runShard(a, tracer, photons, "pathtrace mesh", inputs);
   auto pass = [&](const reference::ProgressCallback& cb) { return tracer.addPass(photons, cb).partial; };
   auto write = [&](bool partial) {
+    OutputFiles out;  // the images and the JSON of this pass, all or nothing
     const auto& st = tracer.stats();
-    writeImage(a, pick(tracer.images(), a.quantity), layersOf(tracer),
+    writeImage(out, a, pick(tracer.images(), a.quantity), layersOf(tracer),
                fmt::format("translucent pathtrace mesh --scene {}", sceneFile), partial,
                fmt::format("{} photons per channel", st.photons.empty() ? 0 : st.photons[0]));
     nlohmann::json j = {{"command", "pathtrace mesh"}, {"scene_file", sceneFile},
@@ -541,7 +555,8 @@ void runPathtraceMesh(const std::string& sceneFile, std::optional<double> time, 
     const std::string keyText = analysis::referenceKeyText(scene, req);
     j["reference_key"] = analysis::referenceKey(scene, req);
     j["reference_key_text"] = nlohmann::json::parse(keyText);
-    writeJson(a, j);
+    writeJson(out, a, j);
+    out.commit();
   };
   if (merged) {
     checkMergedInputs(inputs);
@@ -575,15 +590,16 @@ void runIntegrateMesh(const ModelReferenceArgs& m, const RunArgs& a) {
   OutputSet inputs;
   inputs.sceneInputs(m.scene, scene);
   a.validate(inputs);
-  const geometry::TriangleMesh mesh = scene::loadSceneMesh(scene);  // normalised and placed
-  scene::requireOutsideMesh(scene, mesh);
-  const std::vector<reference::Light> lights = scene::referenceLights(scene);
   reference::ModelReferenceOptions o = m.options;
   o.samples = parseCount(a.count, "--samples");
   o.seed = a.seed;
   o.threads = a.threads;
   o.convention = bssrdf::parseExitConvention(m.convention);
   o.jitter = m.jitter;
+  if (!beginWork()) return;
+  const geometry::TriangleMesh mesh = scene::loadSceneMesh(scene);  // normalised and placed
+  scene::requireOutsideMesh(scene, mesh);
+  const std::vector<reference::Light> lights = scene::referenceLights(scene);
   reference::ModelReferenceImages img;
   // The scene's material (homogeneous: exactly the medium's reference; heterogeneous: brute-force
   // Eq. 8, model_reference.h).
@@ -593,12 +609,13 @@ void runIntegrateMesh(const ModelReferenceArgs& m, const RunArgs& a) {
     return img.partial;
   };
   auto write = [&](bool partial) {
+    OutputFiles out;  // the images and the JSON of this pass, all or nothing
     std::vector<float> coverage;
     coverage.reserve(3 * img.coverage.size());
     for (const float c : img.coverage) coverage.insert(coverage.end(), {c, c, c});
     const std::vector<Quantity> all = {{"exitance", img.exitance, img.exitance_se},
                                        {"radiance", img.radiance, img.radiance_se}};
-    writeImage(a, img.width, img.height, a.quantity == "radiance" ? all[1] : all[0], all,
+    writeImage(out, a, img.width, img.height, a.quantity == "radiance" ? all[1] : all[0], all,
                fmt::format("translucent integrate mesh --scene {} (model {}, radiance convention "
                            "{}, {} rays per pixel)", m.scene, scene.model, m.convention,
                            o.subpixels * o.subpixels),
@@ -619,7 +636,8 @@ void runIntegrateMesh(const ModelReferenceArgs& m, const RunArgs& a) {
       j["heterogeneous"] = {{"profile_segments", img.profile_segments},
                             {"profile_radius", img.profile_radius},
                             {"sample_media", img.sample_media}, {"hit_media", img.hit_media}};
-    writeJson(a, j);
+    writeJson(out, a, j);
+    out.commit();
   };
   runPasses(a, "integrate mesh", "pixels", pass, write);
   printStderr("integrate mesh: {}{} ({}), {} surface samples ({} lit), {}x{} pixels, {} "

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <cstdint>
 
 namespace translucent::cli {
 
@@ -17,7 +18,34 @@ void addAtlasCommand(CLI::App& app);             // atlas (surface parameterisat
 void addPointCloudCommand(CLI::App& app);        // pointcloud (surface samples as PLY)
 void addMergeCommand(CLI::App& app);             // merge (the shards of a path-traced run)
 
-// Every subcommand above, on a new app (main(), and `merge` when it runs a recorded command).
+// Every subcommand above, on a new app (main(), `merge` when it runs a recorded command, and the
+// fuzz_cli target).
 void addAllCommands(CLI::App& app);
+
+// Each subcommand's callback does two things in order: its checks, then its work. The checks read
+// and validate every option (numbers and their ranges, lists, names of models, presets and
+// techniques), the files the command reads (a scene file is parsed, a mesh only named), and its
+// outputs against each other and against those inputs (OutputSet::check, which creates nothing);
+// they never write a file, make a GL context or trace. The work is everything after: loading
+// meshes, GL, tracing, rendering, writing the outputs. beginWork() is the seam between the two:
+// every callback calls it where its checks end, and returns when it says false.
+//
+// In check-only mode (CheckOnly, held while a command line is parsed: the fuzz_cli target, issue
+// #15 §7) beginWork() returns false, so a parse runs the real CLI11 parser and every check of the
+// subcommand given, with the same messages, and stops before the work.
+[[nodiscard]] bool beginWork();
+
+class CheckOnly {
+ public:
+  CheckOnly();
+  ~CheckOnly();
+  CheckOnly(const CheckOnly&) = delete;
+  CheckOnly& operator=(const CheckOnly&) = delete;
+  // How many commands reached beginWork() (their checks passed) while one was held.
+  static uint64_t checked();
+
+ private:
+  bool previous_;
+};
 
 }  // namespace translucent::cli

@@ -21,23 +21,6 @@
 #include <sanitizer/lsan_interface.h>
 #endif
 
-namespace translucent::cli {
-void addAllCommands(CLI::App& app) {
-  app.require_subcommand(1);
-  app.set_version_flag("--version", "translucent 0.1.0");
-  addPresetsCommand(app);
-  addInvertCommand(app);
-  addProfileCommand(app);
-  addPathtraceCommand(app);
-  addRenderReferenceCommands(app);  // after pathtrace: adds to it
-  addRenderCommand(app);
-  addCompareCommand(app);
-  addConventionStudyCommand(app);
-  addAtlasCommand(app);
-  addPointCloudCommand(app);
-  addMergeCommand(app);
-}
-}  // namespace translucent::cli
 
 namespace {
 int run(int argc, char** argv) {

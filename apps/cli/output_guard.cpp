@@ -1,13 +1,14 @@
 #include "output_guard.h"
 
 #include <fmt/format.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cstdio>
 #include <system_error>
+#include <unordered_map>
 #include <variant>
 
-#include "geometry/atomic_file.h"
 #include "optics/medium.h"
 #include "scene/scene.h"
 
@@ -16,17 +17,17 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// The same file? weakly_canonical resolves "./x", "a/../x" and symbolic links of existing
-// parents; equivalent also catches hard links and links to the file itself.
-bool sameFile(const fs::path& a, const fs::path& b) {
-  // Absolute first: weakly_canonical leaves a relative path whose first part does not exist
-  // relative ("x.json"), but makes "./x.json" absolute, so the two would differ.
-  std::error_code ec1, ec2;
-  const fs::path ca = fs::weakly_canonical(fs::absolute(a, ec1), ec1);
-  const fs::path cb = fs::weakly_canonical(fs::absolute(b, ec2), ec2);
-  if (!ec1 && !ec2 && ca == cb) return true;
+// A key that two names of one file share: the device and inode of an existing file (so hard
+// links and links to it too), else the absolute path with "./", "a/../" and the links of its
+// existing parents resolved (weakly_canonical; absolute first, since it leaves a relative path
+// whose first part does not exist relative: "x.json" and "./x.json" would differ). One key per
+// path keeps the checks of a run with many outputs (the frames of an animation) linear.
+std::string fileKey(const fs::path& path) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) == 0) return fmt::format("inode {}:{}", st.st_dev, st.st_ino);
   std::error_code ec;
-  return fs::exists(a, ec) && fs::exists(b, ec) && fs::equivalent(a, b, ec) && !ec;
+  const fs::path c = fs::weakly_canonical(fs::absolute(path, ec), ec);
+  return "path " + (ec ? path.lexically_normal().string() : c.string());
 }
 
 }  // namespace
@@ -61,6 +62,8 @@ void OutputSet::sceneInputs(const fs::path& scene_file, const scene::Scene& s) {
 }
 
 void OutputSet::check() const {
+  std::unordered_map<std::string, size_t> inputKeys, outputKeys;  // key -> first index
+  for (size_t k = 0; k < inputs_.size(); ++k) inputKeys.emplace(fileKey(inputs_[k].second), k);
   for (size_t i = 0; i < outputs_.size(); ++i) {
     const auto& [option, path] = outputs_[i];
     std::error_code ec;
@@ -77,61 +80,193 @@ void OutputSet::check() const {
     if (special ? ::access(path.c_str(), W_OK) != 0 : ::access(dir.c_str(), W_OK) != 0)
       throw ParameterError(fmt::format("{} '{}': cannot write: {} is not writable", option, path,
                                        special ? "the file" : fmt::format("folder '{}'", dir.string())));
-    for (const auto& [what, in] : inputs_)
-      if (sameFile(path, in))
-        throw ParameterError(fmt::format("{} '{}': is {} of this run ('{}'): refusing to "
-                                         "overwrite an input; choose another output file",
-                                         option, path, what, in.string()));
-    for (size_t j = 0; j < i; ++j)
-      if (sameFile(path, outputs_[j].second) && !special)
-        throw ParameterError(fmt::format("{} '{}' and {} '{}' are the same file: each output "
-                                         "needs its own file",
-                                         outputs_[j].first, outputs_[j].second, option, path));
+    const std::string key = fileKey(path);
+    if (const auto in = inputKeys.find(key); in != inputKeys.end()) {
+      const auto& [what, file] = inputs_[in->second];
+      throw ParameterError(fmt::format("{} '{}': is {} of this run ('{}'): refusing to "
+                                       "overwrite an input; choose another output file",
+                                       option, path, what, file.string()));
+    }
+    const auto [first, added] = outputKeys.emplace(key, i);
+    if (!added && !special)
+      throw ParameterError(fmt::format("{} '{}' and {} '{}' are the same file: each output "
+                                       "needs its own file",
+                                       outputs_[first->second].first, outputs_[first->second].second,
+                                       option, path));
   }
+}
+
+namespace {
+
+// A device or FIFO: an existing target that is neither a regular file nor a folder (links
+// followed, so a link to /dev/full is one).
+bool isDevice(const std::string& path) {
+  std::error_code ec;
+  return fs::exists(path, ec) && !fs::is_regular_file(path, ec) && !fs::is_directory(path, ec);
+}
+
+// Writes `bytes` to `file` (created or truncated); false when any write, the flush or the close
+// failed.
+bool writeBytes(const std::string& file, std::string_view bytes) {
+  std::FILE* f = std::fopen(file.c_str(), "wb");
+  if (!f) return false;
+  const bool wrote = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
+  const bool flushed = std::fflush(f) == 0;
+  const bool closed = std::fclose(f) == 0;
+  return wrote && flushed && closed;
+}
+
+bool readBytes(const std::string& file, std::string& bytes) {
+  std::FILE* f = std::fopen(file.c_str(), "rb");
+  if (!f) return false;
+  char buffer[1 << 16];
+  size_t n = 0;
+  while ((n = std::fread(buffer, 1, sizeof buffer, f)) > 0) bytes.append(buffer, n);
+  const bool ok = std::ferror(f) == 0;
+  std::fclose(f);
+  return ok;
+}
+
+std::string replaceAll(std::string text, const std::string& from, const std::string& to) {
+  if (from.empty()) return text;
+  for (size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size()))
+    text.replace(at, from.size(), to);
+  return text;
+}
+
+int nextNumber() {
+  static int counter = 0;
+  return counter++;
+}
+
+}  // namespace
+
+OutputFiles::~OutputFiles() { discard(); }
+
+void OutputFiles::discard() noexcept {
+  for (const Staged& s : staged_) {
+    std::error_code ec;
+    fs::remove(s.tmp, ec);
+    if (!s.backup.empty()) fs::remove(s.backup, ec);
+  }
+  staged_.clear();
+}
+
+OutputFiles::Staged OutputFiles::stage(const std::string& option, const std::string& path) {
+  Staged s{option, path, "", isDevice(path), ""};
+  const fs::path p(path);
+  const std::string name = fmt::format("{}.tmp-{}-{}{}", p.filename().string(), ::getpid(),
+                                       nextNumber(), p.extension().string());
+  std::error_code ec;
+  s.tmp = s.device ? (fs::temp_directory_path(ec) / ("translucent-" + name)).string()
+                   : (p.parent_path() / ("." + name)).string();
+  return s;
+}
+
+void OutputFiles::text(const std::string& option, const std::string& path, std::string_view text) {
+  Staged s = stage(option, path);
+  if (!writeBytes(s.tmp, text)) {
+    std::error_code ec;
+    fs::remove(s.tmp, ec);
+    throw ParameterError(fmt::format("{} '{}': write failed (disk full, or the folder is missing "
+                                     "or not writable)", option, path));
+  }
+  staged_.push_back(std::move(s));
+}
+
+void OutputFiles::file(const std::string& option, const std::string& path,
+                       const std::function<void(const std::string&)>& write) {
+  Staged s = stage(option, path);
+  try {
+    write(s.tmp);
+  } catch (const std::exception& e) {
+    std::error_code ec;
+    fs::remove(s.tmp, ec);
+    throw ParameterError(replaceAll(e.what(), s.tmp, path));
+  } catch (...) {
+    std::error_code ec;
+    fs::remove(s.tmp, ec);
+    throw;
+  }
+  staged_.push_back(std::move(s));
+}
+
+void OutputFiles::commit() {
+  // 1. Keep every existing regular target, so that a failure below can put it back.
+  for (Staged& s : staged_) {
+    std::error_code ec;
+    const fs::file_status st = fs::symlink_status(s.path, ec);
+    if (s.device || !(fs::is_regular_file(st) || fs::is_symlink(st))) continue;
+    const fs::path p(s.path);
+    const std::string backup =
+        (p.parent_path() /
+         fmt::format(".{}.bak-{}-{}", p.filename().string(), ::getpid(), nextNumber()))
+            .string();
+    fs::create_hard_link(s.path, backup, ec);
+    if (ec) {
+      ec.clear();
+      fs::copy(s.path, backup, fs::copy_options::copy_symlinks, ec);
+    }
+    if (ec) {
+      const std::string why = ec.message();
+      discard();
+      throw ParameterError(fmt::format("{} '{}': cannot keep the previous file while the outputs "
+                                       "are replaced: {}", s.option, s.path, why));
+    }
+    s.backup = backup;
+  }
+  // 2. Devices: their bytes, in place (nothing renamed yet, so a full device leaves every file
+  // as it was).
+  for (const Staged& s : staged_) {
+    if (!s.device) continue;
+    std::string bytes;
+    if (!readBytes(s.tmp, bytes) || !writeBytes(s.path, bytes)) {
+      discard();
+      throw ParameterError(fmt::format("{} '{}': write failed (device full?)", s.option, s.path));
+    }
+  }
+  // 3. The renames; a failed one undoes those before it.
+  for (size_t i = 0; i < staged_.size(); ++i) {
+    if (staged_[i].device) continue;
+    std::error_code ec;
+    fs::rename(staged_[i].tmp, staged_[i].path, ec);
+    if (!ec) continue;
+    const std::string why = ec.message();
+    for (size_t j = 0; j < i; ++j) {
+      Staged& done = staged_[j];
+      if (done.device) continue;
+      std::error_code ignored;
+      if (done.backup.empty()) {
+        fs::remove(done.path, ignored);
+      } else {
+        fs::rename(done.backup, done.path, ignored);
+        if (!ignored) done.backup.clear();
+      }
+    }
+    const Staged failed = staged_[i];
+    discard();
+    throw ParameterError(fmt::format("{} '{}': write failed: {}", failed.option, failed.path, why));
+  }
+  // 4. Done: the kept targets and the devices' temporaries go.
+  for (const Staged& s : staged_) {
+    std::error_code ec;
+    if (s.device) fs::remove(s.tmp, ec);
+    if (!s.backup.empty()) fs::remove(s.backup, ec);
+  }
+  staged_.clear();
 }
 
 void writeTextOutput(const std::string& option, const std::string& path, std::string_view text) {
-  std::error_code ec;
-  if (fs::exists(path, ec) && !fs::is_regular_file(path, ec) && !fs::is_directory(path, ec)) {
-    // A device or FIFO: written in place (renaming would replace the device node); every byte
-    // and the close are checked, so /dev/full is an error.
-    std::FILE* f = std::fopen(path.c_str(), "wb");
-    if (!f) throw ParameterError(fmt::format("{} '{}': cannot open for writing", option, path));
-    const bool wrote = std::fwrite(text.data(), 1, text.size(), f) == text.size();
-    const bool flushed = std::fflush(f) == 0;
-    const bool closed = std::fclose(f) == 0;
-    if (!(wrote && flushed && closed))
-      throw ParameterError(fmt::format("{} '{}': write failed (device full?)", option, path));
-    return;
-  }
-  const std::string why = geometry::writeFileAtomically(path, text);
-  if (!why.empty()) throw ParameterError(fmt::format("{} '{}': write failed: {}", option, path, why));
+  OutputFiles out;
+  out.text(option, path, text);
+  out.commit();
 }
 
-void writeOutput(const std::string& path, const std::function<void(const std::string&)>& write) {
-  std::error_code ec;
-  if (fs::exists(path, ec) && !fs::is_regular_file(path, ec) && !fs::is_directory(path, ec)) {
-    write(path);
-    return;
-  }
-  static int counter = 0;
-  const fs::path p(path);
-  const std::string tmp = (p.parent_path() / fmt::format(".{}.tmp-{}-{}{}", p.stem().string(),
-                                                          ::getpid(), counter++,
-                                                          p.extension().string()))
-                              .string();
-  try {
-    write(tmp);
-  } catch (...) {
-    fs::remove(tmp, ec);
-    throw;
-  }
-  fs::rename(tmp, path, ec);
-  if (ec) {
-    const std::string message = ec.message();
-    fs::remove(tmp, ec);
-    throw ParameterError(fmt::format("cannot write '{}': {}", path, message));
-  }
+void writeOutput(const std::string& option, const std::string& path,
+                 const std::function<void(const std::string&)>& write) {
+  OutputFiles out;
+  out.file(option, path, write);
+  out.commit();
 }
 
 }  // namespace translucent::cli

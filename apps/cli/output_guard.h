@@ -2,12 +2,13 @@
 // any work is done (issue #15, "Outputs"): a typo or a copied command line must never destroy a
 // scene, a mesh or an environment map, nor let one output silently replace another.
 //
-// Writing itself goes through a temporary file beside the target that is renamed over it only
-// when every write and the close succeeded (analysis::writeExr/writePng do that for images,
-// writeTextOutput below for text): a failing or interrupted run leaves no file behind and never
-// truncates an existing one. A target that exists and is not a regular file (/dev/stdout,
-// /dev/full, a FIFO) is written directly, since renaming over a device would replace it; those
-// writes are checked too, so /dev/full fails loudly.
+// Writing goes through OutputFiles: every output of a run is written to a temporary file first,
+// and all of them are put in place together, only once every one of them was written (all or
+// nothing): a failing or interrupted run leaves no file behind, never truncates an existing one
+// and never leaves the first of its outputs replaced when a later one fails. A target that exists
+// and is not a regular file (/dev/stdout, /dev/full, a FIFO) is written in place when the run
+// commits, since renaming over a device would replace it; those writes are checked too, so
+// /dev/full fails loudly (and before any other output of the run is renamed into place).
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -52,14 +53,50 @@ class OutputSet {
   std::vector<std::pair<std::string, std::filesystem::path>> inputs_;
 };
 
-// Writes `text` to the output `path` of `option` through a temporary file (see above); throws
-// ParameterError naming the option and the path when a write, the close or the rename fails.
-void writeTextOutput(const std::string& option, const std::string& path, std::string_view text);
+// The outputs of one run, written all or nothing (issue #15 §2). text() and file() write an
+// output now, to a temporary file: beside its target and hidden (`.NAME.tmp-PID-N.EXT`, the
+// target's extension kept, since some writers choose the format by it), or for a device in the
+// system's temporary folder. commit() then puts every one in place: first it keeps each existing
+// target as a hard link (or a copy) beside it, then it writes the devices' bytes into them, then
+// it renames the temporaries over their targets; when any of that fails it renames the kept
+// targets back, removes the new ones and every temporary, and throws ParameterError naming the
+// option and the path. A set destroyed without commit() (a later output or the work after the
+// first write failed) removes its temporaries: no target is created, replaced or truncated.
+// Messages saying "wrote ..." belong after commit().
+class OutputFiles {
+ public:
+  OutputFiles() = default;
+  OutputFiles(const OutputFiles&) = delete;
+  OutputFiles& operator=(const OutputFiles&) = delete;
+  ~OutputFiles();
 
-// Runs a library writer that takes a path (`write(path)`: a plot, a CSV, a Markdown report; it
-// must throw when a write fails) on a temporary file beside `path` with the same extension (some
-// writers choose the format by it), and renames that over `path` when it returned. A writer that
-// throws leaves no temporary file and the target untouched. Devices are written in place.
-void writeOutput(const std::string& path, const std::function<void(const std::string&)>& write);
+  // `text` as the output `path` of `option` ("--json"); every write and the close are checked.
+  void text(const std::string& option, const std::string& path, std::string_view text);
+  // A library writer that takes a path (`write(tmp)`: an image, a plot, a CSV, a Markdown report;
+  // it must throw when a write fails) run on the temporary file of the output `path`. Its error
+  // message names `path`, not the temporary file.
+  void file(const std::string& option, const std::string& path,
+            const std::function<void(const std::string&)>& write);
+  // Puts every output written so far in place (see above); the set is empty afterwards and may
+  // be used again (a progressive run commits its outputs after every pass).
+  void commit();
+  // Outputs written and not yet committed.
+  size_t size() const { return staged_.size(); }
+
+ private:
+  struct Staged {
+    std::string option, path, tmp;
+    bool device = false;  // written in place at commit()
+    std::string backup;   // the previous target, kept during commit() ("" : none)
+  };
+  Staged stage(const std::string& option, const std::string& path);
+  void discard() noexcept;
+  std::vector<Staged> staged_;
+};
+
+// One output alone, committed at once: OutputFiles with a single text() or file().
+void writeTextOutput(const std::string& option, const std::string& path, std::string_view text);
+void writeOutput(const std::string& option, const std::string& path,
+                 const std::function<void(const std::string&)>& write);
 
 }  // namespace translucent::cli

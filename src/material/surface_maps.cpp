@@ -111,7 +111,7 @@ MapDesc parseMap(const ParseContext& c, const json& mat, const std::string& key)
       LocalMedium& m = data->texels[t];
       m.g = d.g;
       for (size_t ch = 0; ch < 3; ++ch) {
-        const double sa = a.rgb[3 * t + ch], sp = s.rgb[3 * t + ch];
+        const double sa = static_cast<double>(a.rgb[3 * t + ch]), sp = static_cast<double>(s.rgb[3 * t + ch]);
         if (!std::isfinite(sa) || sa < 0.0)
           r.fail(key + ".sigma_a", fmt::format("'{}' {} is {}: expected a finite value >= 0",
                                                d.sigma_a.string(), texelWhere("", x, y, ch).substr(2), sa));
@@ -179,11 +179,11 @@ TexelMedia invertRdMap(const AlbedoInverter& inv, int width, int height,
       LocalMedium& m = out.texels[t];
       m.g = g;
       for (size_t c = 0; c < 3; ++c) {
-        const double l = ld[3 * t + c];
+        const double l = static_cast<double>(ld[3 * t + c]);
         if (!std::isfinite(l) || !(l > 0.0))
           throw ParameterError(fmt::format("{} is {}: expected ℓd > 0 [medium units]",
                                            texelWhere(ld_what, x, y, c), l));
-        const double a = inv.alphaPrime(rd[3 * t + c], texelWhere(rd_what, x, y, c));
+        const double a = inv.alphaPrime(static_cast<double>(rd[3 * t + c]), texelWhere(rd_what, x, y, c));
         const ReducedCoefficients k = coefficientsFromAlbedo(a, l);
         m.sigma_a[c] = k.sigma_a;
         m.sigma_s[c] = k.sigma_s_prime / (1.0 - g);

@@ -19,10 +19,11 @@ Rgb DenseGrid::voxel(int x, int y, int z) const {
   const size_t n = (static_cast<size_t>(k) * static_cast<size_t>(dims.y) + static_cast<size_t>(j)) *
                        static_cast<size_t>(dims.x) + static_cast<size_t>(i);
   if (channels == 1) {
-    const double v = values[n];
+    const double v = static_cast<double>(values[n]);
     return {v, v, v};
   }
-  return {values[3 * n], values[3 * n + 1], values[3 * n + 2]};
+  return {static_cast<double>(values[3 * n]), static_cast<double>(values[3 * n + 1]),
+          static_cast<double>(values[3 * n + 2])};
 }
 
 Rgb DenseGrid::trilinear(const glm::dvec3& q) const {
@@ -74,8 +75,11 @@ void DenseGrid::range(const glm::dvec3& lo, const glm::dvec3& hi, Rgb& mx, Rgb& 
     take(background);
   if (nan) {  // everything
     for (size_t n = 0; n < values.size() / static_cast<size_t>(channels); ++n)
-      take(channels == 1 ? Rgb{values[n], values[n], values[n]}
-                         : Rgb{values[3 * n], values[3 * n + 1], values[3 * n + 2]});
+      take(channels == 1 ? Rgb{static_cast<double>(values[n]), static_cast<double>(values[n]),
+                               static_cast<double>(values[n])}
+                         : Rgb{static_cast<double>(values[3 * n]),
+                               static_cast<double>(values[3 * n + 1]),
+                               static_cast<double>(values[3 * n + 2])});
     return;
   }
   const glm::dvec3 s = glm::max(first, a), e = glm::min(last, b);
@@ -186,12 +190,13 @@ DenseGrid readVdbGrid(const std::filesystem::path& file, const std::string& name
                                      ext.x(), ext.y(), ext.z()));
   d.values.resize(static_cast<size_t>(count));
   if (fg) {
-    const float bg = fg->background();
+    const double bg = static_cast<double>(fg->background());
     d.background = {bg, bg, bg};
     copyValues(*fg, d, non_negative, where);
   } else {
     const openvdb::Vec3s bg = vg->background();
-    d.background = {bg.x(), bg.y(), bg.z()};
+    d.background = {static_cast<double>(bg.x()), static_cast<double>(bg.y()),
+                    static_cast<double>(bg.z())};
     copyValues(*vg, d, non_negative, where);
   }
   for (size_t c = 0; c < 3; ++c)

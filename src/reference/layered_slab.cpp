@@ -105,7 +105,8 @@ bool traceBlock(const Walk& W, const Layers& L, uint64_t seed, uint64_t block, u
   for (uint64_t p = 0; p < count; ++p) {
     if (stop.load(std::memory_order_relaxed)) return false;
     double x = 0.0, y = 0.0, z = 0.0;
-    double d[3] = {W.entry.x, W.entry.y, W.entry.z};
+    double d[3] = {static_cast<double>(W.entry.x), static_cast<double>(W.entry.y),
+                   static_cast<double>(W.entry.z)};
     double w = W.entryWeight, absorbed = 0.0;
     size_t layer = 0;
     uint64_t scatters = 0;

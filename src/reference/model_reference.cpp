@@ -651,8 +651,10 @@ void accumulateHetero(const SampleGrid& grid, uint32_t begin, uint32_t end, int 
                       const Hetero& het, double rho, PixelSums& sums) {
   const double rho2 = rho * rho, cut2 = het.rCut * het.rCut, scale = het.n / het.rs;
   for (uint32_t k = begin; k < end; ++k) {
-    const double px = grid.x[k], py = grid.y[k], pz = grid.z[k];
-    const double e[3] = {grid.e0[k], grid.e1[k], grid.e2[k]};
+    const double px = static_cast<double>(grid.x[k]), py = static_cast<double>(grid.y[k]),
+                 pz = static_cast<double>(grid.z[k]);
+    const double e[3] = {static_cast<double>(grid.e0[k]), static_cast<double>(grid.e1[k]),
+                        static_cast<double>(grid.e2[k])};
     const double* nk = het.nodesOf(grid.tag[k]);
     const double* sk = het.slopesOf(grid.tag[k]);
     double vb[3] = {0.0, 0.0, 0.0}, vl[3] = {0.0, 0.0, 0.0};

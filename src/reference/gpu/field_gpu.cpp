@@ -70,8 +70,8 @@ class Packer {
   }
   // The float nearest below (above) v: a box rounded outwards holds the float positions of the
   // triangles it bounds, so that the float traversal prunes nothing the double one keeps.
-  void down(double v) { f(roundDown(v)); }
-  void up(double v) { f(-roundDown(-v)); }
+  void down(double v) { f(static_cast<double>(roundDown(v))); }
+  void up(double v) { f(-static_cast<double>(roundDown(-v))); }
   void set(size_t at, uint32_t v) { w_.at(at) = v; }
   size_t size() const { return w_.size(); }
   std::vector<uint32_t> take() { return std::move(w_); }

@@ -91,8 +91,8 @@ IntegrationStats GpuSphereIntegrator::addPass(uint64_t samples, const ProgressCa
       const float* s = &host[16 * px];
       for (int c = 0; c < 3; ++c) {
         const size_t idx = images_.exitance.index(i, j, c);
-        images_.exitance.addSums(idx, s[c], s[4 + c]);
-        images_.radiance.addSums(idx, s[8 + c], s[12 + c]);
+        images_.exitance.addSums(idx, static_cast<double>(s[c]), static_cast<double>(s[4 + c]));
+        images_.radiance.addSums(idx, static_cast<double>(s[8 + c]), static_cast<double>(s[12 + c]));
       }
       images_.exitance.addPixelCount(px, n);
       images_.radiance.addPixelCount(px, n);

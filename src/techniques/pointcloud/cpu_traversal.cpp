@@ -207,7 +207,10 @@ double lnOnSegment(double a, double b, const Segment& s) {
 
 glm::dvec3 lnOnSegment(const glm::vec4* nodes, const Segment& s) {
   const glm::vec4 a = nodes[s.k], b = nodes[s.k + 1];
-  return {lnOnSegment(a.x, b.x, s), lnOnSegment(a.y, b.y, s), lnOnSegment(a.z, b.z, s)};
+  const auto ln = [&](float x, float y) {
+    return lnOnSegment(static_cast<double>(x), static_cast<double>(y), s);
+  };
+  return {ln(a.x, b.x), ln(a.y, b.y), ln(a.z, b.z)};
 }
 
 void checkProfiles(const HeteroProfiles& p, const geometry::Octree& octree, bool needNodes) {
@@ -281,12 +284,12 @@ void refitNodeProfiles(const geometry::Octree& octree, HeteroProfiles& profiles)
     };
     if (desc::isLeaf(d)) {
       for (uint32_t p = desc::index(d), e = p + desc::pointCount(d); p < e; ++p) {
-        const double a = points[p].positionArea.w;
+        const double a = static_cast<double>(points[p].positionArea.w);
         add(&profiles.points[p * m], glm::dvec3(irradiance[p]) * a, a);
       }
     } else {
       for (uint32_t c = desc::index(d), e = c + desc::childCount(d); c < e; ++c)
-        add(&profiles.nodes[c * m], glm::dvec3(nodes[c].powerArea), nodes[c].powerArea.w);
+        add(&profiles.nodes[c * m], glm::dvec3(nodes[c].powerArea), static_cast<double>(nodes[c].powerArea.w));
     }
     for (size_t k = 0; k < m; ++k)
       for (int c = 0; c < 3; ++c) {

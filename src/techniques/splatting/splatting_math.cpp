@@ -203,7 +203,8 @@ std::vector<float> bilateralUpsample(std::span<const float> coarse, std::span<co
         const int cy = std::clamp(y0 + (j >> 1), 0, ch - 1);
         const double wp = ((j & 1) ? fx : 1.0 - fx) * ((j >> 1) ? fy : 1.0 - fy);
         const size_t c = size_t(cy) * size_t(cw) + size_t(cx);
-        const double w = bilateralWeight(wp, fineZ[o], coarseZ[c], rw, fineRp[o], coarseRp[c]);
+        const double w = bilateralWeight(wp, double(fineZ[o]), double(coarseZ[c]), rw, double(fineRp[o]),
+                                         double(coarseRp[c]));
         sum += w * double(coarse[c]);
         wsum += w;
       }
