@@ -9,6 +9,7 @@
 #include <unordered_map>
 #include <variant>
 
+#include "analysis/image_io.h"
 #include "optics/medium.h"
 #include "scene/scene.h"
 
@@ -105,16 +106,6 @@ bool isDevice(const std::string& path) {
   return fs::exists(path, ec) && !fs::is_regular_file(path, ec) && !fs::is_directory(path, ec);
 }
 
-// Writes `bytes` to `file` (created or truncated); false when any write, the flush or the close
-// failed.
-bool writeBytes(const std::string& file, std::string_view bytes) {
-  std::FILE* f = std::fopen(file.c_str(), "wb");
-  if (!f) return false;
-  const bool wrote = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
-  const bool flushed = std::fflush(f) == 0;
-  const bool closed = std::fclose(f) == 0;
-  return wrote && flushed && closed;
-}
 
 bool readBytes(const std::string& file, std::string& bytes) {
   std::FILE* f = std::fopen(file.c_str(), "rb");
@@ -165,7 +156,7 @@ OutputFiles::Staged OutputFiles::stage(const std::string& option, const std::str
 
 void OutputFiles::text(const std::string& option, const std::string& path, std::string_view text) {
   Staged s = stage(option, path);
-  if (!writeBytes(s.tmp, text)) {
+  if (!analysis::writeBytes(s.tmp, text)) {
     std::error_code ec;
     fs::remove(s.tmp, ec);
     throw ParameterError(fmt::format("{} '{}': write failed (disk full, or the folder is missing "
@@ -220,7 +211,7 @@ void OutputFiles::commit() {
   for (const Staged& s : staged_) {
     if (!s.device) continue;
     std::string bytes;
-    if (!readBytes(s.tmp, bytes) || !writeBytes(s.path, bytes)) {
+    if (!readBytes(s.tmp, bytes) || !analysis::writeBytes(s.path, bytes)) {
       discard();
       throw ParameterError(fmt::format("{} '{}': write failed (device full?)", s.option, s.path));
     }

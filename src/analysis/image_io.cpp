@@ -27,6 +27,10 @@ void checkSize(const std::string& path, int width, int height, size_t values) {
                                  path, values, width, height, expected));
 }
 
+std::string_view asText(const std::vector<unsigned char>& bytes) {
+  return {reinterpret_cast<const char*>(bytes.data()), bytes.size()};
+}
+
 // A temporary name beside `path`, unique per process and call; hidden, so that a listing of the
 // folder during the write does not show a half-written image.
 std::string temporaryName(const std::string& path) {
@@ -37,15 +41,6 @@ std::string temporaryName(const std::string& path) {
       .string();
 }
 
-// Writes `bytes` to `file` and closes it; false when any write, the flush or the close failed.
-bool writeBytes(const std::string& file, const std::vector<unsigned char>& bytes) {
-  std::FILE* f = std::fopen(file.c_str(), "wb");
-  if (!f) return false;
-  const bool wrote = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
-  const bool flushed = std::fflush(f) == 0;
-  const bool closed = std::fclose(f) == 0;
-  return wrote && flushed && closed;
-}
 
 // The image is encoded in memory (OpenImageIO's PNG writer does not report failed writes, e.g.
 // on a full disk) and the bytes are written with every call checked, to a temporary file that
@@ -76,12 +71,12 @@ void write(const std::string& path, const OIIO::ImageSpec& spec, OIIO::TypeDesc 
   if (bytes.empty()) throw ImageError(fmt::format("cannot write '{}': the encoder produced nothing", path));
 
   if (fs::exists(path, ec) && !fs::is_regular_file(path, ec)) {
-    if (!writeBytes(path, bytes))
+    if (!writeBytes(path, asText(bytes)))
       throw ImageError(fmt::format("cannot write '{}': write failed (device full?)", path));
     return;
   }
   const std::string tmp = temporaryName(path);
-  if (!writeBytes(tmp, bytes)) {
+  if (!writeBytes(tmp, asText(bytes))) {
     fs::remove(tmp, ec);
     throw ImageError(fmt::format("cannot write '{}': write failed (disk full, or the folder is "
                                  "missing or not writable)", path));
@@ -95,6 +90,15 @@ void write(const std::string& path, const OIIO::ImageSpec& spec, OIIO::TypeDesc 
 }
 
 }  // namespace
+
+bool writeBytes(const std::string& file, std::string_view bytes) {
+  std::FILE* f = std::fopen(file.c_str(), "wb");
+  if (!f) return false;
+  const bool wrote = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
+  const bool flushed = std::fflush(f) == 0;
+  const bool closed = std::fclose(f) == 0;
+  return wrote && flushed && closed;
+}
 
 void writeExr(const std::string& path, int width, int height, std::span<const float> rgb,
               std::span<const ExrLayer> layers,

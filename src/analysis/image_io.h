@@ -14,6 +14,7 @@
 #include <span>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace translucent::analysis {
@@ -73,5 +74,9 @@ void writePng(const std::string& path, int width, int height, std::span<const fl
 // Writes an 8-bit RGB PNG of pixels that are already 8-bit (interleaved, width*height*3), e.g. a
 // false-colour map (colormap.h).
 void writePng8(const std::string& path, int width, int height, std::span<const uint8_t> rgb8);
+
+// Writes `bytes` to `file` (created or truncated) and closes it; false when any write, the flush
+// or the close failed (a device such as /dev/full too). Shared with the CLI's outputs.
+bool writeBytes(const std::string& file, std::string_view bytes);
 
 }  // namespace translucent::analysis

@@ -17,6 +17,7 @@
 #include "reference/slab.h"
 #include "reference/sphere.h"
 #include "image_zmap.h"
+#include "published_setups.h"
 #include "scattering_orders_checks.h"
 #include "single_scattering.h"
 
@@ -167,23 +168,11 @@ void expectOrdersAddUp(const SlabResult& r) {
 }
 
 TEST(ScatteringOrders, EveryTallyOfAFiniteSlabAddsUpAndItsUnscatteredPartIsExact) {
-  // Oblique beam into a finite, forward-scattering slab between air: light bounces between the
-  // faces without scattering, so every order reaches both sides. Its unscattered reflectance,
-  // the geometric series of round trips at the refracted angle θt (each face reflecting F):
-  //   R0 = (1 - Rsp) F e^{-2τ} (1 - F) / (1 - F² e^{-2τ}),  τ = σt d / cos θt.
-  SlabSetup s;
-  s.sigma_a = 0.6;
-  s.sigma_s = 0.4;
-  s.g = 0.9;
-  s.thickness = 0.5;
-  s.n_inside = 1.5;
-  s.theta = 60.0 * kPi / 180.0;
-  s.phi = 0.7;
-  const double cosT = refractedCosine(std::cos(s.theta), 1.5);
-  const double rsp = fresnelReflectance(std::cos(s.theta), 1.5);
-  const double F = fresnelReflectance(cosT, 1.0 / 1.5);
-  const double e2 = std::exp(-2.0 * s.thickness / cosT);
-  const double r0 = (1.0 - rsp) * F * e2 * (1.0 - F) / (1.0 - F * F * e2);
+  // test_support::interreflectingSlab: light bounces between the faces without scattering, so
+  // every order reaches both sides; its unscattered reflectance has a closed form there.
+  const test_support::InterreflectingSlab c = test_support::interreflectingSlab();
+  const SlabSetup& s = c.setup;
+  const double r0 = c.unscattered_reflectance;
   for (const auto& [kernel, absorption] : {std::pair{Kernel::Lanes, Absorption::Analog},
                                            std::pair{Kernel::Lanes, Absorption::Weighted},
                                            std::pair{Kernel::Scalar, Absorption::Analog}}) {

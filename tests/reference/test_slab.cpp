@@ -164,26 +164,12 @@ TEST(Slab, MatchesExactHalfSpaceAlbedoWithFresnelBoundary) {
 }
 
 TEST(Slab, UnscatteredTransmissionThroughInterreflectingSlab) {
-  // Oblique beam (θ = 60° in air) into a finite slab n = 1.5 between air: the unscattered part
-  // crosses at the refracted angle θt and bounces between the faces without scattering:
-  //   Tu = (1 - Rsp)(1 - Fb) e^{-τ} / (1 - Fb Ft e^{-2τ}),  τ = μt d / cos θt,
-  // with Fb = Ft the internal Fresnel reflectance at θt. This checks entry refraction, specular
-  // reflection and the internal-reflection roulette.
-  SlabSetup s;
-  s.sigma_a = 0.6;
-  s.sigma_s = 0.4;
-  s.g = 0.9;
-  s.thickness = 0.5;
-  s.n_inside = 1.5;
-  s.theta = 60.0 * kPi / 180.0;
-  s.phi = 0.7;
-  const double cosI = std::cos(s.theta);
-  const double cosT = refractedCosine(cosI, 1.5);
-  const double rsp = fresnelReflectance(cosI, 1.5);
-  const double fInside = fresnelReflectance(cosT, 1.0 / 1.5);
-  const double tau = s.thickness / cosT;
-  const double tu = (1.0 - rsp) * (1.0 - fInside) * std::exp(-tau) /
-                    (1.0 - fInside * fInside * std::exp(-2.0 * tau));
+  // test_support::interreflectingSlab: the unscattered part crosses at the refracted angle θt
+  // and bounces between the faces without scattering (its closed form there). This checks entry
+  // refraction, specular reflection and the internal-reflection roulette.
+  const test_support::InterreflectingSlab c = test_support::interreflectingSlab();
+  const SlabSetup& s = c.setup;
+  const double rsp = c.rsp, tu = c.unscattered_transmittance;
   // Both absorption schemes, and the scalar walker (which calls optics/fresnel.h itself, where
   // the lane walker uses its float version).
   for (const auto& [kernel, absorption] : {std::pair{Kernel::Lanes, Absorption::Analog},
