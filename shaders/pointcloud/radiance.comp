@@ -80,6 +80,12 @@ uniform vec3 SpecularDirection[4];  // unit, towards the light
 uniform vec3 SpecularValue[4];      // irradiance · colour [W/unit²] (not shadowed)
 uniform float Roughness;            // GGX α
 
+// Traversals the driver cut (llvmpipe ends every loop of an invocation after 65535 iterations:
+// gpu/compute.h, LoopLimit): one up when a traversal starts, one down where it ends by its own
+// rule; more than 0 after the pass means a pixel's B is missing clusters (pointcloud_technique.cpp
+// makes that an error).
+layout(std430, binding = 16) buffer PcCut { uint pcCut; };
+
 bool subdivide(uint node, vec3 x) {
   uint d = pcDescriptor[node];
   if (pcChildCount(d) == 0u) return false;
@@ -146,6 +152,7 @@ vec3 radiantExitance(vec3 x, vec3 n) {
   const int kActive = 0x7FFFFFFF;
   int inertAbove = kActive;
   uint node = 0u, childnum = 0u;
+  atomicAdd(pcCut, 1u);
   for (;;) {
     bool live = sp <= inertAbove;
     if (live) inertAbove = kActive;
@@ -168,7 +175,10 @@ vec3 radiantExitance(vec3 x, vec3 n) {
         --childnum;
         break;
       }
-      if (sp == 0) return b;
+      if (sp == 0) {
+        atomicAdd(pcCut, 0xFFFFFFFFu);  // ended: one down
+        return b;
+      }
       uint entry = stack[--sp];
       node = entry >> 8;
       childnum = entry & 0xFFu;

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <string>
 #include <limits>
 
 namespace translucent::gpu {
@@ -81,6 +82,35 @@ void dispatch1D(const ShaderProgram& program, std::size_t invocations, GLbitfiel
     throw GlError(fmt::format("dispatch1D of '{}': {} invocations are too many", program.name(),
                               invocations));
   dispatch(program, {static_cast<GLuint>(x), static_cast<GLuint>(y), 1}, barriers);
+}
+
+LoopLimit loopLimit() {
+  LoopLimit l;
+  const auto* name = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+  if (name == nullptr) return l;  // no current context
+  const std::string renderer = name;
+  if (renderer.find("llvmpipe") == std::string::npos) return l;
+  l.limited = true;
+  l.iterations = 65535;
+  // "llvmpipe (LLVM 15.0.6, 256 bits)": 8 lanes of 32 bits; 16 with AVX-512. Assume the widest
+  // when the string says nothing.
+  l.lanes = 16;
+  const auto bits = renderer.find(" bits)");
+  if (bits != std::string::npos) {
+    const auto start = renderer.find_last_of(", ", bits - 1);
+    const std::string digits = renderer.substr(start + 1, bits - start - 1);
+    if (!digits.empty() && std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; }))
+      l.lanes = std::max<uint32_t>(1, static_cast<uint32_t>(std::stoul(digits)) / 32);
+  }
+  return l;
+}
+
+uint32_t LoopLimit::budget() const {
+  return limited ? std::max<uint32_t>(64, iterations / (2 * lanes)) : (1u << 16);
+}
+
+bool LoopLimit::clear(uint32_t max_work) const {
+  return !limited || static_cast<uint64_t>(max_work) * lanes < iterations;
 }
 
 }  // namespace translucent::gpu

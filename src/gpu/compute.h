@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <span>
 #include <vector>
 
@@ -57,5 +58,24 @@ void dispatch(const ShaderProgram& program, std::array<GLuint, 3> groups,
 void dispatch1D(const ShaderProgram& program, std::size_t invocations,
                 GLbitfield barriers = GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT,
                 std::size_t max_groups_x = 0);
+
+// The loop limit of the current context's driver. Mesa's llvmpipe (gallivm) ends every loop of a
+// shader invocation once the loop iterations of that invocation add up to 65535, without a word
+// (LP_MAX_TGSI_LOOP_ITERATIONS, shared by all loops of one SIMD group of `lanes` invocations;
+// tests/reference/test_loop_limit.cpp measures it): a photon walk or a traversal that needs more
+// stops half-way and gives a wrong result. Other drivers have no such limit (limited = false).
+struct LoopLimit {
+  bool limited = false;
+  uint32_t iterations = 0;  // per SIMD group
+  uint32_t lanes = 1;       // invocations per SIMD group (llvmpipe: its vector bits / 32)
+  // The iterations a walk may spend per dispatch before it suspends (mesh_walk.comp): half the
+  // group's limit spread over its lanes where limited; 2^16 elsewhere, to keep dispatches short.
+  uint32_t budget() const;
+  // Whether a dispatch whose invocations counted at most `max_work` iterations each stayed clear
+  // of the limit: the group's total is at most lanes x max_work (every loop iteration of the
+  // group has an active lane, which counted it).
+  bool clear(uint32_t max_work) const;
+};
+LoopLimit loopLimit();
 
 }  // namespace translucent::gpu

@@ -44,25 +44,6 @@ std::string deviceName() {
   return std::string("gpu (") + reinterpret_cast<const char*>(glGetString(GL_RENDERER)) + ")";
 }
 
-LoopLimit loopLimit() {
-  const std::string renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
-  LoopLimit l;
-  if (renderer.find("llvmpipe") == std::string::npos) return l;
-  l.limited = true;
-  l.iterations = 65535;
-  // "llvmpipe (LLVM 15.0.6, 256 bits)": 8 lanes of 32 bits; 16 with AVX-512. Assume the widest
-  // when the string says nothing.
-  l.lanes = 16;
-  const auto bits = renderer.find(" bits)");
-  if (bits != std::string::npos) {
-    const auto start = renderer.find_last_of(", ", bits - 1);
-    const std::string digits = renderer.substr(start + 1, bits - start - 1);
-    if (!digits.empty() && std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; }))
-      l.lanes = std::max<uint32_t>(1, static_cast<uint32_t>(std::stoul(digits)) / 32);
-  }
-  return l;
-}
-
 void throwCutWalk(const std::string& walker) {
   throw gpu::GlError(fmt::format(
       "{}: the GL driver ({}) stopped a photon's walk after {} loop iterations, before it "
@@ -70,14 +51,6 @@ void throwCutWalk(const std::string& walker) {
       "this long needs a medium that hardly absorbs: give it some absorption, or the long-path "
       "roulette)",
       walker, reinterpret_cast<const char*>(glGetString(GL_RENDERER)), loopLimit().iterations));
-}
-
-uint32_t LoopLimit::budget() const {
-  return limited ? std::max<uint32_t>(64, iterations / (2 * lanes)) : (1u << 16);
-}
-
-bool LoopLimit::clear(uint32_t max_work) const {
-  return !limited || static_cast<uint64_t>(max_work) * lanes < iterations;
 }
 
 }  // namespace translucent::reference::gpu_walk

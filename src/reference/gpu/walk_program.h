@@ -8,6 +8,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "gpu/compute.h"
 #include "gpu/program.h"
 #include "reference/transport.h"
 
@@ -31,24 +32,9 @@ void setLongPath(const gpu::ShaderProgram& p, uint64_t long_path_roulette);
 // "gpu (<GL_RENDERER>)" of the current context: what traced, in outputs.
 std::string deviceName();
 
-// The loop limit of the current context's driver. Mesa's llvmpipe (gallivm) ends every loop of a
-// shader invocation once the loop iterations of that invocation add up to 65535, without a word
-// (LP_MAX_TGSI_LOOP_ITERATIONS, shared by all loops of one SIMD group of `lanes` invocations:
-// tests/reference/test_loop_limit.cpp measures it): a walk that needs more stops half-way and its light
-// is lost. Other drivers have no such limit (limited = false).
-struct LoopLimit {
-  bool limited = false;
-  uint32_t iterations = 0;  // per SIMD group
-  uint32_t lanes = 1;       // invocations per SIMD group (llvmpipe: its vector bits / 32)
-  // The iterations a walk may spend per dispatch before it suspends (mesh_walk.comp): half the
-  // group's limit spread over its lanes where limited; 2^16 elsewhere, to keep dispatches short.
-  uint32_t budget() const;
-  // Whether a dispatch whose invocations counted at most `max_work` iterations each stayed clear
-  // of the limit: the group's total is at most lanes x max_work (every loop iteration of the
-  // group has an active lane, which counted it).
-  bool clear(uint32_t max_work) const;
-};
-LoopLimit loopLimit();
+// The driver's loop limit: gpu::LoopLimit (gpu/compute.h).
+using gpu::LoopLimit;
+using gpu::loopLimit;
 
 // The error for a walk whose loop the driver cut (the slab and sphere walks mark it in their
 // records; they do not suspend, as a walk there needs 65535 events to meet the limit): names the

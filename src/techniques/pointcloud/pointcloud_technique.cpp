@@ -59,6 +59,8 @@ enum Binding : GLuint {
   // and per node (refit.comp: light direction, lit normal, normal).
   kLightDirections = 14,
   kNodeLight = 15,
+  // Traversals the driver cut (radiance.comp, llvmpipe's loop limit).
+  kCut = 16,
 };
 
 std::vector<ParameterInfo> parameterInfos() {
@@ -157,6 +159,7 @@ struct PointCloudTechnique::Impl : techniques::ClosedMeshState {
   // Frame.
   GBuffer gbuffer;
   gpu::Buffer radianceOut, exitanceOut;
+  gpu::Buffer cutCounter;  // radiance.comp: traversals the driver cut
   size_t outPixels = 0;
   std::optional<gpu::PassTimer> timer;
   std::vector<std::string> notes;
@@ -559,9 +562,27 @@ struct PointCloudTechnique::Impl : techniques::ClosedMeshState {
         p.set("Roughness", static_cast<float>(params.getFloat("roughness")));
       }
       p.set("SpecularLights", spec);
+      if (!cutCounter) cutCounter = gpu::makeStorageBuffer(sizeof(uint32_t));
+      const uint32_t zero = 0;
+      gpu::uploadBytes(cutCounter, 0, sizeof(zero), &zero);
+      gpu::bindStorage(kCut, cutCounter);
       gpu::dispatch(p, {(unsigned(width) + 7u) / 8u, (unsigned(height) + 7u) / 8u, 1u});
     }
     gpu::checkGlError("point-cloud frame");
+    // Where the driver ends long loops (llvmpipe), a traversal of many clusters per pixel (a
+    // small epsilon over many points) stops half-way and its pixel comes out dark or black: an
+    // error, not that image. Elsewhere there is no such limit and no read-back here.
+    if (const gpu::LoopLimit loopLimit = gpu::loopLimit(); loopLimit.limited) {
+      uint32_t cut = 0;
+      gpu::downloadBytes(cutCounter, 0, sizeof(cut), &cut);
+      if (cut > 0)
+        throw gpu::GlError(fmt::format(
+            "pointcloud: the GL driver ({}) stopped the traversal of {} of {} pixels after its "
+            "limit of {} loop iterations: epsilon {} visits too many clusters per pixel for it; "
+            "raise epsilon, use fewer points, or render on a hardware GPU",
+            reinterpret_cast<const char*>(glGetString(GL_RENDERER)), cut, pixels,
+            loopLimit.iterations, params.getFloat("epsilon")));
+    }
 
     // Read back.
     frame.width = width;
