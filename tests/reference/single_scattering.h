@@ -23,8 +23,20 @@
 #include "optics/fresnel.h"
 #include "optics/quadrature.h"
 #include "reference/phase.h"
+#include "reference/slab.h"
 
 namespace translucent::reference::test_support {
+
+// The semi-infinite medium of the single-scattering checks: α = 0.8, σt = 2, forward scattering
+// (g = 0.5) under a Fresnel boundary (η = 1.3).
+inline SlabSetup singleScatteringHalfSpace() {
+  SlabSetup s;
+  s.sigma_a = 0.4;
+  s.sigma_s = 1.6;
+  s.g = 0.5;
+  s.n_inside = 1.3;
+  return s;
+}
 
 // ∫_lo^hi f by `panels` panels of 8-point Gauss-Legendre.
 inline double gaussPanels(const std::function<double(double)>& f, double lo, double hi, int panels) {

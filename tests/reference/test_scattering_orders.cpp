@@ -46,16 +46,7 @@ TEST(SingleScatteringTerm, QuadratureMatchesTheIsotropicClosedFormAndItsAnnuliAd
   }
 }
 
-// The semi-infinite medium of the single-scattering checks: α = 0.8, σt = 2, forward scattering
-// (g = 0.5) under a Fresnel boundary (η = 1.3).
-SlabSetup halfSpace() {
-  SlabSetup s;
-  s.sigma_a = 0.4;
-  s.sigma_s = 1.6;
-  s.g = 0.5;
-  s.n_inside = 1.3;
-  return s;
-}
+SlabSetup halfSpace() { return test_support::singleScatteringHalfSpace(); }
 
 TraceOptions radialOptions(uint64_t photons, uint64_t seed) {
   TraceOptions o;

@@ -206,11 +206,7 @@ TEST_F(SlabGpu, SingleScatteringMatchesTheAnalyticTerm) {
   // scattering count): the single-scattering part of a half space's reflectance, in total and
   // per annulus, against the closed form (single_scattering.h), 13 z-tests at the Bonferroni
   // bound for 1%.
-  SlabSetup s;
-  s.sigma_a = 0.4;
-  s.sigma_s = 1.6;
-  s.g = 0.5;
-  s.n_inside = 1.3;
+  const SlabSetup s = test_support::singleScatteringHalfSpace();
   TraceOptions o = opts(1'000'000, 29);
   o.radial_bins = 12;
   o.radial_max = 1.2;

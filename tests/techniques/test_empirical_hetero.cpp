@@ -34,6 +34,17 @@ class LeftRight final : public material::VolumeField {
   Rgb majorant(const glm::dvec3&, const glm::dvec3&) const override { return {10.0, 10.0, 10.0}; }
 };
 
+// The scene's medium with LeftRight's two halves as its field.
+material::Material leftRight(const scene::Scene& s) {
+  material::Material m;
+  m.kind = material::Material::Kind::Volume;
+  m.medium = s.medium;
+  m.frame.scale = s.medium.scale;
+  m.volume = std::make_shared<LeftRight>();
+  m.surface_depth = 0.5;
+  return m;
+}
+
 // The test sphere (radius 1, 10 mm per unit, orthographic view down −z, 2.2 units high): the
 // left half (x < −0.2, a margin of a few triangles) renders exactly as the homogeneous Marble
 // (its factor is 1), the right half (x > 0.2) is much redder (Ketchup reflects little green:
@@ -50,12 +61,7 @@ TEST_F(EmpiricalHeteroGpu, TwoMediaGiveTwoColours) {
   EXPECT_FALSE(t->heterogeneous());
   const auto homogeneous = t->render({}).rgb;
 
-  material::Material m;
-  m.kind = material::Material::Kind::Volume;
-  m.medium = s.medium;
-  m.frame.scale = s.medium.scale;
-  m.volume = std::make_shared<LeftRight>();
-  m.surface_depth = 0.5;
+  const material::Material m = leftRight(s);
   t->setMaterial(m);
   t->prepare(s, gpu::testing::context());
   ASSERT_TRUE(t->heterogeneous());
@@ -108,12 +114,7 @@ TEST_F(EmpiricalHeteroGpu, CameraMovesKeepThePerVertexColours) {
   const auto obj = writeObj(geometry::makeIcosphere(3, 1.0), dir.path() / "sphere.obj");
   const scene::Scene s = testScene(obj, 32);
   useTestCache();
-  material::Material m;
-  m.kind = material::Material::Kind::Volume;
-  m.medium = s.medium;
-  m.frame.scale = s.medium.scale;
-  m.volume = std::make_shared<LeftRight>();
-  m.surface_depth = 0.5;
+  const material::Material m = leftRight(s);
   auto make = [&] {
     auto t = std::make_unique<EmpiricalTechnique>();
     t->setParameter("ao", false);
