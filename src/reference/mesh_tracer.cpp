@@ -147,11 +147,6 @@ std::string MeshPathTracer::walkerRefusal() const {
   // layer's to say (reference/gpu/device.h: meshGpuRefusal).
   if (volume_ && volume_->frame.deformed())
     return "a deformed heterogeneous material is traced on the CPU only";
-  int environments = 0;
-  for (const Light& l : lights_) environments += std::holds_alternative<EnvironmentLight>(l.emitter);
-  if (environments > 1)
-    return fmt::format("one environment light at most (this scene has {}; the CPU traces any "
-                       "number)", environments);
   return "";
 }
 

@@ -59,6 +59,11 @@ void put(float (&out)[3], const glm::dvec3& v) {
 }
 
 // The lights as mesh_walk.comp emits them (transport_impl.h: emit), with channel c's cdf.
+// Light i's cumulative share of the channel's flux, as the shader compares it (float; the last 1).
+float lightCdf(const WalkChannel& ch, size_t i) {
+  return i + 1 < ch.light_cdf.size() ? static_cast<float>(ch.light_cdf[i]) : 1.0f;
+}
+
 std::vector<GpuLight> gpuLights(const MeshWalkSetup& setup, const WalkChannel& ch) {
   std::vector<GpuLight> out;
   const BoundingSphere& b = setup.bounds;
@@ -98,7 +103,7 @@ std::vector<GpuLight> gpuLights(const MeshWalkSetup& setup, const WalkChannel& c
     detail::tangentFrame(axis, t1, t2);
     put(g.t1, t1);
     put(g.t2, t2);
-    g.cdf = i + 1 < ch.light_cdf.size() ? static_cast<float>(ch.light_cdf[i]) : 1.0f;
+    g.cdf = lightCdf(ch, i);
     out.push_back(g);
   }
   return out;
@@ -252,35 +257,50 @@ class GpuMeshWalker final : public MeshWalker {
     return gpu::ShaderProgram::compute("reference/mesh_walk.comp",
                                        volume ? gpu::Defines{{"VOLUME", "1"}} : gpu::Defines{});
   }
-  // The directions towards the scene's environment light (at most one: setWalker) of photons
-  // firstPhoton .. firstPhoton + n - 1 of `channel`, drawn by the map's sampler (exact, texel by
-  // texel in solid angle, as the CPU's emit) from two 53-bit uniforms of the photon's Philox
-  // words (firstPhoton + k, 0, 0, 8 + channel): a function of the seed, photon and channel only.
+  // The directions towards the scene's environment lights of photons firstPhoton .. firstPhoton +
+  // n - 1 of `channel`. The light a photon comes from is chosen in the shader from the first word
+  // of its stream, philox((p_lo, p_hi, 0, channel), Seed)[0], against the lights' float CDF; the
+  // same choice is made here, bit for bit (24-bit uniform, float comparisons), so that a photon
+  // of an environment light gets a direction of that light's map. The direction is drawn by that
+  // map's sampler (exact, texel by texel in solid angle, as the CPU's emit) from two 53-bit
+  // uniforms of the photon's words philox((p_lo, p_hi, 0, 8 + channel), Seed): a function of the
+  // seed, photon and channel only.
   void environmentDirections(const MeshWalkSetup& setup, int channel, uint64_t firstPhoton,
                              uint64_t n) {
-    const EnvironmentLight* env = nullptr;
-    for (const Light& l : setup.lights)
-      if (const auto* e = std::get_if<EnvironmentLight>(&l.emitter)) env = e;
-    if (env == nullptr) {
+    bool any = false;
+    for (const Light& l : setup.lights) any = any || std::holds_alternative<EnvironmentLight>(l.emitter);
+    if (!any) {
       if (!envDirs_) envDirs_ = gpu::makeStorageBuffer(16);  // bound, never read
       return;
     }
-    const auto& sampler = env->samplers[static_cast<size_t>(channel)];
+    const WalkChannel& ch = setup.channels.at(static_cast<size_t>(channel));
+    std::vector<float> cdf(setup.lights.size());
+    for (size_t i = 0; i < cdf.size(); ++i) cdf[i] = lightCdf(ch, i);
     hostDirs_.assign(4 * n, 0.0f);
     const PhiloxKey key{static_cast<uint32_t>(setup.seed), static_cast<uint32_t>(setup.seed >> 32)};
     auto unit53 = [](uint32_t hi, uint32_t lo) {
       return static_cast<double>((uint64_t{hi >> 5} << 26) | (lo >> 6)) * 0x1.0p-53;
     };
     for (uint64_t k = 0; k < n; ++k) {
+      const uint64_t photon = firstPhoton + k;
+      const auto lo = static_cast<uint32_t>(photon), hi = static_cast<uint32_t>(photon >> 32);
+      // mesh_walk.comp: li from uniformFloat(), its first word (unitFromBits, walk_math.glsl).
+      size_t li = 0;
+      if (setup.lights.size() > 1) {
+        const uint32_t w0 = philox4x32_10({lo, hi, 0u, static_cast<uint32_t>(channel)}, key)[0];
+        const float u = static_cast<float>(w0 >> 8) * (1.0f / 16777216.0f);
+        while (li + 1 < cdf.size() && cdf[li] <= u) ++li;
+      }
+      const auto* env = std::get_if<EnvironmentLight>(&setup.lights[li].emitter);
       // A channel without radiance is never chosen (its flux is 0) unless every light is black
-      // in it, and then its photons carry 0 whatever they do: any direction will do.
+      // in it, and then its photons carry 0 whatever they do: any direction will do; so will it
+      // for a photon of another kind of light, which does not read it.
       glm::dvec3 dir{0.0, 1.0, 0.0};
-      if (sampler) {
-        const uint64_t photon = firstPhoton + k;
-        const PhiloxCounter w = philox4x32_10(
-            {static_cast<uint32_t>(photon), static_cast<uint32_t>(photon >> 32), 0u,
-             8u + static_cast<uint32_t>(channel)}, key);
-        dir = sampler->sample({unit53(w[0], w[1]), unit53(w[2], w[3])}).direction;
+      if (env != nullptr) {
+        if (const auto& sampler = env->samplers[static_cast<size_t>(channel)]) {
+          const PhiloxCounter w = philox4x32_10({lo, hi, 0u, 8u + static_cast<uint32_t>(channel)}, key);
+          dir = sampler->sample({unit53(w[0], w[1]), unit53(w[2], w[3])}).direction;
+        }
       }
       hostDirs_[4 * k] = static_cast<float>(dir.x);
       hostDirs_[4 * k + 1] = static_cast<float>(dir.y);

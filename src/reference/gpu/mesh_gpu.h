@@ -5,8 +5,8 @@
 // merges); only the random numbers differ (Philox4x32-10 per photon and channel), so the result
 // is a function of (scene, seed) on a given device and agrees with the CPU tracer within the
 // standard errors. Homogeneous media and the 3D fields of fields.glsl (delta tracking through
-// the tracer's majorant grid) under directional, point, beam and at most one environment light
-// (useDevice and setWalker refuse the rest: device.h, meshGpuRefusal).
+// the tracer's majorant grid) under directional, point, beam and environment lights (useDevice
+// and setWalker refuse the rest: device.h, meshGpuRefusal).
 #pragma once
 
 #include <memory>
