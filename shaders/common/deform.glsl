@@ -5,6 +5,12 @@
 // (bend, twist) or scene units (wave). Axis and direction are unit and perpendicular.
 #pragma once
 
+// WALK_WORK(): reference/bvh.glsl says what it is for (counting loop iterations for llvmpipe's
+// loop limit); nothing by default.
+#ifndef WALK_WORK
+#define WALK_WORK()
+#endif
+
 const float kDeformPi = 3.14159265358979;
 const float kDeformDegree = kDeformPi / 180.0;
 
@@ -57,4 +63,28 @@ mat3 deformJacobian(vec4 da, vec4 db, vec4 dc, vec3 p) {
   }
   float kw = 2.0 * kDeformPi / dc.w;
   return mat3(1.0) + (m * kw * cos(kw * v)) * outerProduct(a, d);
+}
+
+// The point whose deformation is x (geometry::undeformPoint for one step): a twist turns back by
+// -κu (u is unchanged), a wave's displacement along a does not change (p - o)·d, a bend is
+// inverted by Newton's method from x (its displacement is smooth and J invertible away from the
+// centre of curvature), to float precision of the displacement.
+vec3 undeformPoint(vec4 da, vec4 db, vec4 dc, vec3 x) {
+  int type = int(da.w);
+  vec3 o = da.xyz, a = db.xyz, d = dc.xyz;
+  float m = db.w;
+  if (type == 1) {
+    vec3 q = x - o;
+    return x + deformRotationDisplacement(a, -m * kDeformDegree * dot(q, a), q);
+  }
+  if (type == 2) return x - (m * sin(2.0 * kDeformPi * dot(x - o, d) / dc.w)) * a;
+  float tol = 2e-7 * (1.0 + length(x - o));
+  vec3 r = x;
+  for (int i = 0; i < 30; ++i) {
+    WALK_WORK();
+    vec3 err = deformPoint(da, db, dc, r) - x;
+    if (length(err) <= tol) break;
+    r -= inverse(deformJacobian(da, db, dc, r)) * err;
+  }
+  return r;
 }

@@ -37,7 +37,8 @@
 // walk does not carry the tracking's code, 20% of its speed on llvmpipe): traceVolumePhoton of transport_impl.h. The free flight is delta
 // tracking through the CPU's majorant grid (majorant_grid.h: a 3D DDA over the cells' bounds,
 // rounded up to float on upload), the field evaluated at tentative collisions by fields.glsl in
-// material space (q = scale Rᵀ (x − translate); deformed materials stay on the CPU); the boundary
+// material space (q = scale Rᵀ (x − translate), x undeformed first when the body is deformed:
+// common/deform.glsl, in float, Newton's method for a bend); the boundary
 // is one ray query bounded by the collision found; a real collision absorbs with the local
 // σa/σt and scatters with the local g; after a reflection or re-entry the tracking starts afresh
 // (memoryless). Tentative collisions where the field exceeds the bound in force are counted.
@@ -56,6 +57,7 @@ uint gWork = 0u;
 #include "reference/bvh.glsl"
 #ifdef VOLUME
 #include "reference/fields.glsl"
+#include "common/deform.glsl"
 #endif
 
 struct PhotonOut {
@@ -126,6 +128,12 @@ uniform float CoefficientScale;  // per medium unit -> per scene unit (Medium::s
 uniform mat3 FrameRotationT;     // material frame (material.h): q = scale Rᵀ (x − translate)
 uniform dvec3 FrameTranslate;
 uniform float FrameScale;
+// The material frame's deformations at this time (material.h: MaterialFrame::toMaterial undoes
+// them before the rest transform; geometry/deform.h), as common/deform.comp takes them.
+uniform int DeformCount;                 // 0: the body is not deformed
+uniform vec4 DeformA[8];                 // origin, type
+uniform vec4 DeformB[8];                 // axis, magnitude at this time
+uniform vec4 DeformC[8];                 // direction, wavelength
 #endif
 
 const uint kSurviveThreshold = 429496730u;  // walk.h: keep with probability 1/10 ...
@@ -213,7 +221,18 @@ float gLocalG, gLocalSigmaT;  // its g, and its σt in this channel [1/scene uni
 float gTau;                   // optical depth left to the next tentative collision
 
 bool acceptCollision(dvec3 o, vec3 d, float tc, float bound) {
-  const vec3 q = FrameScale * (FrameRotationT * vec3(o + double(tc) * dvec3(d) - FrameTranslate));
+  vec3 q;
+  if (DeformCount == 0) {
+    q = FrameScale * (FrameRotationT * vec3(o + double(tc) * dvec3(d) - FrameTranslate));
+  } else {
+    // The rest pose's point first, step by step in reverse order (geometry::undeformPoint).
+    vec3 rest = vec3(o + double(tc) * dvec3(d));
+    for (int k = DeformCount - 1; k >= 0; --k) {
+      WALK_WORK();
+      if (DeformB[k].w != 0.0) rest = undeformPoint(DeformA[k], DeformB[k], DeformC[k], rest);
+    }
+    q = FrameScale * (FrameRotationT * (rest - vec3(FrameTranslate)));
+  }
   fieldAt(q, gLocalA, gLocalS, gLocalG);
   gLocalSigmaT = (gLocalA[Channel] + gLocalS[Channel]) * CoefficientScale;
   if (gLocalSigmaT >= bound) {

@@ -142,11 +142,9 @@ TransportStats MeshPathTracer::addBlocks(uint64_t first, uint64_t blocks,
 }
 
 std::string MeshPathTracer::walkerRefusal() const {
-  // The GPU evaluates fields in the rest frame only (fields.glsl): a deformed body's undeform
-  // (geometry/deform.h, iterative) has no GLSL twin yet. Which fields the GPU has is the GPU
-  // layer's to say (reference/gpu/device.h: meshGpuRefusal).
-  if (volume_ && volume_->frame.deformed())
-    return "a deformed heterogeneous material is traced on the CPU only";
+  // Everything the tracer holds can be walked on the GPU (deformed fields too: common/deform.glsl
+  // undoes the deformation); which fields the GPU evaluates is the GPU layer's to say
+  // (reference/gpu/device.h: meshGpuRefusal).
   return "";
 }
 

@@ -122,8 +122,8 @@ class MeshPathTracer {
   }
   const CameraModel& camera() const { return tally_->camera(); }
   // From now on, trace with `walker` (made for this tracer's mesh; null: the CPU again).
-  // ParameterError when the walker cannot trace this run: a deformed heterogeneous medium (which
-  // 3D fields the GPU evaluates, reference/gpu/device.h says).
+  // ParameterError when the walker cannot trace this run (walkerRefusal; which 3D fields the GPU
+  // evaluates, reference/gpu/device.h says).
   void setWalker(std::shared_ptr<MeshWalker> walker);
   // Why a walker cannot trace this run ("" when it can), as setWalker's message says it.
   std::string walkerRefusal() const;

@@ -9,6 +9,9 @@
 #include <optional>
 #include <variant>
 
+#include <glm/vec4.hpp>
+
+#include "geometry/deform.h"
 #include "geometry/flat_bvh.h"
 #include "gpu/compute.h"
 #include "reference/gpu/field_gpu.h"
@@ -350,6 +353,25 @@ class GpuMeshWalker final : public MeshWalker {
     p.set("FrameRotationT", glm::mat3(glm::transpose(v->frame.rotation)));
     setDvec3(p, "FrameTranslate", v->frame.translate);
     p.set("FrameScale", static_cast<float>(v->frame.scale));
+    // The deformations at the frame's time (shaders/common/deform.comp's form).
+    const auto& chain = v->frame.deform;
+    if (chain.size() > geometry::kMaxDeformations)
+      throw gpu::GlError(fmt::format("GPU mesh walk: {} deformations, at most {}", chain.size(),
+                                     geometry::kMaxDeformations));
+    const bool deformed = v->frame.deformed();
+    p.set("DeformCount", deformed ? static_cast<int>(chain.size()) : 0);
+    if (deformed) {
+      std::vector<glm::vec4> a, b, c;
+      for (const geometry::Deformation& d : chain) {
+        a.emplace_back(glm::vec3(d.origin), static_cast<float>(static_cast<int>(d.type)));
+        b.emplace_back(glm::vec3(d.axis), static_cast<float>(d.magnitude(v->frame.time)));
+        c.emplace_back(glm::vec3(d.direction), static_cast<float>(d.wavelength));
+      }
+      const auto n = static_cast<GLsizei>(chain.size());
+      glProgramUniform4fv(p.id(), p.uniformLocation("DeformA"), n, &a[0].x);
+      glProgramUniform4fv(p.id(), p.uniformLocation("DeformB"), n, &b[0].x);
+      glProgramUniform4fv(p.id(), p.uniformLocation("DeformC"), n, &c[0].x);
+    }
   }
   static float roundUp(double b) {
     float f = static_cast<float>(b);
