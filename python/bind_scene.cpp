@@ -208,7 +208,7 @@ scene: a translucent.Scene or a scene file name. photons per channel per pass, p
 (accumulated), seed, threads (0: all cores): the same seed gives the same images on any thread
 count. time: the deformations' time (the scene's when None). time_limit [s]: stop then,
 "partial": True. device: "cpu", "gpu" (the GL compute-shader walk against a BVH; homogeneous
-materials and undeformed 3D fields: others are a ValueError naming why) or "auto" (the
+materials and 3D fields, deformed or not: others are a ValueError naming why) or "auto" (the
 GPU on a hardware GPU where the walk can trace the scene, else the CPU), as `pathtrace mesh
 --device`; "device" in the result names what traced.
 

@@ -695,8 +695,8 @@ void addRenderReferenceCommands(CLI::App& app) {
     auto device = std::make_shared<std::string>("auto");
     cmd->add_option("--device", *device,
                     "cpu: the CPU tracer (Embree); gpu: the GL compute-shader walk against a BVH "
-                    "of the mesh (homogeneous media and 3D fields, "
-                    "undeformed; Philox streams: agrees with the "
+                    "of the mesh (homogeneous media and 3D fields, deformed or not; Philox streams: "
+                    "agrees with the "
                     "CPU within the standard errors, not bit for bit); "
                     "auto: the GPU on a hardware GPU where it can trace the scene, else the CPU "
                     "(with --shard: the CPU)")
