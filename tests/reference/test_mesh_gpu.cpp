@@ -253,16 +253,22 @@ std::shared_ptr<lights::EnvironmentMap> smallSky() {
   return map;
 }
 
+// The medium of the cube under environment lights: a different absorption per channel.
+Medium environmentCubeMedium() {
+  Medium m;
+  m.sigma_a = {0.2, 0.1, 0.05};
+  m.sigma_s = {3.0, 4.0, 5.0};
+  m.g = 0.3;
+  m.eta = 1.3;
+  return m;
+}
+
 TEST_F(MeshGpu, EnvironmentLightMatchesTheCpuTracerPixelByPixel) {
   // The cube under the small sky (rotated 30°) and a weak directional light: the directions
   // come from the map's sampler on the CPU, the rest of the emission and the walk on the GPU;
   // images and fluxes agree with the CPU tracer's.
   const geometry::TriangleMesh cube = geometry::makeBox(glm::dvec3(-1.0), glm::dvec3(1.0));
-  Medium medium;
-  medium.sigma_a = {0.2, 0.1, 0.05};
-  medium.sigma_s = {3.0, 4.0, 5.0};
-  medium.g = 0.3;
-  medium.eta = 1.3;
+  const Medium medium = environmentCubeMedium();
   const std::vector<Light> lights = {Light{EnvironmentLight::make(smallSky(), 30.0, 1.0), {1.0, 1.0, 1.0}},
                                      directional({0.3, 1.0, 0.2}, 0.3)};
   const Camera cam = orthographic({2.0, 1.0, 3.0}, 4.0, 12);
@@ -281,11 +287,7 @@ TEST_F(MeshGpu, TwoEnvironmentLightsAndADirectionalOneMatchTheCpuTracer) {
   // direction from the wrong map would show here, the two skies being far apart (one rotated and
   // tinted, at a different intensity).
   const geometry::TriangleMesh cube = geometry::makeBox(glm::dvec3(-1.0), glm::dvec3(1.0));
-  Medium medium;
-  medium.sigma_a = {0.2, 0.1, 0.05};
-  medium.sigma_s = {3.0, 4.0, 5.0};
-  medium.g = 0.3;
-  medium.eta = 1.3;
+  const Medium medium = environmentCubeMedium();
   const std::vector<Light> lights = {Light{EnvironmentLight::make(smallSky(), 0.0, 1.0), {1.0, 1.0, 1.0}},
                                      directional({0.3, 1.0, 0.2}, 0.3),
                                      Light{EnvironmentLight::make(smallSky(), 120.0, 2.5), {0.2, 0.6, 1.0}}};
