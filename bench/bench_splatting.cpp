@@ -15,12 +15,19 @@
 // prepared off the clock (per-point profiles, buffers); every frame redoes the whole image-space
 // pipeline, as for a deforming mesh.
 // Run: build/release/bin/bench_splatting [--benchmark_filter=bunny]
+// On a software rasteriser a frame at 800×600 takes minutes to an hour: TRANSLUCENT_BENCH_SIZE=WxH
+// renders at another size (the labels say which) and TRANSLUCENT_BENCH_ITERATIONS=N times N
+// frames instead of 3, for the ratios between the settings.
 #include <benchmark/benchmark.h>
 #include <fmt/format.h>
 
+#include <cstdio>
+#include <cstdlib>
 #include <map>
 #include <memory>
 #include <string>
+#include <tuple>
+#include <utility>
 
 #include "bench_context.h"
 #include "gpu/context.h"
@@ -46,13 +53,31 @@ constexpr BenchMesh kMeshes[] = {
     {"elephant", "cgal/elephant.off", false},
 };
 
+// The frame size: 800×600 (the seed's), or TRANSLUCENT_BENCH_SIZE=WxH.
+std::pair<int, int> frameSize() {
+  int w = 800, h = 600;
+  if (const char* e = std::getenv("TRANSLUCENT_BENCH_SIZE")) {
+    int a = 0, b = 0;
+    if (std::sscanf(e, "%dx%d", &a, &b) == 2 && a > 0 && b > 0 && a <= 16384 && b <= 16384) {
+      w = a;
+      h = b;
+    }
+  }
+  return {w, h};
+}
+
+int iterations() {
+  const char* e = std::getenv("TRANSLUCENT_BENCH_ITERATIONS");
+  const int n = e ? std::atoi(e) : 3;
+  return n >= 1 && n <= 1000 ? n : 3;
+}
+
 scene::Scene benchScene(int mesh) {
   scene::Scene s = scene::loadScene(TRANSLUCENT_SOURCE_DIR "/data/scenes/bunny-marble-veins.json");
   s.mesh_file = scene::resolveSceneFile(kMeshes[mesh].file, ".", "bench_splatting", "mesh.file").path;
   if (kMeshes[mesh].wrap) s.mesh_wrap = geometry::AlphaWrapOptions{};
   s.lights.resize(1);  // the key light
-  s.camera.width = 800;
-  s.camera.height = 600;
+  std::tie(s.camera.width, s.camera.height) = frameSize();
   return s;
 }
 
@@ -100,7 +125,8 @@ void BM_Splatting(benchmark::State& state) {
   t.setParameter("adaptive", adaptive);
   t.setParameter("multires", multires);
   timeFrames(state, t);
-  state.SetLabel(fmt::format("{}, 800x600, irradiance 512², {}, {}", kMeshes[mesh].name,
+  state.SetLabel(fmt::format("{}, {}x{}, irradiance 512², {}, {}", kMeshes[mesh].name,
+                             frameSize().first, frameSize().second,
                              adaptive ? (multires ? "full accel." : "adaptive") :
                                         (multires ? "multires" : "no accel."),
                              context().info().renderer));
@@ -110,8 +136,8 @@ void BM_Shah(benchmark::State& state) {
   const auto mesh = static_cast<int>(state.range(0));
   techniques::Technique& t = prepared("shah", mesh);
   timeFrames(state, t);
-  state.SetLabel(fmt::format("{}, 800x600, shah defaults, {}", kMeshes[mesh].name,
-                             context().info().renderer));
+  state.SetLabel(fmt::format("{}, {}x{}, shah defaults, {}", kMeshes[mesh].name,
+                             frameSize().first, frameSize().second, context().info().renderer));
 }
 
 void table1(benchmark::internal::Benchmark* b) {
@@ -120,9 +146,9 @@ void table1(benchmark::internal::Benchmark* b) {
       b->Args({mesh, adaptive, multires});
 }
 
-BENCHMARK(BM_Splatting)->ArgNames({"mesh", "adaptive", "multires"})->Apply(table1)->Iterations(3)
+BENCHMARK(BM_Splatting)->ArgNames({"mesh", "adaptive", "multires"})->Apply(table1)
+    ->Iterations(iterations())->UseManualTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Shah)->ArgNames({"mesh"})->DenseRange(0, 3)->Iterations(iterations())
     ->UseManualTime()->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_Shah)->ArgNames({"mesh"})->DenseRange(0, 3)->Iterations(3)->UseManualTime()
-    ->Unit(benchmark::kMillisecond);
 
 }  // namespace
