@@ -12,8 +12,9 @@
 // selection).
 //
 // Manual time: the frame's GPU time (sum of the depth-0 passes), read-back off. The technique is
-// prepared off the clock (per-point profiles, buffers); every frame redoes the whole image-space
-// pipeline, as for a deforming mesh.
+// prepared off the clock (per-point profiles, buffers); every frame redoes the camera's image-space
+// pipeline, but since the techniques keep their light-side results on still frames (issue 14 §6)
+// not the irradiance buffers, which a deforming mesh or a moving light would regenerate.
 // Run: build/release/bin/bench_splatting [--benchmark_filter=bunny]
 // On a software rasteriser a frame at 800×600 takes minutes to an hour: TRANSLUCENT_BENCH_SIZE=WxH
 // renders at another size (the labels say which) and TRANSLUCENT_BENCH_ITERATIONS=N times N
