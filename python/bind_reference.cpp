@@ -129,7 +129,7 @@ glm::dvec3 toVec3(const py::handle& value, const char* option) {
 
 }  // namespace
 
-py::dict imageDict(const reference::CameraImages& images) {
+py::dict imageDict(const reference::CameraImages& images, const std::string& suffix) {
   py::dict d;
   const std::pair<const char*, const reference::McImage*> all[] = {
       {"exitance", &images.exitance},
@@ -137,8 +137,9 @@ py::dict imageDict(const reference::CameraImages& images) {
       {"cone_radiance", &images.cone_radiance}};
   for (const auto& [name, img] : all) {
     const std::vector<py::ssize_t> shape{img->height(), img->width(), 3};
-    d[name] = ownedArray(img->rgb(), shape);
-    d[(std::string(name) + "_stderr").c_str()] = ownedArray(img->rgbStdError(), shape);
+    const std::string key = name + suffix;
+    d[key.c_str()] = ownedArray(img->rgb(), shape);
+    d[(key + "_stderr").c_str()] = ownedArray(img->rgbStdError(), shape);
   }
   return d;
 }
@@ -146,19 +147,11 @@ py::dict imageDict(const reference::CameraImages& images) {
 template <class Tracer>
 py::dict tracerImageDict(const Tracer& tracer) {
   py::dict d = imageDict(tracer.images());
+  // "exitance_single", "exitance_single_stderr", ...: the CLI's EXR layers with --split-orders.
   if (tracer.splitsOrders())
-    for (reference::ScatteringOrder o : reference::kAllScatteringOrders) {
-      const py::dict part = imageDict(tracer.orderImages(o));
-      for (const auto& [key, value] : part) {
-        // "exitance" -> "exitance_single", "exitance_stderr" -> "exitance_single_stderr": the
-        // CLI's EXR layers with --split-orders.
-        std::string name = py::cast<std::string>(key);
-        const auto cut = name.rfind("_stderr");
-        const std::string order = std::string("_") + reference::toString(o);
-        name = cut == std::string::npos ? name + order : name.substr(0, cut) + order + "_stderr";
-        d[name.c_str()] = value;
-      }
-    }
+    for (reference::ScatteringOrder o : reference::kAllScatteringOrders)
+      for (const auto& [key, value] : imageDict(tracer.orderImages(o), std::string("_") + reference::toString(o)))
+        d[key] = value;
   return d;
 }
 template py::dict tracerImageDict(const reference::SpherePathTracer&);

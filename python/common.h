@@ -81,7 +81,8 @@ class Interruptible {
 // The three quantities of a photon tracer's camera images and their standard errors as
 // (height, width, 3) float32 arrays: "exitance", "exitance_stderr", "radiance", ... (the layers
 // of the CLI's EXR).
-py::dict imageDict(const reference::CameraImages& images);
+// `suffix` follows each quantity's name ("exitance" + suffix, then "_stderr").
+py::dict imageDict(const reference::CameraImages& images, const std::string& suffix = "");
 // imageDict of a path tracer's images (SpherePathTracer, MeshPathTracer), and when it splits
 // scattering orders those of each order as "exitance_single", "exitance_single_stderr", ...
 template <class Tracer>

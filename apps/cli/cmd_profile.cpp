@@ -126,14 +126,9 @@ std::vector<analysis::Curve> referenceCurves(const std::array<reference::SlabRes
                                              analysis::Channel ch, const ProfileArgs& a) {
   const auto ptr = [&](size_t c) { return traced[c] ? &results[c] : nullptr; };
   const std::array<const reference::SlabResult*, 3> r{ptr(0), ptr(1), ptr(2)};
-  using reference::ScatteringOrder;
   std::vector<analysis::Curve> out;
-  if (a.scattering == "all" || a.scattering == "split")
-    out.push_back(analysis::pencilReferenceCurve(r, ch, a.times_r));
-  if (a.scattering == "single" || a.scattering == "split")
-    out.push_back(analysis::pencilReferenceCurve(r, ch, a.times_r, ScatteringOrder::Single));
-  if (a.scattering == "multiple" || a.scattering == "split")
-    out.push_back(analysis::pencilReferenceCurve(r, ch, a.times_r, ScatteringOrder::Multiple));
+  for (const auto& order : analysis::scatteringSelection(a.scattering))
+    out.push_back(analysis::pencilReferenceCurve(r, ch, a.times_r, order));
   return out;
 }
 
@@ -434,7 +429,8 @@ void addProfileCommand(CLI::App& app) {
   cmd->add_option("--scattering", args->scattering,
                   "Which light of the reference: all (multi + single scattering), single, "
                   "multiple, or split (the three curves; seed Eq. 2.13, Fig. 3.6)")
-      ->check(CLI::IsMember({"all", "single", "multiple", "split"}))
+      ->check(CLI::IsMember(std::vector<std::string>(analysis::kScatteringSelections.begin(),
+                                                     analysis::kScatteringSelections.end())))
       ->capture_default_str();
   cmd->add_flag("--study", args->study,
                 "Error study: every model (or --model list) against the path-traced reference for "

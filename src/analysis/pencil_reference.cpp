@@ -87,6 +87,15 @@ void accumulateSlab(SlabResult& total, const SlabResult& pass) {
   total.partial = total.partial || pass.partial;
 }
 
+std::vector<std::optional<reference::ScatteringOrder>> scatteringSelection(std::string_view name) {
+  using reference::ScatteringOrder;
+  if (name == "all") return {std::nullopt};
+  if (name == "single") return {ScatteringOrder::Single};
+  if (name == "multiple") return {ScatteringOrder::Multiple};
+  if (name == "split") return {std::nullopt, ScatteringOrder::Single, ScatteringOrder::Multiple};
+  throw ParameterError(fmt::format("scattering '{}': expected all, single, multiple or split", name));
+}
+
 Curve pencilReferenceCurve(const std::array<const SlabResult*, 3>& results, Channel ch,
                            bool times_r, std::optional<reference::ScatteringOrder> order) {
   const auto needed = channelsNeeded(ch);

@@ -20,6 +20,8 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <string_view>
+#include <vector>
 
 #include "analysis/profile_curves.h"
 #include "reference/slab.h"
@@ -44,6 +46,12 @@ void accumulateSlab(reference::SlabResult& total, const reference::SlabResult& p
 Curve pencilReferenceCurve(const std::array<const reference::SlabResult*, 3>& results, Channel ch,
                            bool times_r,
                            std::optional<reference::ScatteringOrder> order = std::nullopt);
+
+// The reference's light a selection names (the seed's "multi + single scattering" selector):
+// "all" (every order together: nullopt), "single", "multiple", or "split" (all, then single,
+// then multiple). ParameterError naming the valid names otherwise.
+inline constexpr std::array<const char*, 4> kScatteringSelections{"all", "single", "multiple", "split"};
+std::vector<std::optional<reference::ScatteringOrder>> scatteringSelection(std::string_view name);
 
 struct PencilReferenceOptions {
   double r_max = 0.0;       // radial tally on [0, r_max] [scene units]

@@ -127,6 +127,16 @@ void deformPointNormal(const std::vector<Deformation>& chain, double time, glm::
   }
 }
 
+DeformUniforms deformUniforms(const std::vector<Deformation>& chain, double time) {
+  DeformUniforms u;
+  for (const Deformation& d : chain) {
+    u.a.emplace_back(glm::vec3(d.origin), static_cast<float>(static_cast<int>(d.type)));
+    u.b.emplace_back(glm::vec3(d.axis), static_cast<float>(d.magnitude(time)));
+    u.c.emplace_back(glm::vec3(d.direction), static_cast<float>(d.wavelength));
+  }
+  return u;
+}
+
 glm::dvec3 undeformPoint(const std::vector<Deformation>& chain, double time, const glm::dvec3& x) {
   glm::dvec3 p = x;
   for (auto it = chain.rbegin(); it != chain.rend(); ++it) {

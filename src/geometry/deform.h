@@ -28,6 +28,7 @@
 
 #include <glm/mat3x3.hpp>
 #include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
 
 #include "geometry/mesh.h"
 
@@ -75,6 +76,13 @@ glm::dvec3 undeformPoint(const std::vector<Deformation>& chain, double time, con
 // maps rest normals by J^{-T} (the chain's J at p), so this is J^T n, normalised.
 glm::dvec3 undeformNormal(const std::vector<Deformation>& chain, double time, const glm::dvec3& p,
                           const glm::dvec3& n);
+
+// The chain at time T in the GPU's form (shaders/common/deform.glsl): three vec4 per deformation,
+// a = (origin, type), b = (axis, magnitude at T), c = (direction, wavelength), type as the enum.
+struct DeformUniforms {
+  std::vector<glm::vec4> a, b, c;
+};
+DeformUniforms deformUniforms(const std::vector<Deformation>& chain, double time);
 
 // True when the chain is the identity at time T (empty, or every magnitude 0).
 bool isIdentity(const std::vector<Deformation>& chain, double time);

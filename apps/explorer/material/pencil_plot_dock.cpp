@@ -370,14 +370,7 @@ std::vector<Curve> PencilPlotDock::referenceCurves() const {
   std::vector<Curve> out;
   if (!ref_ || ref_r_max_ != r_max_) return out;
   const auto& res = ref_->results;
-  const QString which = scattering_->currentData().toString();
-  using reference::ScatteringOrder;
-  std::vector<std::optional<ScatteringOrder>> orders;
-  if (which == QLatin1String("all") || which == QLatin1String("split")) orders.emplace_back();
-  if (which == QLatin1String("single") || which == QLatin1String("split"))
-    orders.emplace_back(ScatteringOrder::Single);
-  if (which == QLatin1String("multiple") || which == QLatin1String("split"))
-    orders.emplace_back(ScatteringOrder::Multiple);
+  const auto orders = analysis::scatteringSelection(scattering_->currentData().toString().toStdString());
   for (Channel ch : channels())
     for (const auto& order : orders)
       out.push_back(analysis::pencilReferenceCurve({&res[0], &res[1], &res[2]}, ch,

@@ -29,6 +29,7 @@
 #include "analysis/colormap.h"
 #include "analysis/image_io.h"
 #include "bssrdf/registry.h"
+#include "analysis/pencil_reference.h"
 #include "core/explorer_state.h"
 #include "core/pixel_image_view.h"
 #include "core/trace_device_box.h"
@@ -506,7 +507,9 @@ void LitSpheresDock::setTracerDevice(const std::string& device) {
 
 void LitSpheresDock::setTracerLight(const std::string& light) {
   if (light == tracer_light_) return;
-  if (light != "all" && light != "single" && light != "multiple") {
+  if (light == "split" || std::find(analysis::kScatteringSelections.begin(),
+                                    analysis::kScatteringSelections.end(),
+                                    light) == analysis::kScatteringSelections.end()) {
     state_.error(tr("Lit spheres: traced light '%1': expected all, single or multiple")
                      .arg(QString::fromStdString(light)));
     return;
@@ -530,8 +533,7 @@ void LitSpheresDock::restart(Pane p, bool force) {
   c.seed = kSeed;
   c.threads = 0;
   c.device = tracer_device_;
-  if (tracer_light_ == "single") c.order = reference::ScatteringOrder::Single;
-  if (tracer_light_ == "multiple") c.order = reference::ScatteringOrder::Multiple;
+  c.order = analysis::scatteringSelection(tracer_light_).front();  // one image: never "split"
   try {
     // Both spheres use the medium the model is shown with, so that they compare like with like.
     c.medium = state_.mediumFor(model);

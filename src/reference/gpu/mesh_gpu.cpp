@@ -9,8 +9,6 @@
 #include <optional>
 #include <variant>
 
-#include <glm/vec4.hpp>
-
 #include "geometry/deform.h"
 #include "geometry/flat_bvh.h"
 #include "gpu/compute.h"
@@ -361,16 +359,11 @@ class GpuMeshWalker final : public MeshWalker {
     const bool deformed = v->frame.deformed();
     p.set("DeformCount", deformed ? static_cast<int>(chain.size()) : 0);
     if (deformed) {
-      std::vector<glm::vec4> a, b, c;
-      for (const geometry::Deformation& d : chain) {
-        a.emplace_back(glm::vec3(d.origin), static_cast<float>(static_cast<int>(d.type)));
-        b.emplace_back(glm::vec3(d.axis), static_cast<float>(d.magnitude(v->frame.time)));
-        c.emplace_back(glm::vec3(d.direction), static_cast<float>(d.wavelength));
-      }
+      const geometry::DeformUniforms u = geometry::deformUniforms(chain, v->frame.time);
       const auto n = static_cast<GLsizei>(chain.size());
-      glProgramUniform4fv(p.id(), p.uniformLocation("DeformA"), n, &a[0].x);
-      glProgramUniform4fv(p.id(), p.uniformLocation("DeformB"), n, &b[0].x);
-      glProgramUniform4fv(p.id(), p.uniformLocation("DeformC"), n, &c[0].x);
+      glProgramUniform4fv(p.id(), p.uniformLocation("DeformA"), n, &u.a[0].x);
+      glProgramUniform4fv(p.id(), p.uniformLocation("DeformB"), n, &u.b[0].x);
+      glProgramUniform4fv(p.id(), p.uniformLocation("DeformC"), n, &u.c[0].x);
     }
   }
   static float roundUp(double b) {

@@ -75,19 +75,14 @@ void GpuMesh::deform(const std::vector<geometry::Deformation>& chain, double tim
     if (!deformProgram_)
       deformProgram_ = std::make_shared<gpu::ShaderProgram>(gpu::ShaderProgram::compute("common/deform.comp"));
     const gpu::ShaderProgram& p = *deformProgram_;
-    std::vector<glm::vec4> a, b, c;
-    for (const geometry::Deformation& d : chain) {
-      a.emplace_back(glm::vec3(d.origin), float(static_cast<int>(d.type)));
-      b.emplace_back(glm::vec3(d.axis), float(d.magnitude(time)));
-      c.emplace_back(glm::vec3(d.direction), float(d.wavelength));
-    }
+    const geometry::DeformUniforms u = geometry::deformUniforms(chain, time);
     p.set("VertexCount", unsigned(vertexCount_));
     p.set("Stride", stride_);
     p.set("DeformCount", int(chain.size()));
     const GLsizei n = GLsizei(chain.size());
-    glProgramUniform4fv(p.id(), p.uniformLocation("DeformA"), n, glm::value_ptr(a[0]));
-    glProgramUniform4fv(p.id(), p.uniformLocation("DeformB"), n, glm::value_ptr(b[0]));
-    glProgramUniform4fv(p.id(), p.uniformLocation("DeformC"), n, glm::value_ptr(c[0]));
+    glProgramUniform4fv(p.id(), p.uniformLocation("DeformA"), n, glm::value_ptr(u.a[0]));
+    glProgramUniform4fv(p.id(), p.uniformLocation("DeformB"), n, glm::value_ptr(u.b[0]));
+    glProgramUniform4fv(p.id(), p.uniformLocation("DeformC"), n, glm::value_ptr(u.c[0]));
     gpu::bindStorage(0, rest_);
     gpu::bindStorage(1, vertices_);
     // The vertex fetch of later draws reads what the shader wrote.
