@@ -59,6 +59,31 @@ TEST(SplattingRbar, EveryRadiusAboveRbarMeetsEpsilon) {
   EXPECT_GT(table.rbar.front(), 0.5);
 }
 
+TEST(SplattingRbar, CoarseLevelsGetNothingUntilTExceedsTheEdgeValueOverEpsilon) {
+  // Eq. 14 at r = 1: the sum has the single sample P̄(1)·1/T and the integral is empty, so the
+  // error there is P̄(1)/T and R̄(T) = 1 for every T <= P̄(1)/ε: a level whose T(x_i) is that
+  // coarse splats nothing (Eq. 13 gives it the empty range [R_P, R_P]). With the seed's
+  // ε = 0.001 and a diffusion profile's P̄(1) of order 0.1 this means T > ~100 samples across
+  // R_P, which is why level 1 stays idle at 800×600 in BENCHMARKS.md's Table 2.
+  const MeanProfile mean = testMean();
+  const double eps = 0.001;
+  ASSERT_GT(mean.at(1.0), 0.0);
+  EXPECT_NEAR(rangeSplitError(mean, 1.0, 50.0), mean.at(1.0) / 50.0, 1e-15);
+  const double tEdge = mean.at(1.0) / eps;
+  for (double f : {0.1, 0.5, 0.9, 1.0}) {
+    EXPECT_EQ(minimalRenderingRadius(mean, f * tEdge, eps, 512), 1.0) << "T = " << f << " P̄(1)/ε";
+  }
+  // Past it the range's end meets ε, and R̄ falls below 1.
+  EXPECT_LT(minimalRenderingRadius(mean, 1.5 * tEdge, eps, 512), 1.0);
+  // The same through the table and Eq. 13: with T0 / 2 <= P̄(1)/ε, levels 1 and 2 are empty.
+  const RbarTable table = RbarTable::build(mean, eps, 64, 1.0, 4096.0, 256);
+  const double rp = 0.3;
+  const auto ranges = splatRanges(table, rp, 1.8 * tEdge, 3);
+  EXPECT_EQ(ranges[0].second, rp);
+  EXPECT_EQ(ranges[1].first, ranges[1].second);
+  EXPECT_EQ(ranges[2].first, ranges[2].second);
+}
+
 TEST(SplattingRbar, LevelRangesSplitWithinEpsilon) {
   // Eq. 13: contiguous, non-overlapping ranges from 0 to R_P; each level k >= 1 starts where
   // sampling at that level's resolution T0 / 2^k errs by less than ε (Eq. 14), measured here with
