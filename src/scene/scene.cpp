@@ -674,6 +674,12 @@ void requireOutsideMesh(const Scene& scene, const geometry::TriangleMesh& placed
   }
 }
 
+material::Material restMaterial(const Scene& scene, const geometry::TriangleMesh& rest_mesh) {
+  Scene rest = scene;
+  rest.mesh_deform.clear();
+  return sceneMaterial(rest, rest_mesh);
+}
+
 material::Material sceneMaterial(const Scene& scene, const geometry::TriangleMesh& placed_mesh) {
   material::BuildContext b;
   b.placed_mesh = &placed_mesh;

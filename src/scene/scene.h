@@ -222,6 +222,11 @@ std::string restMeshKey(const Scene& scene);
 // or surface map, built against `placed_mesh` (loadSceneMesh's result: layers by depth below the
 // surface need it). Throws ParameterError naming the file or key that cannot be used.
 material::Material sceneMaterial(const Scene& scene, const geometry::TriangleMesh& placed_mesh);
+// The same for a renderer that reads the material at rest-pose points (techniques that keep the
+// rest mesh and deform it on the GPU per frame: their per-vertex media are rest-pose quantities):
+// built against the rest mesh, its frame without the deformation. sceneMaterial's frame would
+// undo the deformation at scene.time on points that are already at rest.
+material::Material restMaterial(const Scene& scene, const geometry::TriangleMesh& rest_mesh);
 
 // The camera and every point light and beam origin must lie outside the object (issue 15: inside
 // it, a reference renders a black image and a technique a meaningless one). Throws

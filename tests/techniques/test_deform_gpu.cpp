@@ -5,7 +5,10 @@
 //   - a technique that draws through GpuMesh (tsm) renders the scene at time T, deformed on the
 //     GPU, as it renders the CPU-deformed mesh written to a file (no deformation): the same image
 //     up to float rounding of the positions (a few silhouette pixels may flip);
-//   - preparing again at a time where the deformation is the identity restores the rest pose.
+//   - preparing again at a time where the deformation is the identity restores the rest pose;
+//   - the empirical shader deforms on the GPU too (without AO, which it keeps from the rest pose,
+//     the same image as the CPU-deformed mesh's) and reads its material in the rest pose, whatever
+//     the time of its first preparation.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -17,7 +20,9 @@
 #include "geometry/icosphere.h"
 #include "gpu/compute.h"
 #include "render_helpers.h"
+#include "scene/scene.h"
 #include "techniques/common/gl_resources.h"
+#include "techniques/empirical/empirical_technique.h"
 #include "techniques/tsis/tsis_technique.h"
 #include "techniques/tsm/tsm_technique.h"
 
@@ -133,6 +138,75 @@ TEST_F(DeformGpu, TsmRendersTheGpuDeformedMeshAsTheCpuDeformedOne) {
   std::vector<float> again(g.rgb.size());
   for (size_t i = 0; i < again.size(); ++i) again[i] = rest1.rgb[i] - rest0.rgb[i];
   EXPECT_LT(meanAbs(again), 1e-6 * scale);
+}
+
+// The empirical shader deforms its rest-pose vertex buffer on the GPU: with AO off (AO is the rest
+// pose's, precomputed once) its image at time T is the CPU-deformed mesh's up to float rounding,
+// as tsm's above, and differs from the rest pose's.
+TEST_F(DeformGpu, EmpiricalRendersTheGpuDeformedMeshAsTheCpuDeformedOne) {
+  TempDir dir;
+  const auto restObj = writeObj(ellipsoid(4), dir.path() / "rest.obj");
+  scene::Scene s = testScene(restObj, 48);
+  s.mesh_deform = {chain()[0], chain()[1]};
+  s.time = 0.4;
+  const auto cpuObj = writeObj(scene::loadSceneMesh(s), dir.path() / "deformed.obj");
+  scene::Scene c = testScene(cpuObj, 48);
+  scene::Scene atRest = s;
+  atRest.time = 0.0;
+  empirical::EmpiricalTechnique gpuT, cpuT;
+  for (auto* t : {&gpuT, &cpuT}) t->setParameter("ao", false);
+  gpuT.prepare(atRest, gpu::testing::context());
+  const Frame rest0 = gpuT.render({});
+  gpuT.prepare(s, gpu::testing::context());
+  const Frame g = gpuT.render({});
+  cpuT.prepare(c, gpu::testing::context());
+  const Frame r = cpuT.render({});
+  ASSERT_EQ(g.rgb.size(), r.rgb.size());
+  const double scale = meanAbs(r.rgb);
+  ASSERT_GT(scale, 0.0);
+  std::vector<float> diff(g.rgb.size()), moved(g.rgb.size());
+  size_t far = 0;
+  for (size_t i = 0; i < diff.size(); ++i) {
+    diff[i] = g.rgb[i] - r.rgb[i];
+    moved[i] = g.rgb[i] - rest0.rgb[i];
+    if (double(std::abs(diff[i])) > 0.05 * scale) ++far;
+  }
+  EXPECT_LT(meanAbs(diff), 0.01 * scale);
+  EXPECT_LE(far, diff.size() / 100);  // silhouette pixels at most
+  EXPECT_GT(meanAbs(moved), 0.1 * scale);
+}
+
+// A heterogeneous material lives in the rest pose: the empirical shader prepared directly at a
+// deformed time renders what it renders when prepared at rest and then moved to that time (the
+// per-vertex colours are the rest pose's either way). Read through the deformation a second time,
+// as sceneMaterial's frame would on rest-pose vertices, the first would show other media.
+TEST_F(DeformGpu, EmpiricalReadsItsMaterialInTheRestPoseAtAnyTime) {
+  scene::Scene s = scene::loadScene(std::string(TRANSLUCENT_DATA_DIR) + "/scenes/bunny-bend.json");
+  ASSERT_FALSE(s.material.homogeneous());
+  s.camera.width = 64;
+  s.camera.height = 48;
+  scene::Scene atRest = s;
+  atRest.time = 0.0;
+  ASSERT_TRUE(geometry::isIdentity(atRest.mesh_deform, atRest.time));
+  ASSERT_FALSE(geometry::isIdentity(s.mesh_deform, s.time));
+  empirical::EmpiricalTechnique direct, moving;
+  for (auto* t : {&direct, &moving}) t->setParameter("ao", false);
+  direct.prepare(s, gpu::testing::context());
+  const Frame d = direct.render({});
+  moving.prepare(atRest, gpu::testing::context());
+  const Frame rest0 = moving.render({});
+  moving.prepare(s, gpu::testing::context());
+  const Frame m = moving.render({});
+  ASSERT_EQ(d.rgb.size(), m.rgb.size());
+  const double scale = meanAbs(m.rgb);
+  ASSERT_GT(scale, 0.0);
+  std::vector<float> diff(d.rgb.size()), moved(d.rgb.size());
+  for (size_t i = 0; i < diff.size(); ++i) {
+    diff[i] = d.rgb[i] - m.rgb[i];
+    moved[i] = m.rgb[i] - rest0.rgb[i];
+  }
+  EXPECT_LT(meanAbs(diff), 1e-6 * scale);
+  EXPECT_GT(meanAbs(moved), 0.05 * scale);
 }
 
 // The techniques with CPU-side geometry keep it from the rest pose and move it with the surface:

@@ -2,6 +2,7 @@
 #include "techniques/empirical/empirical_technique.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <cmath>
@@ -17,10 +18,12 @@
 #include "bssrdf/tabulated.h"
 #include "geometry/ambient_occlusion.h"
 #include "geometry/atlas.h"
+#include "geometry/deform.h"
 #include "gpu/compute.h"
 #include "gpu/objects.h"
 #include "gpu/pass_timer.h"
 #include "gpu/program.h"
+#include "material/material_desc.h"
 #include "techniques/common/gl_resources.h"
 #include "scene/scene.h"
 #include "techniques/empirical/shading.h"
@@ -128,7 +131,15 @@ struct EmpiricalTechnique::Impl {
 
   std::optional<scene::Scene> scene;
   std::string meshKey, aoKey;
+  // The rest pose (scene::loadRestMesh): AO, the per-vertex material factors and the GPU copy are
+  // computed on it once; a deformation (scene mesh.deform at scene.time) is applied to the vertex
+  // buffer on the GPU per time (GpuMesh::deform), so the material, defined in the rest pose,
+  // follows the surface. center and radius bound the deformed surface.
   geometry::TriangleMesh mesh;
+  std::string deformState;  // deformation and time of gpuMesh's vertex buffer ("": rest)
+  std::string materialKey;  // mesh, model and medium of the per-vertex factors ("": none)
+  std::optional<material::MaterialDesc> materialDesc;  // and their material
+  bool deformDirty = true;  // gpuMesh was uploaded again: its buffer holds the rest pose
   glm::dvec3 center{0.0};
   double radius = 1.0;
   std::vector<glm::dvec3> normals;
@@ -157,9 +168,18 @@ struct EmpiricalTechnique::Impl {
   gpu::Framebuffer frontFboHetero;
 
   void prepareMaterial(const scene::Scene& s) {
-    mat = materialOverride ? *materialOverride : scene::sceneMaterial(s, mesh);
+    // The per-vertex factors are rest-pose quantities: a new time alone keeps them.
+    const std::string key = fmt::format("{}|{}|{}|{}|{}|{}|{}", meshKey, s.model, s.medium.sigma_a,
+                                        s.medium.sigma_s, s.medium.g, s.medium.eta, s.medium.scale);
+    if (!materialOverride && key == materialKey && materialDesc && *materialDesc == s.material) return;
+    materialKey.clear();
+    mat = materialOverride ? *materialOverride : scene::restMaterial(s, mesh);
     hetero = mat.heterogeneous();
-    if (!hetero) return;
+    const auto done = [&] {
+      materialKey = key;
+      materialDesc = s.material;
+    };
+    if (!hetero) return done();
     // Kind::Surface: the map at each vertex's atlas UV, from the first triangle that uses it (a
     // vertex on a chart seam has one UV per chart), in the default atlas (geometry::AtlasOptions{},
     // cached), over which the map must be defined.
@@ -206,6 +226,7 @@ struct EmpiricalTechnique::Impl {
     width = height = 0;  // the front framebuffer gets its third attachment
     notes.push_back("empirical: heterogeneous material, K_d scaled per vertex by Rd(local) / "
                     "Rd(representative) (an approximation)");
+    done();
   }
 
   void buildPrograms() {
@@ -216,9 +237,9 @@ struct EmpiricalTechnique::Impl {
   }
 
   void loadMesh(const scene::Scene& s) {
-    const std::string key = scene::meshKey(s);
+    const std::string key = scene::restMeshKey(s);
     if (key == meshKey) return;
-    geometry::TriangleMesh m = scene::loadSceneMesh(s);
+    geometry::TriangleMesh m = scene::loadRestMesh(s);
     if (m.openEdgeCount() == 0) m.orientOutwards();
     mesh = std::move(m);
     normals = geometry::ambientOcclusionNormals(mesh);
@@ -229,6 +250,27 @@ struct EmpiricalTechnique::Impl {
     radius = bs.radius;
     meshKey = key;
     aoKey.clear();
+    deformDirty = true;
+  }
+
+  // The scene's deformation at its time on the GPU, and the deformed surface's bounding sphere
+  // (what the camera's automatic clip distances cover), from a CPU copy as ClosedMeshState does.
+  void applyDeformation(const scene::Scene& s) {
+    const bool identity = geometry::isIdentity(s.mesh_deform, s.time);
+    const std::string state =
+        identity ? "" : fmt::format("{}|t{}", geometry::deformKey(s.mesh_deform), s.time);
+    if (state == deformState && !deformDirty) return;
+    gpuMesh->deform(s.mesh_deform, s.time);
+    geometry::TriangleMesh shape = mesh;
+    if (!identity) geometry::deformMesh(s.mesh_deform, s.time, shape);
+    const techniques::BoundingSphereOf bs = techniques::boundingSphere(shape);
+    center = bs.center;
+    radius = bs.radius;
+    if (!identity && params.getBool("ao"))
+      notes.push_back("empirical: the deformed mesh keeps the rest pose's per-vertex ambient "
+                      "occlusion (precomputed once, as the seed's is; not traced again per time)");
+    deformState = state;
+    deformDirty = false;
   }
 
   void computeAo() {
@@ -258,6 +300,7 @@ struct EmpiricalTechnique::Impl {
     if (!uploadDirty) return;
     gpuMesh.emplace(mesh, normals, ao);
     uploadDirty = false;
+    deformDirty = true;
   }
 
   void resize(int w, int h) {
@@ -329,6 +372,7 @@ struct EmpiricalTechnique::Impl {
     buildPrograms();
     computeAo();
     upload();
+    applyDeformation(s);
     resize(w, h);
     if (!timer) timer.emplace();
     techniques::Frame frame;
@@ -501,10 +545,12 @@ void EmpiricalTechnique::prepare(const scene::Scene& scene, gpu::Context& gl) {
   impl_->prepareMaterial(scene);
   impl_->computeAo();
   impl_->upload();
+  impl_->applyDeformation(scene);
 }
 
 void EmpiricalTechnique::setMaterial(std::optional<material::Material> material) {
   impl_->materialOverride = std::move(material);
+  impl_->materialKey.clear();
 }
 
 bool EmpiricalTechnique::heterogeneous() const { return impl_->hetero; }

@@ -12,7 +12,10 @@
 //              by the depth-aware Gaussian of Eq. C.1, thickness t = (back - front) / D with D the
 //              diameter of the mesh's bounding sphere, then Eq. 3.6 (shade.comp)
 // Preparation: load and place the mesh (oriented outwards when closed) and its per-vertex AO
-// (geometry/ambient_occlusion.h, cached on disk; `ao` false: a = 1).
+// (geometry/ambient_occlusion.h, cached on disk; `ao` false: a = 1), both in the rest pose. A
+// deformed mesh (mesh.deform) is deformed on the GPU per time (techniques::GpuMesh::deform), the
+// material and AO staying those of the rest pose: the material follows the surface, and the AO is
+// the rest pose's, precomputed once as the seed's is (a frame note says so), not traced per time.
 //
 // Lights (up to 4): directional lights give L and I_d = I_s = colour × irradiance; point lights
 // L towards the light and I_d = I_s = colour × intensity / distance²; other types are rejected.
@@ -28,7 +31,7 @@
 // technique's `radiance_convention`, bssrdf/exit_radiance.h) do not apply and there is no such
 // parameter here.
 //
-// Heterogeneous materials (material/material.h; prepare() calls scene::sceneMaterial(scene, mesh),
+// Heterogeneous materials (material/material.h; prepare() calls scene::restMaterial(scene, mesh),
 // or takes the Material given to setMaterial()). An approximation, as the whole shader is: K_d is
 // scaled per vertex (interpolated over the triangles) by Rd(local medium) / Rd(representative
 // medium), per channel, with Rd the total diffuse reflectance of the material's model
@@ -36,7 +39,7 @@
 // Material::surfaceMedium at the vertex. Where the material is the representative medium the
 // image is the homogeneous one; elsewhere the colour follows how much more or less light that
 // medium reflects per channel. Thickness and backlight do not change with the medium. A Kind::Surface
-// map is read at each vertex's UV in the default atlas (geometry::AtlasOptions{}). A homogeneous material takes the programs and buffers it took before.
+// map is read at each vertex's UV in the rest pose's default atlas (geometry::AtlasOptions{}). A homogeneous material takes the programs and buffers it took before.
 //
 // Parameters: see parameters() (every term of Eq. 3.6, the smoothing kernel, the AO rays, and
 // `preset`, which sets thickness_exponent, backlight and diffuse_weight from Table 4.3).

@@ -186,7 +186,7 @@ struct SplattingTechnique::Impl : techniques::ClosedMeshState {
                                         s.medium.sigma_s, s.medium.g, s.medium.eta, s.medium.scale);
     if (key == profileKey && profileDesc && *profileDesc == s.material) return;
     profileKey.clear();
-    const material::Material mat = scene::sceneMaterial(s, restMesh);
+    const material::Material mat = scene::restMaterial(s, restMesh);
     const std::vector<glm::dvec3> normals = techniques::vertexNormals(restMesh);
     std::vector<glm::vec3> vp(restMesh.vertexCount()), vn(restMesh.vertexCount());
     for (size_t i = 0; i < vp.size(); ++i) {
