@@ -95,6 +95,62 @@ double meanAbs(const std::vector<float>& a) {
   return s / double(a.size());
 }
 
+// a − b, pixel-channel by pixel-channel (frames of one size).
+std::vector<float> difference(const Frame& a, const Frame& b) {
+  EXPECT_EQ(a.rgb.size(), b.rgb.size());
+  std::vector<float> d(std::min(a.rgb.size(), b.rgb.size()));
+  for (size_t i = 0; i < d.size(); ++i) d[i] = a.rgb[i] - b.rgb[i];
+  return d;
+}
+
+// The per-frame path: the technique prepared at the rest pose and rendered, then prepared again at
+// the deformed time and rendered.
+struct RestThenDeformed {
+  Frame rest, deformed;
+};
+RestThenDeformed renderRestThenDeformed(Technique& t, const scene::Scene& atRest,
+                                        const scene::Scene& deformed) {
+  RestThenDeformed r;
+  t.prepare(atRest, gpu::testing::context());
+  r.rest = t.render({});
+  t.prepare(deformed, gpu::testing::context());
+  r.deformed = t.render({});
+  return r;
+}
+
+// The ellipsoid twisted and bent (chain()'s first two) at time 0.4, `size` pixels square: the
+// scene (`deformed`), the CPU-deformed mesh as a file of its own, not deformed again (`cpu`: what
+// the references load), and the rest pose (time 0, where both magnitudes are 0).
+struct TwistedAndBent {
+  TempDir dir;
+  scene::Scene deformed, cpu, atRest;
+  explicit TwistedAndBent(int size) {
+    deformed = testScene(writeObj(ellipsoid(4), dir.path() / "rest.obj"), size);
+    deformed.mesh_deform = {chain()[0], chain()[1]};
+    deformed.time = 0.4;
+    cpu = testScene(writeObj(scene::loadSceneMesh(deformed), dir.path() / "deformed.obj"), size);
+    atRest = deformed;
+    atRest.time = 0.0;
+  }
+};
+
+// A GPU-deformed image against the image of the CPU-deformed mesh file: the same up to float
+// rounding of the positions (mean difference under 1% of the mean, at most 1% of the
+// pixel-channels off by more than 5%: silhouettes), and more than 10% from the rest pose's (the
+// deformation is visible). Returns the mean of the CPU-deformed image.
+double expectTheCpuDeformedImage(const RestThenDeformed& g, const Frame& cpu) {
+  const double scale = meanAbs(cpu.rgb);
+  EXPECT_GT(scale, 0.0);
+  const std::vector<float> diff = difference(g.deformed, cpu);
+  const size_t far = size_t(std::count_if(diff.begin(), diff.end(), [&](float x) {
+    return double(std::abs(x)) > 0.05 * scale;
+  }));
+  EXPECT_LT(meanAbs(diff), 0.01 * scale);
+  EXPECT_LE(far, diff.size() / 100);
+  EXPECT_GT(meanAbs(difference(g.deformed, g.rest)), 0.1 * scale);
+  return scale;
+}
+
 TEST_F(DeformGpu, TsmRendersTheGpuDeformedMeshAsTheCpuDeformedOne) {
   TempDir dir;
   const auto restObj = writeObj(ellipsoid(4), dir.path() / "rest.obj");
@@ -106,74 +162,29 @@ TEST_F(DeformGpu, TsmRendersTheGpuDeformedMeshAsTheCpuDeformedOne) {
   const auto cpuObj = writeObj(cpuMesh, dir.path() / "deformed.obj");
   scene::Scene c = testScene(cpuObj, 48);
 
-  tsm::TsmTechnique gpuT, cpuT, restT;
-  // The GPU technique sees the rest pose first, then the time changes (the per-frame path).
+  tsm::TsmTechnique gpuT, cpuT;
   scene::Scene atRest = s;
   atRest.time = 0.0;
   atRest.mesh_deform.pop_back();  // the wave is constant; without it time 0 is the rest pose
-  gpuT.prepare(atRest, gpu::testing::context());
-  const Frame rest0 = gpuT.render({});
-  gpuT.prepare(s, gpu::testing::context());
-  const Frame g = gpuT.render({});
+  const RestThenDeformed g = renderRestThenDeformed(gpuT, atRest, s);
   cpuT.prepare(c, gpu::testing::context());
-  const Frame r = cpuT.render({});
-  ASSERT_EQ(g.rgb.size(), r.rgb.size());
-  std::vector<float> diff(g.rgb.size());
-  size_t far = 0;
-  const double scale = meanAbs(r.rgb);
-  ASSERT_GT(scale, 0.0);
-  for (size_t i = 0; i < diff.size(); ++i) {
-    diff[i] = g.rgb[i] - r.rgb[i];
-    if (double(std::abs(diff[i])) > 0.05 * scale) ++far;
-  }
-  EXPECT_LT(meanAbs(diff), 0.01 * scale);
-  EXPECT_LE(far, diff.size() / 100);  // silhouette pixels at most
-  // And it differs from the rest pose's image (the deformation is visible).
-  std::vector<float> moved(g.rgb.size());
-  for (size_t i = 0; i < moved.size(); ++i) moved[i] = g.rgb[i] - rest0.rgb[i];
-  EXPECT_GT(meanAbs(moved), 0.1 * scale);
+  const double scale = expectTheCpuDeformedImage(g, cpuT.render({}));
   // Back at the rest pose: the rest image again.
   gpuT.prepare(atRest, gpu::testing::context());
-  const Frame rest1 = gpuT.render({});
-  std::vector<float> again(g.rgb.size());
-  for (size_t i = 0; i < again.size(); ++i) again[i] = rest1.rgb[i] - rest0.rgb[i];
-  EXPECT_LT(meanAbs(again), 1e-6 * scale);
+  EXPECT_LT(meanAbs(difference(gpuT.render({}), g.rest)), 1e-6 * scale);
 }
 
 // The empirical shader deforms its rest-pose vertex buffer on the GPU: with AO off (AO is the rest
 // pose's, precomputed once) its image at time T is the CPU-deformed mesh's up to float rounding,
 // as tsm's above, and differs from the rest pose's.
 TEST_F(DeformGpu, EmpiricalRendersTheGpuDeformedMeshAsTheCpuDeformedOne) {
-  TempDir dir;
-  const auto restObj = writeObj(ellipsoid(4), dir.path() / "rest.obj");
-  scene::Scene s = testScene(restObj, 48);
-  s.mesh_deform = {chain()[0], chain()[1]};
-  s.time = 0.4;
-  const auto cpuObj = writeObj(scene::loadSceneMesh(s), dir.path() / "deformed.obj");
-  scene::Scene c = testScene(cpuObj, 48);
-  scene::Scene atRest = s;
-  atRest.time = 0.0;
+  const TwistedAndBent e(48);
+  const scene::Scene &s = e.deformed, &c = e.cpu, &atRest = e.atRest;
   empirical::EmpiricalTechnique gpuT, cpuT;
   for (auto* t : {&gpuT, &cpuT}) t->setParameter("ao", false);
-  gpuT.prepare(atRest, gpu::testing::context());
-  const Frame rest0 = gpuT.render({});
-  gpuT.prepare(s, gpu::testing::context());
-  const Frame g = gpuT.render({});
+  const RestThenDeformed g = renderRestThenDeformed(gpuT, atRest, s);
   cpuT.prepare(c, gpu::testing::context());
-  const Frame r = cpuT.render({});
-  ASSERT_EQ(g.rgb.size(), r.rgb.size());
-  const double scale = meanAbs(r.rgb);
-  ASSERT_GT(scale, 0.0);
-  std::vector<float> diff(g.rgb.size()), moved(g.rgb.size());
-  size_t far = 0;
-  for (size_t i = 0; i < diff.size(); ++i) {
-    diff[i] = g.rgb[i] - r.rgb[i];
-    moved[i] = g.rgb[i] - rest0.rgb[i];
-    if (double(std::abs(diff[i])) > 0.05 * scale) ++far;
-  }
-  EXPECT_LT(meanAbs(diff), 0.01 * scale);
-  EXPECT_LE(far, diff.size() / 100);  // silhouette pixels at most
-  EXPECT_GT(meanAbs(moved), 0.1 * scale);
+  expectTheCpuDeformedImage(g, cpuT.render({}));
 }
 
 // A heterogeneous material lives in the rest pose: the empirical shader prepared directly at a
@@ -193,20 +204,11 @@ TEST_F(DeformGpu, EmpiricalReadsItsMaterialInTheRestPoseAtAnyTime) {
   for (auto* t : {&direct, &moving}) t->setParameter("ao", false);
   direct.prepare(s, gpu::testing::context());
   const Frame d = direct.render({});
-  moving.prepare(atRest, gpu::testing::context());
-  const Frame rest0 = moving.render({});
-  moving.prepare(s, gpu::testing::context());
-  const Frame m = moving.render({});
-  ASSERT_EQ(d.rgb.size(), m.rgb.size());
-  const double scale = meanAbs(m.rgb);
+  const RestThenDeformed m = renderRestThenDeformed(moving, atRest, s);
+  const double scale = meanAbs(m.deformed.rgb);
   ASSERT_GT(scale, 0.0);
-  std::vector<float> diff(d.rgb.size()), moved(d.rgb.size());
-  for (size_t i = 0; i < diff.size(); ++i) {
-    diff[i] = d.rgb[i] - m.rgb[i];
-    moved[i] = m.rgb[i] - rest0.rgb[i];
-  }
-  EXPECT_LT(meanAbs(diff), 1e-6 * scale);
-  EXPECT_GT(meanAbs(moved), 0.05 * scale);
+  EXPECT_LT(meanAbs(difference(d, m.deformed)), 1e-6 * scale);
+  EXPECT_GT(meanAbs(difference(m.deformed, m.rest)), 0.05 * scale);
 }
 
 // The techniques with CPU-side geometry keep it from the rest pose and move it with the surface:
@@ -219,39 +221,21 @@ TEST_F(DeformGpu, EmpiricalReadsItsMaterialInTheRestPoseAtAnyTime) {
 // pose's image (more than 10%).
 template <class T>
 void expectFollowsTheDeformation(const char* points_parameter, int points) {
-  TempDir dir;
-  const auto restObj = writeObj(ellipsoid(4), dir.path() / "rest.obj");
-  scene::Scene s = testScene(restObj, 40);
-  s.mesh_deform = {chain()[0], chain()[1]};
-  s.time = 0.4;
-  const auto cpuObj = writeObj(scene::loadSceneMesh(s), dir.path() / "deformed.obj");
-  scene::Scene c = testScene(cpuObj, 40);
-  scene::Scene atRest = s;
-  atRest.time = 0.0;
+  const TwistedAndBent e(40);
+  const scene::Scene &s = e.deformed, &c = e.cpu, &atRest = e.atRest;
   T moving, direct;
   if (points_parameter) {
     moving.setParameter(points_parameter, points);
     direct.setParameter(points_parameter, points);
   }
-  moving.prepare(atRest, gpu::testing::context());
-  const Frame rest0 = moving.render({});
-  moving.prepare(s, gpu::testing::context());
-  const Frame g = moving.render({});
+  const RestThenDeformed g = renderRestThenDeformed(moving, atRest, s);
   direct.prepare(c, gpu::testing::context());
   const Frame r = direct.render({});
-  ASSERT_EQ(g.rgb.size(), r.rgb.size());
   const double scale = meanAbs(r.rgb);
   ASSERT_GT(scale, 0.0);
-  std::vector<float> diff(g.rgb.size()), moved(g.rgb.size());
-  for (size_t i = 0; i < diff.size(); ++i) {
-    diff[i] = g.rgb[i] - r.rgb[i];
-    moved[i] = g.rgb[i] - rest0.rgb[i];
-  }
-  const Frame r2 = direct.render({});
-  std::vector<float> noise(g.rgb.size());
-  for (size_t i = 0; i < noise.size(); ++i) noise[i] = r2.rgb[i] - r.rgb[i];
-  EXPECT_LT(meanAbs(diff), std::max(0.05 * scale, 3.0 * meanAbs(noise)));
-  EXPECT_GT(meanAbs(moved), 0.1 * scale);
+  const double noise = meanAbs(difference(direct.render({}), r));
+  EXPECT_LT(meanAbs(difference(g.deformed, r)), std::max(0.05 * scale, 3.0 * noise));
+  EXPECT_GT(meanAbs(difference(g.deformed, g.rest)), 0.1 * scale);
 }
 
 TEST_F(DeformGpu, PointcloudMovesItsPointsWithTheSurface) {
