@@ -230,4 +230,8 @@ std::string deformKey(const std::vector<Deformation>& chain) {
   return key;
 }
 
+std::string deformStateKey(const std::vector<Deformation>& chain, double time) {
+  return isIdentity(chain, time) ? "" : fmt::format("{}|t{}", deformKey(chain), time);
+}
+
 }  // namespace translucent::geometry

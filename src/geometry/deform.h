@@ -99,5 +99,8 @@ void deformMesh(const std::vector<Deformation>& chain, double time, TriangleMesh
 
 // A text that changes exactly when the chain does (for cache keys; with the time when `time`).
 std::string deformKey(const std::vector<Deformation>& chain);
+// The chain at time T as a key: "" when it is the identity there (the rest pose), else deformKey
+// and T. What a deformed vertex buffer or anything derived from the deformed mesh is keyed by.
+std::string deformStateKey(const std::vector<Deformation>& chain, double time);
 
 }  // namespace translucent::geometry

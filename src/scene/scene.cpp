@@ -706,6 +706,11 @@ std::string meshKey(const Scene& s) {
   return fmt::format("{}|deform {}|t{}", restMeshKey(s), geometry::deformKey(s.mesh_deform), s.time);
 }
 
+std::string mediumKey(const Scene& s) {
+  return fmt::format("{}|{}|{}|{}|{}|{}", s.model, s.medium.sigma_a, s.medium.sigma_s, s.medium.g,
+                     s.medium.eta, s.medium.scale);
+}
+
 std::string restMeshKey(const Scene& s) {
   const std::string wrap =
       s.mesh_wrap ? fmt::format("wrap{},{}", s.mesh_wrap->alpha, s.mesh_wrap->offset) : "";

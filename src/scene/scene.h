@@ -216,6 +216,9 @@ void placeMesh(const Scene& scene, geometry::TriangleMesh& mesh);
 std::string meshKey(const Scene& scene);
 // The same without the deformation and time: changes exactly when loadRestMesh's result would.
 std::string restMeshKey(const Scene& scene);
+// The material's model and representative medium (model, σa, σs, g, η, scale) as text: with the
+// mesh key and the material description, what techniques key their profiles and kernels by.
+std::string mediumKey(const Scene& scene);
 
 // The scene's material as renderers and tracers read it (material/material.h): its medium, model,
 // the scene → material-space frame of the placement, and (for a heterogeneous material) its field

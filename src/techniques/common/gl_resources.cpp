@@ -60,9 +60,9 @@ void GpuMesh::deform(const std::vector<geometry::Deformation>& chain, double tim
   if (chain.size() > geometry::kMaxDeformations)
     throw gpu::GlError(fmt::format("deforming the mesh: {} deformations, at most {}", chain.size(),
                                    geometry::kMaxDeformations));
-  const bool identity = geometry::isIdentity(chain, time);
-  const std::string state = identity ? "" : fmt::format("{}|t{}", geometry::deformKey(chain), time);
+  const std::string state = geometry::deformStateKey(chain, time);
   if (state == deformState_) return;
+  const bool identity = state.empty();
   const GLsizeiptr bytes = GLsizeiptr(vertexCount_ * stride_ * sizeof(float));
   if (!rest_.id()) {
     // The vertex buffer still holds the rest pose (nothing else writes it): keep a copy.
@@ -334,9 +334,7 @@ void setShadowUniforms(const gpu::ShaderProgram& p, const ShadowMap* map,
 
 bool ClosedMeshState::loadClosedMesh(const scene::Scene& s, bool gpuDeform) {
   const std::string key = gpuDeform ? scene::restMeshKey(s) : scene::meshKey(s);
-  const std::string state = gpuDeform && !geometry::isIdentity(s.mesh_deform, s.time)
-                                ? fmt::format("{}|t{}", geometry::deformKey(s.mesh_deform), s.time)
-                                : "";
+  const std::string state = gpuDeform ? geometry::deformStateKey(s.mesh_deform, s.time) : "";
   if (key == meshKey && gpuMesh && state == deformState) return false;
   bool loaded = false;
   if (key != meshKey || !gpuMesh) {

@@ -136,10 +136,9 @@ struct EmpiricalTechnique::Impl {
   // buffer on the GPU per time (GpuMesh::deform), so the material, defined in the rest pose,
   // follows the surface. center and radius bound the deformed surface.
   geometry::TriangleMesh mesh;
-  std::string deformState;  // deformation and time of gpuMesh's vertex buffer ("": rest)
+  std::string boundsState;  // geometry::deformStateKey of center and radius ("": the rest pose)
   std::string materialKey;  // mesh, model and medium of the per-vertex factors ("": none)
   std::optional<material::MaterialDesc> materialDesc;  // and their material
-  bool deformDirty = true;  // gpuMesh was uploaded again: its buffer holds the rest pose
   glm::dvec3 center{0.0};
   double radius = 1.0;
   std::vector<glm::dvec3> normals;
@@ -169,8 +168,7 @@ struct EmpiricalTechnique::Impl {
 
   void prepareMaterial(const scene::Scene& s) {
     // The per-vertex factors are rest-pose quantities: a new time alone keeps them.
-    const std::string key = fmt::format("{}|{}|{}|{}|{}|{}|{}", meshKey, s.model, s.medium.sigma_a,
-                                        s.medium.sigma_s, s.medium.g, s.medium.eta, s.medium.scale);
+    const std::string key = meshKey + "|" + scene::mediumKey(s);
     if (!materialOverride && key == materialKey && materialDesc && *materialDesc == s.material) return;
     materialKey.clear();
     mat = materialOverride ? *materialOverride : scene::restMaterial(s, mesh);
@@ -250,27 +248,24 @@ struct EmpiricalTechnique::Impl {
     radius = bs.radius;
     meshKey = key;
     aoKey.clear();
-    deformDirty = true;
+    boundsState.clear();
   }
 
   // The scene's deformation at its time on the GPU, and the deformed surface's bounding sphere
   // (what the camera's automatic clip distances cover), from a CPU copy as ClosedMeshState does.
   void applyDeformation(const scene::Scene& s) {
-    const bool identity = geometry::isIdentity(s.mesh_deform, s.time);
-    const std::string state =
-        identity ? "" : fmt::format("{}|t{}", geometry::deformKey(s.mesh_deform), s.time);
-    if (state == deformState && !deformDirty) return;
-    gpuMesh->deform(s.mesh_deform, s.time);
+    gpuMesh->deform(s.mesh_deform, s.time);  // nothing to do when its buffer holds this time
+    const std::string state = geometry::deformStateKey(s.mesh_deform, s.time);
+    if (state == boundsState) return;
     geometry::TriangleMesh shape = mesh;
-    if (!identity) geometry::deformMesh(s.mesh_deform, s.time, shape);
+    geometry::deformMesh(s.mesh_deform, s.time, shape);
     const techniques::BoundingSphereOf bs = techniques::boundingSphere(shape);
     center = bs.center;
     radius = bs.radius;
-    if (!identity && params.getBool("ao"))
+    if (!state.empty() && params.getBool("ao"))
       notes.push_back("empirical: the deformed mesh keeps the rest pose's per-vertex ambient "
                       "occlusion (precomputed once, as the seed's is; not traced again per time)");
-    deformState = state;
-    deformDirty = false;
+    boundsState = state;
   }
 
   void computeAo() {
@@ -300,7 +295,6 @@ struct EmpiricalTechnique::Impl {
     if (!uploadDirty) return;
     gpuMesh.emplace(mesh, normals, ao);
     uploadDirty = false;
-    deformDirty = true;
   }
 
   void resize(int w, int h) {

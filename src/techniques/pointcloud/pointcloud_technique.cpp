@@ -374,8 +374,7 @@ struct PointCloudTechnique::Impl : techniques::ClosedMeshState {
     const bool wantShader = params.getEnum("kernel") == "shader";
     // Heterogeneous: the PC_HETERO variant with n + 1 profile nodes (0: homogeneous).
     const int heteroNodes = hetero ? (profileOptions.segments + 1) : 0;
-    const std::string key = fmt::format("{}|{}|{}|{}|{}|{}|{}|{}|{}|{}", s.model, s.medium.sigma_a,
-                                        s.medium.sigma_s, s.medium.g, s.medium.eta, s.medium.scale,
+    const std::string key = fmt::format("{}|{}|{}|{}|{}", scene::mediumKey(s),
                                         params.getInt("table_size"), wantShader, stackSize,
                                         heteroNodes);
     if (key == kernelKey && radianceProgram) return;

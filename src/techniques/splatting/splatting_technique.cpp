@@ -182,8 +182,7 @@ struct SplattingTechnique::Impl : techniques::ClosedMeshState {
   // Per-vertex profiles at the rest pose (once per mesh and material).
   void buildProfiles(const scene::Scene& s) {
     const geometry::TriangleMesh& restMesh = rest.positions.empty() ? mesh : rest;
-    const std::string key = fmt::format("{}|{}|{}|{}|{}|{}|{}", meshKey, s.model, s.medium.sigma_a,
-                                        s.medium.sigma_s, s.medium.g, s.medium.eta, s.medium.scale);
+    const std::string key = meshKey + "|" + scene::mediumKey(s);
     if (key == profileKey && profileDesc && *profileDesc == s.material) return;
     profileKey.clear();
     const material::Material mat = scene::restMaterial(s, restMesh);

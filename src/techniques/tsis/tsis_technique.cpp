@@ -272,8 +272,7 @@ struct TsisTechnique::Impl : techniques::ClosedMeshState {
   void buildKernel() {
     const scene::Scene& s = *scene;
     const std::string key = fmt::format(
-        "{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}", s.model, s.medium.sigma_a, s.medium.sigma_s, s.medium.g,
-        s.medium.eta, s.medium.scale, params.getInt("table_size"), params.getEnum("mode"),
+        "{}|{}|{}|{}|{}|{}|{}|{}", scene::mediumKey(s), params.getInt("table_size"), params.getEnum("mode"),
         params.getEnum("term"), params.getFloat("split_k"), params.getFloat("split_bound"),
         params.getInt("circles"), params.getInt("circle_samples"));
     if (key == kernelKey) return;
