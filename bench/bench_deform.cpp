@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Deformation per frame (issue 13 §3): the GPU pass that writes a deformed vertex buffer
 // (techniques::GpuMesh::deform, shaders/common/deform.comp) against the CPU deformation of the
 // same mesh (geometry::deformMesh, what the references and the re-preparing techniques use), on
@@ -12,10 +13,10 @@
 #include <memory>
 
 #include "bench_context.h"
-#include "geometry/deform.h"
-#include "scene/data_path.h"
-#include "scene/scene.h"
-#include "techniques/common/gl_resources.h"
+#include "translucent/geometry/deform.h"
+#include "translucent/scene/data_path.h"
+#include "translucent/scene/scene.h"
+#include "translucent/techniques/common/gl_resources.h"
 
 namespace {
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The empirical translucency technique (src/techniques/empirical/) and its per-vertex ambient
 // occlusion (src/geometry/ambient_occlusion.h), beside the seed's chapter 4.1:
 //   BM_AmbientOcclusion  Embree BVH build and 320 uniform rays per vertex (Eq. 3.5), all threads,
@@ -26,12 +27,12 @@
 #include <memory>
 #include <string>
 
-#include "geometry/ambient_occlusion.h"
-#include "geometry/mesh.h"
+#include "translucent/geometry/ambient_occlusion.h"
+#include "translucent/geometry/mesh.h"
 #include "bench_context.h"
-#include "gpu/context.h"
-#include "scene/scene.h"
-#include "techniques/empirical/empirical_technique.h"
+#include "translucent/gpu/context.h"
+#include "translucent/scene/scene.h"
+#include "translucent/techniques/empirical/empirical_technique.h"
 
 namespace {
 

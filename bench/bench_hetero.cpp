@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Throughput of the heterogeneous reference transport (issue 12 §3) against the homogeneous walk
 // for the same medium, on one thread, three channels (photons/s counts photons of every channel):
 //   ico_*   an icosphere of radius 5 (20480 triangles) under a directional light, σa = 0.1,
@@ -25,10 +26,10 @@
 #include <vector>
 
 #include "../tests/reference/test_fields.h"
-#include "geometry/icosphere.h"
-#include "geometry/mesh.h"
-#include "reference/layered_slab.h"
-#include "reference/mesh_tracer.h"
+#include "translucent/geometry/icosphere.h"
+#include "translucent/geometry/mesh.h"
+#include "translucent/reference/layered_slab.h"
+#include "translucent/reference/mesh_tracer.h"
 
 namespace {
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The explorer's lit spheres dock (apps/explorer/spheres) at its defaults: 128x128 images, the
 // explorer's default material (Marble, 25 mm per scene unit, the dipole), the CLI's sphere scene,
 // all hardware threads, each run alone (the dock runs both at once, sharing the cores).
@@ -8,10 +9,10 @@
 // Run: build/release/bin/bench_lit_spheres
 #include <benchmark/benchmark.h>
 
-#include "bssrdf/registry.h"
-#include "optics/presets.h"
-#include "reference/sphere.h"
-#include "reference/sphere_integration.h"
+#include "translucent/bssrdf/registry.h"
+#include "translucent/optics/presets.h"
+#include "translucent/reference/sphere.h"
+#include "translucent/reference/sphere_integration.h"
 
 namespace {
 

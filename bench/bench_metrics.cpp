@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The compare report's image metrics (src/analysis/metrics.h) on 512x512 images, the largest the
 // report computes them for (about ten per report): all metrics together, and the two perceptual
 // maps alone (they dominate: separable filters of radius 10 and 9 for ꟻLIP at 67 px/°, 5 for
@@ -9,7 +10,7 @@
 #include <random>
 #include <vector>
 
-#include "analysis/metrics.h"
+#include "translucent/analysis/metrics.h"
 
 namespace {
 

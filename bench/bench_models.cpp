@@ -1,11 +1,12 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Nanoseconds per profile evaluation R(r) and per radial sample, for every registered model.
 // Run: build/release/bin/bench_models
 #include <benchmark/benchmark.h>
 
 #include <random>
 
-#include "bssrdf/registry.h"
-#include "optics/presets.h"
+#include "translucent/bssrdf/registry.h"
+#include "translucent/optics/presets.h"
 
 namespace {
 

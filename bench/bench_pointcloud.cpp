@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Point-cloud technique on the CPU (seed 2.6.4, 3.3): surface sampling (sample elimination vs
 // random), octree build and refit, and the radiant exitance per query point by hierarchical
 // traversal (Algorithm 2) at the default ε against the brute-force sum; plus the ε study that
@@ -14,13 +15,13 @@
 
 #include <glm/geometric.hpp>
 
-#include "bssrdf/profile_table.h"
-#include "bssrdf/registry.h"
-#include "geometry/mesh.h"
-#include "geometry/octree.h"
-#include "geometry/point_cloud.h"
-#include "optics/presets.h"
-#include "techniques/pointcloud/cpu_traversal.h"
+#include "translucent/bssrdf/profile_table.h"
+#include "translucent/bssrdf/registry.h"
+#include "translucent/geometry/mesh.h"
+#include "translucent/geometry/octree.h"
+#include "translucent/geometry/point_cloud.h"
+#include "translucent/optics/presets.h"
+#include "translucent/techniques/pointcloud/cpu_traversal.h"
 
 namespace {
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Photons per second per thread of the reference slab walker (src/reference) against a faithful
 // scalar MCML (mcml_peer.cpp), on the same setups in one binary, so the ratio is measured in one
 // run on one machine.
@@ -29,16 +30,16 @@
 #include <string>
 #include <vector>
 
-#include "gpu/context.h"
-#include "material/medium_desc.h"
-#include "material/veins.h"
+#include "translucent/gpu/context.h"
+#include "translucent/material/medium_desc.h"
+#include "translucent/material/veins.h"
 #include "mcml_peer.h"
-#include "reference/gpu/slab_gpu.h"
-#include "reference/gpu/mesh_gpu.h"
-#include "reference/gpu/sphere_gpu.h"
-#include "reference/slab.h"
-#include "reference/mesh_tracer.h"
-#include "reference/sphere.h"
+#include "translucent/reference/gpu/slab_gpu.h"
+#include "translucent/reference/gpu/mesh_gpu.h"
+#include "translucent/reference/gpu/sphere_gpu.h"
+#include "translucent/reference/slab.h"
+#include "translucent/reference/mesh_tracer.h"
+#include "translucent/reference/sphere.h"
 
 namespace {
 

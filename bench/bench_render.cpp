@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // GPU time per pass of the point-cloud technique (src/techniques/pointcloud/) on the built-in
 // bunny scene (scene::defaultScene: Marble, key light from behind and above, fill light), at
 // 512x512 with 100k points and at the seed's configuration, 1280x720 with about 300k points
@@ -20,9 +21,9 @@
 #include <string>
 
 #include "bench_context.h"
-#include "gpu/context.h"
-#include "scene/scene.h"
-#include "techniques/pointcloud/pointcloud_technique.h"
+#include "translucent/gpu/context.h"
+#include "translucent/scene/scene.h"
+#include "translucent/techniques/pointcloud/pointcloud_technique.h"
 
 namespace {
 

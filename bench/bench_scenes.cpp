@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Throughput of the reference transport in scenes (src/reference/sphere.h, mesh_tracer.h,
 // sphere_integration.h) on one thread:
 //   sphere_*   the lit sphere path tracer (analytic sphere, 32x32 image tally);
@@ -11,12 +12,12 @@
 // Run: build/release/bin/bench_scenes
 #include <benchmark/benchmark.h>
 
-#include "bssrdf/registry.h"
-#include "geometry/icosphere.h"
-#include "geometry/mesh.h"
-#include "reference/mesh_tracer.h"
-#include "reference/sphere.h"
-#include "reference/sphere_integration.h"
+#include "translucent/bssrdf/registry.h"
+#include "translucent/geometry/icosphere.h"
+#include "translucent/geometry/mesh.h"
+#include "translucent/reference/mesh_tracer.h"
+#include "translucent/reference/sphere.h"
+#include "translucent/reference/sphere_integration.h"
 
 namespace {
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Multiresolution splatting (src/techniques/splatting/, seed multiresolution-splatting) in the
 // shape of the seed's Tables 1 and 2, and against the Shah et al. 2009 baseline (`shah`).
 //
@@ -31,10 +32,10 @@
 #include <utility>
 
 #include "bench_context.h"
-#include "gpu/context.h"
-#include "scene/data_path.h"
-#include "scene/scene.h"
-#include "techniques/registry.h"
+#include "translucent/gpu/context.h"
+#include "translucent/scene/data_path.h"
+#include "translucent/scene/scene.h"
+#include "translucent/techniques/registry.h"
 
 namespace {
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Texture-space importance sampling (src/techniques/tsis/) in the shape of seed Tables 4.1/4.2,
 // and against the local subsurface scattering baseline (src/techniques/lss/) at equal N (seed
 // chapter 4: LSS 8-9x slower than TSIS at the same sample count).
@@ -19,11 +20,11 @@
 #include <string>
 
 #include "bench_context.h"
-#include "gpu/context.h"
-#include "scene/data_path.h"
-#include "scene/scene.h"
-#include "techniques/lss/lss_technique.h"
-#include "techniques/tsis/tsis_technique.h"
+#include "translucent/gpu/context.h"
+#include "translucent/scene/data_path.h"
+#include "translucent/scene/scene.h"
+#include "translucent/techniques/lss/lss_technique.h"
+#include "translucent/techniques/tsis/tsis_technique.h"
 
 namespace {
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Classic MCML for one layer, re-implemented from mcmlgo.c / mcmlmain.c of MCML 1.2 (Wang,
 // Jacques & Zheng 1995) so that the reference walker can be timed against it in one binary.
 //

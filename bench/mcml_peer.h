@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // A faithful scalar re-implementation of classic MCML (Wang, Jacques & Zheng 1995) for one layer:
 // the baseline that the reference walker's speed is measured against (bench_reference).
 #pragma once

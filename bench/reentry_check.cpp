@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Re-entry in the reference mesh tracer, measured on a scene at η = 1 (BENCHMARKS.md, "Mesh
 // tracer: light that re-enters the body"). Two modes:
 //
@@ -26,11 +27,11 @@
 #include <thread>
 #include <vector>
 
-#include "analysis/image_io.h"
-#include "reference/camera.h"
-#include "reference/mesh_tracer.h"
-#include "reference/transport_impl.h"
-#include "scene/scene.h"
+#include "translucent/io/image_io.h"
+#include "translucent/reference/camera.h"
+#include "translucent/reference/mesh_tracer.h"
+#include "translucent/reference/transport_impl.h"
+#include "translucent/scene/scene.h"
 
 namespace {
 

@@ -1,5 +1,7 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Warning flags for project code only, carried by an INTERFACE target so that
 # third-party code (and system headers) are never compiled with -Werror.
+include(GNUInstallDirs)
 add_library(translucent_warnings INTERFACE)
 add_library(translucent::warnings ALIAS translucent_warnings)
 target_compile_options(translucent_warnings INTERFACE
@@ -31,6 +33,18 @@ if(TRANSLUCENT_FUZZ)
 endif()
 
 # translucent_project_target(<target>): warnings (and sanitizers when enabled) for one of ours.
+# A library of src/ is also part of the installed package: its headers are included as
+# "translucent/<layer>/<file>.h" from src/ in the build tree and from <prefix>/include once
+# installed, it is exported as Translucent::<name> (the target's name without "translucent_"),
+# and src/CMakeLists.txt installs every such target (TRANSLUCENT_EXPORTED_TARGETS).
 function(translucent_project_target target)
   target_link_libraries(${target} PRIVATE translucent::warnings translucent::sanitize)
+  get_target_property(type ${target} TYPE)
+  if(type STREQUAL "STATIC_LIBRARY" AND CMAKE_CURRENT_SOURCE_DIR MATCHES "^${PROJECT_SOURCE_DIR}/src/")
+    target_include_directories(${target} PUBLIC
+      $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/src> $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
+    string(REGEX REPLACE "^translucent_" "" name ${target})
+    set_target_properties(${target} PROPERTIES EXPORT_NAME ${name} OUTPUT_NAME ${target})
+    set_property(GLOBAL APPEND PROPERTY TRANSLUCENT_EXPORTED_TARGETS ${target})
+  endif()
 endfunction()

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Radial profiles R(r) of every BSSRDF model against the path-traced reference, for a preset.
 
     PYTHONPATH=build/release/python /usr/bin/python3 examples/profiles_vs_reference.py \

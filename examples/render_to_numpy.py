@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Renders a scene into a NumPy array and writes it as OpenEXR (linear) and PNG (tone mapped).
 
     PYTHONPATH=build/release/python /usr/bin/python3 examples/render_to_numpy.py \

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """A technique's error against its GPU time over its quality parameter's sweep, through compare.
 
     PYTHONPATH=build/release/python /usr/bin/python3 examples/sweep_error_vs_time.py \

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Import time and the cost of a binding call against the C++ work it wraps (BENCHMARKS.md).
 
     PYTHONPATH=build/release/python /usr/bin/python3 python/bench_overhead.py

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The binding functions, one per part of the library (module.cpp calls them in order).
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // BSSRDF models by name, their per-channel radial profiles, and translucent.profile().
 #include <fmt/format.h>
 #include <pybind11/stl.h>
@@ -8,16 +9,16 @@
 
 #include <filesystem>
 
-#include "analysis/profile_curves.h"
+#include "translucent/bssrdf/profile_curves.h"
 #include "bind.h"
-#include "bssrdf/bssrdf_file.h"
-#include "bssrdf/registry.h"
+#include "translucent/bssrdf/bssrdf_file.h"
+#include "translucent/bssrdf/registry.h"
 #include "common.h"
 #include "gl_lock.h"
-#include "gpu/bssrdf_kernels.h"
-#include "gpu/bssrdf_profiles.h"
-#include "gpu/context.h"
-#include "optics/inversion.h"
+#include "translucent/gpu/bssrdf_kernels.h"
+#include "translucent/gpu/bssrdf_profiles.h"
+#include "translucent/gpu/context.h"
+#include "translucent/optics/inversion.h"
 
 namespace translucent::python {
 

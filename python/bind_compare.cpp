@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // `translucent compare` for one scene (apps/cli/cmd_compare.cpp compareScene): the references
 // (cached as the CLI caches them), the techniques rendered and timed on the GPU, the metrics and
 // the optional sweep, the report folder written by the library (analysis/report.h), returned as
@@ -15,18 +16,18 @@
 #include <random>
 #include <set>
 
-#include "analysis/compare.h"
-#include "analysis/compare_run.h"
-#include "analysis/report.h"
+#include "translucent/compare/compare.h"
+#include "translucent/compare/compare_run.h"
+#include "translucent/compare/report.h"
 #include "bind.h"
 #include "common.h"
-#include "geometry/mesh.h"
-#include "gpu/context.h"
+#include "translucent/geometry/mesh.h"
+#include "translucent/gpu/context.h"
 #include "gl_lock.h"
 #include "json_py.h"
-#include "scene/scene.h"
-#include "techniques/registry.h"
-#include "techniques/technique.h"
+#include "translucent/scene/scene.h"
+#include "translucent/techniques/registry.h"
+#include "translucent/techniques/technique.h"
 
 namespace translucent::python {
 

@@ -1,12 +1,13 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Media, presets, Fresnel helpers and the (Rd, ℓd) inversion.
 #include <fmt/format.h>
 #include <pybind11/stl.h>
 
 #include "bind.h"
-#include "bssrdf/registry.h"
+#include "translucent/bssrdf/registry.h"
 #include "common.h"
-#include "optics/inversion.h"
-#include "optics/presets.h"
+#include "translucent/optics/inversion.h"
+#include "translucent/optics/presets.h"
 
 namespace translucent::python {
 

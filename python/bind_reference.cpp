@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The reference path tracers: the slab (MCML's one- and multi-layer modes) and the lit sphere.
 // Each call builds its inputs as the CLI's subcommand does (apps/cli/cmd_pathtrace.cpp,
 // cmd_render_reference.cpp), with the same checks and messages, and returns a dict with the
@@ -14,18 +15,18 @@
 #include "bind.h"
 #include "common.h"
 #include "json_py.h"
-#include "optics/presets.h"
-#include "reference/gpu/device.h"
-#include "reference/layered_slab.h"
-#include "reference/slab_request.h"
-#include "bssrdf/registry.h"
-#include "reference/sphere.h"
-#include "reference/sphere_integration.h"
-#include "reference/gpu/sphere_integration_gpu.h"
-#include "gpu/bssrdf_profiles.h"
+#include "translucent/optics/presets.h"
+#include "translucent/reference/gpu/device.h"
+#include "translucent/reference/layered_slab.h"
+#include "translucent/reference/slab_request.h"
+#include "translucent/bssrdf/registry.h"
+#include "translucent/reference/sphere.h"
+#include "translucent/reference/sphere_integration.h"
+#include "translucent/reference/gpu/sphere_integration_gpu.h"
+#include "translucent/gpu/bssrdf_profiles.h"
 #include "gl_lock.h"
-#include "bssrdf/bssrdf_file.h"
-#include "bssrdf/tabulated.h"
+#include "translucent/bssrdf/bssrdf_file.h"
+#include "translucent/bssrdf/tabulated.h"
 
 namespace translucent::python {
 namespace {

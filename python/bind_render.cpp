@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The real-time techniques (`translucent render`, apps/cli/cmd_render.cpp): render(scene,
 // technique, **settings) and a Renderer that keeps a prepared technique between frames, on a
 // headless OpenGL 4.5 context (EGL) made on first use.
@@ -12,10 +13,10 @@
 #include "bind.h"
 #include "common.h"
 #include "gl_lock.h"
-#include "gpu/context.h"
-#include "scene/scene.h"
-#include "techniques/registry.h"
-#include "techniques/technique.h"
+#include "translucent/gpu/context.h"
+#include "translucent/scene/scene.h"
+#include "translucent/techniques/registry.h"
+#include "translucent/techniques/technique.h"
 
 namespace translucent::python {
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Scenes (the one JSON format of every renderer: src/scene/scene.h) and the mesh path tracer
 // (`translucent pathtrace mesh`, apps/cli/cmd_render_reference.cpp runPathtraceMesh).
 #include <fmt/format.h>
@@ -7,15 +8,15 @@
 #include <algorithm>
 #include <nlohmann/json.hpp>
 
-#include "analysis/compare.h"
+#include "translucent/compare/compare.h"
 #include "bind.h"
 #include "common.h"
-#include "geometry/mesh.h"
+#include "translucent/geometry/mesh.h"
 #include "json_py.h"
-#include "reference/mesh_scene.h"
-#include "reference/gpu/device.h"
-#include "reference/mesh_tracer.h"
-#include "scene/scene.h"
+#include "translucent/scene/mesh_scene.h"
+#include "translucent/reference/gpu/device.h"
+#include "translucent/reference/mesh_tracer.h"
+#include "translucent/scene/scene.h"
 
 namespace translucent::python {
 namespace {

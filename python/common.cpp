@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "common.h"
 
 #include <fmt/format.h>
@@ -5,7 +6,7 @@
 
 #include <cmath>
 
-#include "optics/presets.h"
+#include "translucent/optics/presets.h"
 
 namespace translucent::python {
 

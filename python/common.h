@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Shared pieces of the Python bindings: NumPy arrays that own C++ buffers (no copy), media from
 // keyword arguments as the CLI builds them, and long calls that release the GIL and stop on
 // Ctrl-C.
@@ -12,10 +13,10 @@
 #include <string>
 #include <vector>
 
-#include "optics/medium.h"
-#include "reference/camera.h"
-#include "reference/slab.h"
-#include "reference/transport.h"
+#include "translucent/optics/medium.h"
+#include "translucent/reference/camera.h"
+#include "translucent/reference/slab.h"
+#include "translucent/reference/transport.h"
 
 namespace translucent::python {
 

@@ -1,7 +1,8 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The module's one OpenGL context and the lock that lends it to one thread at a time.
 #pragma once
 
-#include "gpu/context.h"
+#include "translucent/gpu/context.h"
 
 namespace translucent::python {
 

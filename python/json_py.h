@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // JSON (nlohmann) to Python objects and back, for dicts with the keys of the CLI's JSON files.
 #pragma once
 

@@ -1,9 +1,10 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The Python module `translucent` (issue 18): the library's media, models, path tracers, scenes,
 // techniques and compare, with NumPy arrays in and out. See README.md, "Python".
 #include <pybind11/pybind11.h>
 
 #include "bind.h"
-#include "optics/medium.h"
+#include "translucent/optics/medium.h"
 
 namespace py = pybind11;
 

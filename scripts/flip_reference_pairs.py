@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Writes the four synthetic 32x24 8-bit PNG pairs of tests/analysis/test_flip.cpp
 (Flip.MatchesTheAuthorsImplementationOnSyntheticPairs), so that the expected mean FLIP values
 can be recomputed with the authors' tool (https://github.com/NVlabs/flip, v1.6, commit 1eb247c):

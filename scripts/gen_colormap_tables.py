@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Writes src/analysis/colormap_tables.inc: the 256-entry viridis and magma tables.
 
 Source: colormaps.py of https://github.com/BIDS/colormap (Smith, van der Walt, Firing), released

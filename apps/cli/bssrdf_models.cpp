@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "bssrdf_models.h"
 
 #include <fmt/format.h>
@@ -5,8 +6,8 @@
 #include <algorithm>
 #include <filesystem>
 
-#include "bssrdf/bssrdf_file.h"
-#include "gpu/gl.h"
+#include "translucent/bssrdf/bssrdf_file.h"
+#include "translucent/gpu/gl.h"
 #include "options.h"
 
 namespace translucent::cli {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // `.bssrdf` plug-in files on the command line (`profile --model my.bssrdf`, `invert --model ...`):
 // recognising a file among model names, a headless GL context made only when one is needed,
 // loading with --param overrides, and errors as one line naming `file.bssrdf:LINE`.
@@ -7,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "gpu/bssrdf_kernels.h"
-#include "gpu/context.h"
+#include "translucent/gpu/bssrdf_kernels.h"
+#include "translucent/gpu/context.h"
 
 namespace translucent::cli {
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // translucent atlas MESH [--size N] [--method authalic|lscm|triangles] [--mesh-uvs] --out a.png:
 // builds (or reads from the cache) the surface atlas of texture-space importance sampling
 // (geometry/atlas.h, seed 3.2.1), prints its statistics and draws its texels coloured by area
@@ -14,13 +15,13 @@
 #include <optional>
 
 #include "safe_print.h"
-#include "analysis/colormap.h"
-#include "analysis/image_io.h"
+#include "translucent/analysis/colormap.h"
+#include "translucent/io/image_io.h"
 #include "commands.h"
 #include "output_guard.h"
-#include "geometry/atlas.h"
-#include "geometry/mesh.h"
-#include "optics/medium.h"  // ParameterError
+#include "translucent/geometry/atlas.h"
+#include "translucent/geometry/mesh.h"
+#include "translucent/optics/medium.h"  // ParameterError
 #include "progress.h"
 
 namespace translucent::cli {

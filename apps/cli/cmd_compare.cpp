@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // translucent compare: a scene rendered with real-time techniques on the GPU and compared with
 // two references (analysis/compare.h): the volumetric path tracer (physical) and the scene's
 // BSSRDF integrated over the whole surface (model). Technique vs model is the technique's own
@@ -22,17 +23,17 @@
 #include <set>
 
 #include "safe_print.h"
-#include "analysis/compare_run.h"
-#include "analysis/leaderboard.h"
-#include "analysis/report.h"
+#include "translucent/compare/compare_run.h"
+#include "translucent/compare/leaderboard.h"
+#include "translucent/compare/report.h"
 #include "commands.h"
 #include "output_guard.h"
-#include "gpu/context.h"
+#include "translucent/gpu/context.h"
 #include "options.h"
 #include "plot/profile_plot.h"
 #include "progress.h"
-#include "scene/scene.h"
-#include "techniques/registry.h"
+#include "translucent/scene/scene.h"
+#include "translucent/techniques/registry.h"
 
 namespace translucent::cli {
 namespace {

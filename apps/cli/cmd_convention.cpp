@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // translucent convention-study: measures the two exit-radiance conventions of seed Eq. 2.16
 // (bssrdf/exit_radiance.h: Jensen Ft B/π, normalized Ft B/(π 4Cφ(1/η))) against the path
 // tracer's true (cone-averaged) radiance, and writes the tables as Markdown
@@ -21,15 +22,15 @@
 #include <sstream>
 
 #include "safe_print.h"
-#include "analysis/exit_convention_study.h"
-#include "bssrdf/exit_radiance.h"
+#include "translucent/analysis/exit_convention_study.h"
+#include "translucent/bssrdf/exit_radiance.h"
 #include "commands.h"
 #include "output_guard.h"
-#include "optics/presets.h"
+#include "translucent/optics/presets.h"
 #include "options.h"
-#include "reference/mesh_tracer.h"
-#include "reference/sphere.h"
-#include "scene/scene.h"
+#include "translucent/reference/mesh_tracer.h"
+#include "translucent/reference/sphere.h"
+#include "translucent/scene/scene.h"
 
 #include <algorithm>
 #include <variant>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // translucent invert --model M --rd r,g,b --ld r,g,b [--eta 1.3]: (Rd, ℓd) -> (σa, σs'), seed 3.4.
 #include <fmt/format.h>
 
@@ -5,11 +6,11 @@
 
 #include <filesystem>
 
-#include "bssrdf/registry.h"
+#include "translucent/bssrdf/registry.h"
 #include "bssrdf_models.h"
 #include "commands.h"
-#include "gpu/bssrdf_profiles.h"
-#include "optics/inversion.h"
+#include "translucent/gpu/bssrdf_profiles.h"
+#include "translucent/optics/inversion.h"
 #include "options.h"
 
 namespace translucent::cli {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // translucent pathtrace slab: reference Monte Carlo transport in a slab lit by a pencil beam
 // (seed section 3.2, Algorithm 1; MCML with one layer), written as JSON (and the radial profile
 // as CSV). See src/reference/slab.h for what is traced and tallied.
@@ -26,11 +27,11 @@
 #include "output_guard.h"
 #include "shard.h"
 #include "progress.h"
-#include "optics/presets.h"
-#include "reference/gpu/device.h"
-#include "reference/layered_slab.h"
-#include "reference/slab.h"
-#include "reference/slab_request.h"
+#include "translucent/optics/presets.h"
+#include "translucent/reference/gpu/device.h"
+#include "translucent/reference/layered_slab.h"
+#include "translucent/reference/slab.h"
+#include "translucent/reference/slab_request.h"
 
 namespace translucent::cli {
 namespace {

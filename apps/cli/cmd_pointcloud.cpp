@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // translucent pointcloud MESH --points N --out cloud.ply: the area-uniform surface samples of the
 // point-cloud technique (geometry/point_cloud.h, seed 2.6.4) written as a PLY point cloud
 // (x y z nx ny nz area, the triangle of each point), with the uniformity of the sampling
@@ -9,9 +10,9 @@
 #include <memory>
 
 #include "commands.h"
-#include "geometry/mesh.h"
-#include "geometry/point_cloud.h"
-#include "optics/medium.h"  // ParameterError
+#include "translucent/geometry/mesh.h"
+#include "translucent/geometry/point_cloud.h"
+#include "translucent/optics/medium.h"  // ParameterError
 #include "output_guard.h"
 #include "safe_print.h"
 

@@ -1,10 +1,11 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // translucent presets [--json]: the measured material table.
 #include <fmt/format.h>
 
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
-#include "optics/presets.h"
+#include "translucent/optics/presets.h"
 
 namespace translucent::cli {
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // translucent profile: radial diffuse reflectance profiles of models as CSV, PNG or SVG
 // (seed 3.6.3, the pencil plot).
 #include <fmt/format.h>
@@ -11,20 +12,20 @@
 #include <memory>
 
 #include "safe_print.h"
-#include "analysis/model_study.h"
-#include "analysis/pencil_reference.h"
-#include "analysis/profile_curves.h"
+#include "translucent/analysis/model_study.h"
+#include "translucent/analysis/pencil_reference.h"
+#include "translucent/bssrdf/profile_curves.h"
 #include "bssrdf_models.h"
-#include "bssrdf/registry.h"
-#include "bssrdf/tabulated.h"
+#include "translucent/bssrdf/registry.h"
+#include "translucent/bssrdf/tabulated.h"
 #include "commands.h"
 #include "output_guard.h"
-#include "gpu/bssrdf_profiles.h"
+#include "translucent/gpu/bssrdf_profiles.h"
 #include "options.h"
 #include "plot/profile_plot.h"
 #include "progress.h"
-#include "reference/gpu/device.h"
-#include "reference/slab.h"
+#include "translucent/reference/gpu/device.h"
+#include "translucent/reference/slab.h"
 
 namespace translucent::cli {
 namespace {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // translucent render: a scene (JSON, scene/scene.h; the built-in bunny when none is given) with a
 // real-time technique (techniques/registry.h) on the GPU through a headless OpenGL 4.5 context,
 // written as PNG (tone mapped: exposure, gamma) and/or OpenEXR (linear radiance, plus the radiant
@@ -33,13 +34,13 @@
 #include <optional>
 #include <vector>
 
-#include "analysis/image_io.h"
+#include "translucent/io/image_io.h"
 #include "commands.h"
 #include "output_guard.h"
 #include "progress.h"
-#include "gpu/context.h"
-#include "scene/scene.h"
-#include "techniques/registry.h"
+#include "translucent/gpu/context.h"
+#include "translucent/scene/scene.h"
+#include "translucent/techniques/registry.h"
 
 namespace translucent::cli {
 namespace {

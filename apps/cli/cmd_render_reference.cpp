@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Reference images of scenes, written as HDR (OpenEXR) and optionally tone-mapped PNG:
 //
 //   translucent pathtrace sphere   the lit sphere, volumetric path tracing (seed 3.2, 3.6.2;
@@ -28,24 +29,24 @@
 #include <optional>
 
 #include "safe_print.h"
-#include "analysis/compare.h"  // referenceKey: `compare --reference-from` takes these runs
-#include "analysis/image_io.h"
-#include "bssrdf/registry.h"
+#include "translucent/compare/compare.h"  // referenceKey: `compare --reference-from` takes these runs
+#include "translucent/io/image_io.h"
+#include "translucent/bssrdf/registry.h"
 #include "bssrdf_models.h"
-#include "gpu/bssrdf_profiles.h"
+#include "translucent/gpu/bssrdf_profiles.h"
 #include "commands.h"
 #include "output_guard.h"
 #include "shard.h"
-#include "geometry/mesh.h"
+#include "translucent/geometry/mesh.h"
 #include "options.h"
 #include "progress.h"
-#include "reference/mesh_scene.h"
-#include "reference/mesh_tracer.h"
-#include "reference/model_reference.h"
-#include "reference/gpu/device.h"
-#include "reference/gpu/sphere_integration_gpu.h"
-#include "reference/sphere.h"
-#include "reference/sphere_integration.h"
+#include "translucent/scene/mesh_scene.h"
+#include "translucent/reference/mesh_tracer.h"
+#include "translucent/reference/model_reference.h"
+#include "translucent/reference/gpu/device.h"
+#include "translucent/reference/gpu/sphere_integration_gpu.h"
+#include "translucent/reference/sphere.h"
+#include "translucent/reference/sphere_integration.h"
 
 namespace translucent::cli {
 namespace {

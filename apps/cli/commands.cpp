@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The list of subcommands and the seam between each one's checks and its work (commands.h).
 #include "commands.h"
 

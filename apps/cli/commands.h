@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Subcommands of the `translucent` command line; each file adds one (main.cpp lists them).
 #pragma once
 

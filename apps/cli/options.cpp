@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "options.h"
 
 #include <fmt/format.h>
@@ -5,7 +6,7 @@
 #include <cmath>
 #include <cstdlib>
 
-#include "optics/presets.h"
+#include "translucent/optics/presets.h"
 
 namespace translucent::cli {
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Option parsing shared by the subcommands: RGB triples and the medium options.
 #pragma once
 
@@ -7,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "optics/medium.h"
+#include "translucent/optics/medium.h"
 
 namespace translucent::cli {
 

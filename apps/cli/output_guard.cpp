@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "output_guard.h"
 
 #include <fmt/format.h>
@@ -9,9 +10,9 @@
 #include <unordered_map>
 #include <variant>
 
-#include "analysis/image_io.h"
-#include "optics/medium.h"
-#include "scene/scene.h"
+#include "translucent/io/image_io.h"
+#include "translucent/optics/medium.h"
+#include "translucent/scene/scene.h"
 
 namespace translucent::cli {
 namespace fs = std::filesystem;

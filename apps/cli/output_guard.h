@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The files a run writes, checked against each other and against the files the run reads before
 // any work is done (issue #15, "Outputs"): a typo or a copied command line must never destroy a
 // scene, a mesh or an environment map, nor let one output silently replace another.

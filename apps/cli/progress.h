@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Progress reporting and Ctrl-C handling for long-running subcommands (the same bar and Ctrl-C
 // behaviour as `pathtrace slab`): a bar redrawn at 10 Hz on a terminal with rate, elapsed time and
 // ETA, a plain line every 10 s when stderr is not a terminal; an optional time limit; and a
@@ -8,7 +9,7 @@
 #include <optional>
 #include <string>
 
-#include "reference/slab.h"
+#include "translucent/reference/slab.h"
 
 namespace translucent::cli {
 

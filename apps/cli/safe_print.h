@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Messages to stderr that never throw: fmt::print throws when the stream cannot be written (a
 // closed or full stderr, `2>&-`), which would end a run over a progress bar, or abort one that is
 // already reporting an error (an exception escaping main's handler). A lost diagnostic is not worth

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Sharded path tracing and `translucent merge` (shard.h).
 #include "shard.h"
 
@@ -12,8 +13,8 @@
 #include <sstream>
 
 #include "commands.h"
-#include "geometry/atomic_file.h"
-#include "optics/medium.h"  // ParameterError
+#include "translucent/geometry/atomic_file.h"
+#include "translucent/optics/medium.h"  // ParameterError
 #include "output_guard.h"
 #include "safe_print.h"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Path tracing in shards (issue 17): `translucent pathtrace slab|sphere|mesh … --shard I/N
 // --partial FILE` traces shard I of the N shards of the run that the same command without them
 // traces, and `translucent merge PART… [outputs]` adds the shards up and writes, bit for bit,
@@ -21,7 +22,7 @@
 #include <string>
 #include <vector>
 
-#include "reference/run_state.h"
+#include "translucent/reference/run_state.h"
 
 namespace translucent::cli {
 

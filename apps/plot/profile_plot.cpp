@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Pencil plots with Qt Charts (seed 3.6.3); see profile_plot.h for what is drawn and why.
 #include "plot/profile_plot.h"
 

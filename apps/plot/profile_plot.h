@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Pencil plots (bssrdf-explorer seed 3.6.3): radial reflectance profiles R(r) of several models on a
 // semi-infinite slab lit by a pencil beam, drawn with Qt Charts.
 //
@@ -24,7 +25,7 @@
 #include <string>
 #include <vector>
 
-#include "analysis/profile_curves.h"
+#include "translucent/bssrdf/profile_curves.h"
 
 QT_BEGIN_NAMESPACE
 class QApplication;

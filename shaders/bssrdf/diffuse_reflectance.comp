@@ -1,4 +1,5 @@
 #version 450 core
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Total diffuse reflectance Rdr(alpha') of a .bssrdf model for a batch of reduced albedos
 // (seed 3.4: the Rdr, ld parametrisation inverts this function by bisection on the GPU).
 // init() runs first, so DiffuseReflectance() may use what it computes from the standard inputs

@@ -1,4 +1,5 @@
 #version 450 core
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Bssrdf(Xi, Wi, Xo, Wo) of a .bssrdf model at arbitrary geometry, for a batch of queries
 // (translucent::gpu::BssrdfEvaluator::evaluate): what a directional model (line 1 without
 // `radial`) needs besides the profile kernel's plane. Each query is six vec4 (xyz used): Xi, Ni,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Standard inputs of every .bssrdf model (seed appendix A.2; listing A.2 uses these names).
 // The host (src/gpu/bssrdf_kernels.cpp) sets them from a translucent::Medium; parameters that a
 // .bssrdf file declares become uniforms next to these. Coefficients are per scene unit: the

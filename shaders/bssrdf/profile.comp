@@ -1,4 +1,5 @@
 #version 450 core
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Radial profile R(r) of a .bssrdf model for a batch of radii (translucent::gpu::BssrdfEvaluator).
 //
 // Geometry (the seed's pencil plot, 3.6.3: a semi-infinite slab lit by a normally incident

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Helpers for compute shaders dispatched with translucent::gpu::dispatch1D (src/gpu/compute.h).
 // Include after the `layout(local_size_x = ...) in;` declaration: gl_WorkGroupSize is only
 // declared once the local size is.

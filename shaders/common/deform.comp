@@ -1,4 +1,5 @@
 #version 450 core
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The GPU mesh's deformation (techniques::GpuMesh::deform): every vertex of the rest pose (its
 // position and smooth normal, kept in a buffer of their own) through the chain of deformations
 // at this time, written into the vertex buffer that the techniques draw. Normals transform with

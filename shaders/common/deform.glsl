@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Bend, twist and wave on the GPU: the formulas of src/geometry/deform.{h,cpp}, line by line, in
 // float (the header there defines them; keep the two in step). A deformation is three vec4s:
 //   a = (origin, type), b = (axis, magnitude m at this time), c = (direction, wavelength),

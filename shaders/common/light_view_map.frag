@@ -1,4 +1,5 @@
 #version 450 core
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Light-view irradiance map (techniques/common/light_view_map.h), one texel per fragment:
 //   0  xyz world position, w = 1 (covered)
 //   1  xyz the triangle's unit geometric normal n_g (facing the light: the plane the texel's

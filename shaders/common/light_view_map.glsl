@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Reading a light-view irradiance map (techniques/common/light_view_map.h; LightViewMap::bind sets
 // these uniforms). Prefix: lvm. Map coordinates uv ∈ [0,1]² span the whole map.
 #pragma once

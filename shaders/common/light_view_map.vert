@@ -1,4 +1,5 @@
 #version 450 core
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Light-view irradiance map (techniques/common/light_view_map.h): world position and normal of
 // the surface the light sees first.
 layout(location = 0) in vec3 Position;  // world space [scene units]

@@ -1,4 +1,5 @@
 #version 450 core
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Second depth layer by depth peeling (seed appendix B, steps 1-3): fragments at or in front of
 // the first layer (plus ε) are discarded, so the depth test keeps the nearest surface *behind*
 // it: the far side of the first solid span, also for non-convex meshes.

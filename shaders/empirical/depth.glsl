@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Window depth -> distance in front of the eye, for any projection whose clip z and w are affine
 // in eye z (perspective and orthographic; techniques/empirical/shading.h linearDepth). The seed's
 // zNear/zFar formula (appendix C.2.4) assumes a perspective matrix.

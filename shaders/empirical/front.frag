@@ -1,4 +1,5 @@
 #version 450 core
+// SPDX-License-Identifier: GPL-3.0-or-later
 // First depth layer (seed appendix B, first pass): the nearest surface, with its normal and AO.
 in vec3 vPosition;
 in vec3 vNormal;

@@ -1,4 +1,5 @@
 #version 450 core
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The empirical translucency shader's second pass (seed appendix C.2) per pixel: thickness from
 // the two depth layers, with the depth-aware Gaussian smoothing of the back layer (Eq. C.1), then
 // the lighting equation (Eq. 3.6). CPU reference: techniques/empirical/shading.h.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The camera geometry shared by the lss passes (shaders/lss/): the ray through a point of the
 // image plane, and the surface area that an image-plane area stands for.
 // Prefix: ls (local subsurface scattering). Image-plane coordinates u are in pixels, (0, 0) the

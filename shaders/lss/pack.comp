@@ -1,4 +1,5 @@
 #version 450 core
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Packs the camera's G-buffer into surface-point records (pointcloud/common.glsl PcPoint), one per
 // pixel in G-buffer order (point y · width + x), for the shared irradiance pass
 // (techniques/common: the irradiance of every light at each point): LSS lights the visible

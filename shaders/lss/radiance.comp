@@ -1,4 +1,5 @@
 #version 450 core
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The lss technique's exitance (Mertens, Kautz, Bekaert, Seidel & Van Reeth 2003, "Efficient
 // rendering of local subsurface scattering"): per pixel x_o of the camera's G-buffer,
 //     B(x_o) = ∫_S E(x) R(|x − x_o|) dA(x)

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Shared pieces of the point-cloud technique's shaders (src/techniques/pointcloud/): the octree's
 // std430 records (geometry/octree.h) and the exact Fresnel transmittance.
 // Prefix: pc (point cloud). Units: scene units for positions and areas, W for powers.

@@ -1,4 +1,5 @@
 #version 450 core
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Writes the interpolated world position (w = 1 marks covered pixels) and normal.
 in vec3 vPosition;
 in vec3 vNormal;

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Heterogeneous materials in the radiance pass of the point-cloud technique (SubEdit Eqs. 8-9;
 // techniques/pointcloud/cpu_traversal.h, "Heterogeneous materials", is the CPU oracle of this
 // arithmetic, material/point_profiles.h documents the representation): every point, every octree

@@ -1,4 +1,5 @@
 #version 450 core
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Irradiance pass of the point-cloud technique (seed 3.3.2): the irradiance E_i that each surface
 // sample receives, transmitted into the medium,
 //     E_i = ∫ L(ω) Ft(η, n_i·ω) max(n_i·ω, 0) V(p_i, ω) dω      [W / scene unit², RGB],

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // BSSRDF kernel of the radiance pass from a .bssrdf file (seed appendix A.2): Bssrdf(Xi, Wi, Xo,
 // Wo) with both directions along the normals, as in the profile kernel (bssrdf/profile.comp).
 // Included after the file's sections (gpu::bssrdfPreprocessor); the standard inputs and the

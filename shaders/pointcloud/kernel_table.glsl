@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // BSSRDF kernel of the radiance pass from a tabulated radial profile: R(r) per RGB channel on a
 // uniform grid r_i = r_max · i / (n - 1), linearly interpolated, 0 beyond r_max; the same table
 // and interpolation as bssrdf::ProfileTable::lookup (the CPU traversal's RgbKernel::fromTables).

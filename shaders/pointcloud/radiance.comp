@@ -1,4 +1,5 @@
 #version 450 core
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Subgroup votes (ARB_shader_ballot: NVIDIA, AMD, Mesa) make the traversal coherent; without
 // them every invocation traverses alone, which gives the same result.
 #extension GL_ARB_gpu_shader_int64 : enable

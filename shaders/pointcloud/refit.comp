@@ -1,4 +1,5 @@
 #version 450 core
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Refit of the octree's node attributes after the irradiance pass (geometry::Octree::refit on the
 // GPU): for every node, the power Φ_v = Σ E_i A_i, the area A_v = Σ A_i and the irradiance-
 // weighted position P_v = Σ w_i p_i / Σ w_i, w_i = A_i (E_r + E_g + E_b) / 3 (the area-weighted

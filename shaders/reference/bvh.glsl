@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Closest-hit ray queries against a triangle mesh on the GPU: a binary BVH built on the CPU by
 // Embree's BVH builder (src/geometry/flat_bvh.h: rtcBuildBVH, SAH, high quality) and flattened
 // depth first, traversed with a stack, nearer child first; triangles tested with the watertight

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The 3D material fields of src/material in GLSL: fieldAt(q) is the field's at(q) (the medium at
 // material-space point q [medium units]: σa and σs per medium unit, and g), the same formulas in
 // float (but for the veins' phase and the noise's lattice offsets, in double: see there). The field comes packed by src/reference/gpu/field_gpu.cpp into the words of `FieldWords`

@@ -1,4 +1,5 @@
 #version 450
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The layered slab's walk (src/reference/layered_slab.cpp: MCML's multi-layer mode, every layer
 // at one refractive index) on the GPU, one photon per invocation: the free flight sampled in
 // optical depth and spent layer by layer (index-matched layer boundaries neither reflect nor

@@ -1,4 +1,5 @@
 #version 450
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The walk of src/reference/transport_impl.h (launch, tracePhoton, crossBoundary, reenter) in a
 // closed triangle mesh on the GPU, one photon of one channel per invocation: emission from one
 // of the lights (chosen with probability ∝ its flux in the channel: directional, point, beam

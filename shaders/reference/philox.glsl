@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Philox4x32-10 (Salmon, Moraes, Dror & Shaw 2011, "Parallel random numbers: as easy as 1, 2,
 // 3"): a counter-based generator. The 128-bit counter and the 64-bit key give four 32-bit words
 // with no state carried between calls, so photon p's n-th event draws philox(p, n) wherever and

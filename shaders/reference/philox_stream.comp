@@ -1,4 +1,5 @@
 #version 450
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Words of the GPU path tracer's generator (philox.glsl), for the tests that check it against
 // reference/philox.h word for word and for uniformity: invocation i writes
 // philox4x32_10(CounterBase + (i, 0, 0, 0), Key) to Words[4i .. 4i + 3] (no carry out of the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // One photon's record of the slab walks (slab_walk.comp, layered_walk.comp), scored on the CPU
 // (src/reference/gpu/slab_gpu.cpp: ExitRecord, the same std430 layout, 40 bytes).
 #pragma once

@@ -1,4 +1,5 @@
 #version 450
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The slab random walk of src/reference (seed section 3.2, Algorithm 1; MCML's weighted mode) on
 // the GPU, one photon per invocation. The walk is the lane walker's (walk_lanes_pass.inl) event
 // for event, with Philox in place of xoshiro: event n of photon p draws the four words

@@ -1,4 +1,5 @@
 #version 450 core
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Sphere integration of a .bssrdf model on the GPU (reference/gpu/sphere_integration_gpu.h):
 // the estimator of sphere_integration.h with uniform sampling, one invocation per pixel, with the
 // light's and the camera's true directions passed to Bssrdf() (what a directional file needs).

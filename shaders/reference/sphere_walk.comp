@@ -1,4 +1,5 @@
 #version 450
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The lit sphere's walk (src/reference/transport_impl.h: launch, tracePhoton, crossBoundary for
 // SphereBody) on the GPU, one photon of one channel per invocation: a point of the disc of
 // radius R facing the directional light, entry with the Fresnel transmittance as a weight and

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The photon walker's float arithmetic in GLSL: the same formulas as src/reference/fastmath.h
 // and phase.h (random bits to floats, -log ξ, the uniform azimuth, Henyey-Greenstein sampling,
 // the direction update, Fresnel), so that the GPU walk is the CPU lane walker's event for event.

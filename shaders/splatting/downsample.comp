@@ -1,4 +1,5 @@
 #version 450 core
+// SPDX-License-Identifier: GPL-3.0-or-later
 // One level of the splatting buffer's mipmap (src/techniques/splatting/splatting_technique.h):
 // the 2×2 median-depth filter, splatting::medianDepthIndex (splatting_math.h): the coarse texel
 // copies the child with the second smallest view depth (background +∞, ties to the smaller

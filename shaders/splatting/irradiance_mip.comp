@@ -1,4 +1,5 @@
 #version 450 core
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The hierarchical irradiance buffer of adaptive sample selection (src/techniques/splatting/
 // splatting_technique.h; seed §4 "Buffer generation"): per level of three mipmapped textures
 //   A  xyz the sample's position, w = 1 + its triangle (0: no surface)

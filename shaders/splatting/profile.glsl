@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Per-point profiles of the splatting technique (src/techniques/splatting/splatting_technique.h):
 // Eq. 8 between two surface points, each on a triangle of the (possibly deformed) mesh, their
 // ln P nodes the barycentric interpolation of the triangle's vertex profiles (computed once at

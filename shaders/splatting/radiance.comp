@@ -1,4 +1,5 @@
 #version 450 core
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Radiance of the splatting technique (src/techniques/splatting/splatting_technique.h): per pixel
 // the accumulated exitance B (Eq. 5) and L = s Ft(η, n·ω_o) B / π (Eq. 7; as tsm/filter.comp).
 layout(local_size_x = 8, local_size_y = 8) in;

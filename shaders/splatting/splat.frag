@@ -1,4 +1,5 @@
 #version 450 core
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Splatting pass (src/techniques/splatting/splatting_technique.h): at each pixel x_o of the
 // splatting buffer (the camera's G-buffer) that the splat of x_i covers, the term of Eq. 5,
 //     sqrt(P_xo(d) P_xi(d)) E(x_i) ΔA(x_i),   d = |x_o − x_i| in [RMin, RMax),

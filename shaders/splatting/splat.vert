@@ -1,4 +1,5 @@
 #version 450 core
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Splatting pass (src/techniques/splatting/splatting_technique.h): one instance per irradiance
 // texel x_i, drawn as a screen-space square (4 vertices, a triangle strip) bounding the sphere of
 // radius SplatRadius about x_i; texels without a surface or without irradiance are moved outside

@@ -1,4 +1,5 @@
 #version 450 core
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Accumulation (src/techniques/splatting/splatting_technique.h): the level k + 1 image bilaterally
 // upsampled (Eq. 17; splatting::bilateralUpsample / bilateralWeight in splatting_math.h: the four
 // nearest coarse pixels, bilinear weights times exp(−λz |z_o − z_j| / R_w) exp(−λm |R_P,o −

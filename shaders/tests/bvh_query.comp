@@ -1,4 +1,5 @@
 #version 450
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Closest-hit queries through reference/bvh.glsl for tests/geometry/test_flat_bvh.cpp, which
 // compares them with FlatBvh::intersect (its CPU twin) ray for ray. Query i of `Queries` (binding
 // 0) holds the ray on input and gets the hit written back: flag 1 and (t, unit normal, the mesh's

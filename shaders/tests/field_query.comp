@@ -1,4 +1,5 @@
 #version 450
+// SPDX-License-Identifier: GPL-3.0-or-later
 // fieldAt (reference/fields.glsl) at given points for tests/reference/test_field_gpu.cpp, which
 // compares it with the CPU field's at(q) point for point. Query i of `Queries` (binding 0) holds
 // the material-space point on input and gets the medium written back; the packed field is at

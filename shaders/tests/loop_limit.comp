@@ -1,4 +1,5 @@
 #version 450
+// SPDX-License-Identifier: GPL-3.0-or-later
 // tests/reference/test_loop_limit.cpp: how many loop iterations the driver lets an invocation
 // run. Each invocation runs Outer iterations of a loop, each with Inner iterations of a nested
 // one (trip counts from uniforms, so nothing is unrolled), and writes how many of each it did.

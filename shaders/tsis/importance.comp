@@ -1,4 +1,5 @@
 #version 450 core
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Stage 1 of texture-space importance sampling (seed 3.2.2 "Render Irradiance to Texture"): the
 // importance of each covered atlas texel t, the base level of the sum mipmap,
 //     s_t = (E'_r + E'_g + E'_b)(x_t) · a_t,   E'(x) a_t = E(x) A_S/A_T per texel (Eq. 3.3),

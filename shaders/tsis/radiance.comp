@@ -1,4 +1,5 @@
 #version 450 core
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Stage 3 of texture-space importance sampling (seed 3.2.2 "Evaluation of the translucency"):
 // per pixel of the G-buffer, the exitance of Eq. 3.5 over the frame's N samples,
 //     B(x_o) = 1/N Σ_i w_i R(|x_i − x_o|),   w_i = E(x_i) a_i / P(t_i)  (sample.comp),

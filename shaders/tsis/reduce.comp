@@ -1,4 +1,5 @@
 #version 450 core
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Stage 2, the sum mipmap (seed 3.2.2, Fig. 3.3 b): each texel of level k holds the sum of its
 // four children of level k - 1, so level k's texel is the total importance of its 2^k × 2^k
 // block and the single texel of the top level the total S = Σ_t s_t = ∫_T E' (E'_avg of Eq. 3.5

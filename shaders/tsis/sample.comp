@@ -1,4 +1,5 @@
 #version 450 core
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Stage 2, the hierarchical inverse CDF of Algorithm 3.1 (seed 3.2.2): sample i draws
 // u_i = frac((i + ½)/N + φ) (Random false: stratified, rotated by φ every frame,
 // Cranley-Patterson) or an independent uniform u_i (Random true: a hash of (i, frame)), and

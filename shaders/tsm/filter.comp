@@ -1,4 +1,5 @@
 #version 450 core
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Translucent shadow maps (Dachsbacher & Stamminger 2003; src/techniques/tsm/tsm_technique.h):
 // per pixel x_o of the G-buffer and one light's irradiance map, the exitance of seed Eq. 3.8
 // over the fixed pattern around x_o's projection p_o on the map's plane,

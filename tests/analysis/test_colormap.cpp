@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // False colour and colour bars (src/analysis/colormap.h): the published end points of viridis and
 // magma, their lightness increasing along the map, the diverging map's white centre and
 // symmetric lightness, NaN grey, the mapping of a range, and the colour bar's bar and labels.
@@ -7,10 +8,10 @@
 #include <filesystem>
 #include <vector>
 
-#include "analysis/color.h"
-#include "analysis/colormap.h"
-#include "analysis/image_io.h"
-#include "optics/medium.h"
+#include "translucent/analysis/color.h"
+#include "translucent/analysis/colormap.h"
+#include "translucent/io/image_io.h"
+#include "translucent/optics/medium.h"
 
 namespace translucent::analysis {
 namespace {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // LDR-ꟻLIP (src/analysis/flip.h): the colour pipeline's pieces against values derived by hand
 // from the CIE formulas, the error of black against white (a uniform pair, so that neither the
 // filters nor the feature term play a part) derived from the paper's equations, identical images,
@@ -11,10 +12,10 @@
 #include <functional>
 #include <vector>
 
-#include "analysis/color.h"
-#include "analysis/flip.h"
-#include "analysis/metrics.h"
-#include "optics/medium.h"
+#include "translucent/analysis/color.h"
+#include "translucent/analysis/flip.h"
+#include "translucent/analysis/metrics.h"
+#include "translucent/optics/medium.h"
 
 namespace translucent::analysis {
 namespace {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The comparison of two Monte Carlo images held as McImage (src/analysis/mc_compare.h, the
 // explorer's lit spheres): its statistics against values computed by hand, two independent
 // estimates of the same image (their difference must be explained by their standard errors),
@@ -7,11 +8,11 @@
 #include <cmath>
 #include <vector>
 
-#include "analysis/mc_compare.h"
-#include "bssrdf/registry.h"
-#include "optics/medium.h"
-#include "reference/sphere.h"
-#include "reference/sphere_integration.h"
+#include "translucent/analysis/mc_compare.h"
+#include "translucent/bssrdf/registry.h"
+#include "translucent/optics/medium.h"
+#include "translucent/reference/sphere.h"
+#include "translucent/reference/sphere_integration.h"
 
 namespace translucent::analysis {
 namespace {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Noise-aware error measures, bias, z-scores and masks of src/analysis/metrics.h on synthetic
 // images with known answers: exact images with a known scale or offset (analytic values), a test
 // image that is the reference plus Gaussian noise of known σ reported as its se (the noise must
@@ -11,8 +12,8 @@
 #include <random>
 #include <vector>
 
-#include "analysis/metrics.h"
-#include "optics/medium.h"
+#include "translucent/analysis/metrics.h"
+#include "translucent/optics/medium.h"
 
 namespace translucent::analysis {
 namespace {

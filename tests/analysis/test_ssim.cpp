@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // SSIM (Wang, Bovik, Sheikh & Simoncelli 2004) in src/analysis/metrics.h: identical images, the
 // closed form for constant images, symmetry, and agreement with a direct, unoptimised evaluation
 // of the definition (2D window sums at every pixel) written here independently.
@@ -7,8 +8,8 @@
 #include <random>
 #include <vector>
 
-#include "analysis/image_io.h"
-#include "analysis/metrics.h"
+#include "translucent/io/image_io.h"
+#include "translucent/analysis/metrics.h"
 
 namespace translucent::analysis {
 namespace {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Independent long-double references for the extended-source models (quantized diffusion, photon
 // beam diffusion): brute-force composite Gauss-Legendre quadrature of the defining integrals, with
 // the improved-diffusion constants recomputed here from the Fresnel formula. Shares nothing with
@@ -9,8 +10,8 @@
 #include <cmath>
 #include <functional>
 
-#include "optics/fresnel.h"
-#include "optics/medium.h"
+#include "translucent/optics/fresnel.h"
+#include "translucent/optics/medium.h"
 
 namespace translucent::test {
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Statistics helpers for Monte Carlo tests: Pearson χ² and its upper-tail probability.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Better dipole against d'Eon's published formulas, evaluated independently here in long double:
 // Fresnel moments by a different quadrature (angle variable, sine/tangent form of the Fresnel
 // equations), then the exitance R = α'² (C_φ φ + C_E E·n) of the Grosjean dipole.
@@ -5,8 +6,8 @@
 
 #include <cmath>
 
-#include "bssrdf/registry.h"
-#include "optics/presets.h"
+#include "translucent/bssrdf/registry.h"
+#include "translucent/optics/presets.h"
 
 namespace translucent::bssrdf {
 namespace {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Classic dipole against the published formulas (Jensen et al. 2001), evaluated independently
 // here in long double.
 #include <gtest/gtest.h>
@@ -5,8 +6,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "bssrdf/registry.h"
-#include "optics/presets.h"
+#include "translucent/bssrdf/registry.h"
+#include "translucent/optics/presets.h"
 
 namespace translucent::bssrdf {
 namespace {

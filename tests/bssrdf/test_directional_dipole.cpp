@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Directional dipole (bssrdf/directional_dipole.cpp): the kernel's geometric properties, its radial
 // restriction, and its defining behaviour (oblique light comes out forward). The comparison with
 // the path tracer is in tests/reference/test_sphere_integration_directional.cpp.
@@ -11,8 +12,8 @@
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "bssrdf/registry.h"
-#include "optics/presets.h"
+#include "translucent/bssrdf/registry.h"
+#include "translucent/optics/presets.h"
 
 namespace translucent::bssrdf {
 namespace {

@@ -1,11 +1,12 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <numbers>
 
-#include "bssrdf/exit_radiance.h"
-#include "optics/fresnel.h"
-#include "optics/medium.h"
+#include "translucent/bssrdf/exit_radiance.h"
+#include "translucent/optics/fresnel.h"
+#include "translucent/optics/medium.h"
 
 namespace translucent::bssrdf {
 namespace {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The exact half-space albedo (bssrdf/half_space.h) against independent computations and published
 // values: the H-function from the classical fixed-point iteration, its zeroth-moment identity,
 // Chandrasekhar's table, and Giovanelli's reflectance of a Fresnel-bounded half-space.
@@ -7,8 +8,8 @@
 #include <numbers>
 #include <vector>
 
-#include "bssrdf/half_space.h"
-#include "optics/medium.h"
+#include "translucent/bssrdf/half_space.h"
+#include "translucent/optics/medium.h"
 
 namespace translucent::bssrdf {
 namespace {

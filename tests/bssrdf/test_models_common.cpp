@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Properties every registered model must have, for every preset: energy (2π∫R r dr = Rd), the
 // 95% radius, χ² of the radial sampler, inversion round trips. Adding a model to the registry
 // adds it here automatically.
@@ -9,9 +10,9 @@
 #include <ostream>
 #include <random>
 
-#include "bssrdf/registry.h"
-#include "optics/inversion.h"
-#include "optics/presets.h"
+#include "translucent/bssrdf/registry.h"
+#include "translucent/optics/inversion.h"
+#include "translucent/optics/presets.h"
 #include "stats.h"
 
 namespace translucent::bssrdf {

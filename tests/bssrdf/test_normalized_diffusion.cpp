@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Normalized diffusion (Christensen & Burley 2015) against its published formulas, evaluated
 // independently here in long double: the profile, its CDF and the dmfp scaling factor s(A); the
 // surface albedo A is the searchlight Rd of the medium (bssrdf/half_space.h, tested in
@@ -11,10 +12,10 @@
 #include <limits>
 #include <numbers>
 
-#include "bssrdf/half_space.h"
-#include "bssrdf/registry.h"
-#include "optics/inversion.h"
-#include "optics/presets.h"
+#include "translucent/bssrdf/half_space.h"
+#include "translucent/bssrdf/registry.h"
+#include "translucent/optics/inversion.h"
+#include "translucent/optics/presets.h"
 
 namespace translucent::bssrdf {
 namespace {

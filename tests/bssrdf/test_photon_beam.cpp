@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Photon beam diffusion (Habel, Christensen & Jarosz 2013) against independent long-double
 // brute-force quadratures of its defining integrals (multiple scattering along the beam, single
 // scattering along the beam), its totals, its interpolation table, its behaviour near and far
@@ -11,10 +12,10 @@
 #include <utility>
 
 #include "beam_reference.h"
-#include "bssrdf/half_space.h"
-#include "bssrdf/photon_beam.h"
-#include "bssrdf/registry.h"
-#include "optics/presets.h"
+#include "translucent/bssrdf/half_space.h"
+#include "translucent/bssrdf/photon_beam.h"
+#include "translucent/bssrdf/registry.h"
+#include "translucent/optics/presets.h"
 
 namespace translucent::bssrdf {
 namespace {

@@ -1,10 +1,11 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "bssrdf/profile_table.h"
-#include "bssrdf/registry.h"
-#include "optics/presets.h"
+#include "translucent/bssrdf/profile_table.h"
+#include "translucent/bssrdf/registry.h"
+#include "translucent/optics/presets.h"
 
 namespace translucent::bssrdf {
 namespace {

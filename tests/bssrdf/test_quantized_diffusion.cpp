@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Quantized diffusion (d'Eon & Irving 2011) against independent computations: the continuous-time
 // extended-source diffusion it quantizes (long-double beam integral, closed-form total), the photon
 // beam integral away from the source, the better dipole far from the source, its own direct sum
@@ -9,11 +10,11 @@
 #include <utility>
 
 #include "beam_reference.h"
-#include "bssrdf/improved_diffusion.h"
-#include "bssrdf/photon_beam.h"
-#include "bssrdf/quantized_diffusion.h"
-#include "bssrdf/registry.h"
-#include "optics/presets.h"
+#include "translucent/bssrdf/improved_diffusion.h"
+#include "translucent/bssrdf/photon_beam.h"
+#include "translucent/bssrdf/quantized_diffusion.h"
+#include "translucent/bssrdf/registry.h"
+#include "translucent/optics/presets.h"
 
 namespace translucent::bssrdf {
 namespace {

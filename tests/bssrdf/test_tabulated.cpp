@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tabulated profiles (bssrdf/tabulated.h): a dense table of an analytic model is that model
 // (R between samples, Rd, the 95% radius and the sampler, at two scales), both file formats load,
 // and bad files are refused naming file and line.
@@ -11,10 +12,10 @@
 
 #include <fmt/format.h>
 
-#include "analysis/profile_curves.h"
-#include "bssrdf/registry.h"
-#include "bssrdf/tabulated.h"
-#include "optics/presets.h"
+#include "translucent/bssrdf/profile_curves.h"
+#include "translucent/bssrdf/registry.h"
+#include "translucent/bssrdf/tabulated.h"
+#include "translucent/optics/presets.h"
 
 namespace translucent::bssrdf {
 namespace {

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Runs EXE with ARGS; checks the exit status, a pattern in stdout/stderr and an output file.
 separate_arguments(ARGS)
 if(FILE)

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // OutputFiles (apps/cli/output_guard.h): the outputs of a run are put in place all or nothing.
 // The CLI tests (outputs.cmake, all_or_nothing) fail a run on a full device; these cases reach
 // what a command line cannot: a rename that fails after another output was renamed, which must
@@ -12,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "optics/medium.h"  // ParameterError
+#include "translucent/optics/medium.h"  // ParameterError
 #include "output_guard.h"
 
 namespace fs = std::filesystem;

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Outputs never destroy a file (issue #15 §2): one CASE per run of this script, in a fresh folder
 # WORK with a copy of the cube scene (scene.json, cube.obj). Each case runs the real binary and
 # checks the exit status, the message, and that inputs and existing files are byte-identical

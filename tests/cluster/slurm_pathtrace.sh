@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Sharded path tracing through a real Slurm cluster started for this test on this machine.
 #
 #   tests/cluster/slurm_pathtrace.sh TRANSLUCENT SCRIPTS_DIR [--cluster-only]

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Ctrl-C during the physical reference of `translucent compare` keeps what is done: the tracer
 # stops, the techniques still render, and the report is written with the reference marked
 # partial, which is not cached. Usage: sigint_compare.sh <translucent binary> <scene> <work dir>

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Ctrl-C during the first scene of `translucent compare --suite` stops the suite: that scene's
 # report is written partial (as a single compare's), the scenes after it are not run, and the
 # leaderboard of what is done is written, marked partial.

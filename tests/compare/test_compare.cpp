@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // `translucent compare`'s library (analysis/compare.h) on the cube scene at a few dozen pixels:
 // metrics that must come out of known inputs (a reference scaled by 1.1 is +10% biased; two
 // independent estimates of the same image agree within their noise), the reference cache (a
@@ -10,11 +11,11 @@
 #include <fstream>
 #include <sstream>
 
-#include "analysis/compare.h"
-#include "analysis/report.h"
-#include "bssrdf/exit_radiance.h"
-#include "bssrdf/registry.h"
-#include "reference/model_reference.h"
+#include "translucent/compare/compare.h"
+#include "translucent/compare/report.h"
+#include "translucent/bssrdf/exit_radiance.h"
+#include "translucent/bssrdf/registry.h"
+#include "translucent/reference/model_reference.h"
 
 namespace translucent::analysis {
 namespace {

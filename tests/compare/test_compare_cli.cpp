@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // `translucent compare` through the real binary on the cube at 48x36 (headless GL, llvmpipe
 // where there is no GPU): the report folder is complete and self-contained (every image and link
 // of index.html is a file in it, report.json holds every metric of every pair), it renders in
@@ -14,7 +15,7 @@
 #include <set>
 #include <sstream>
 
-#include "analysis/image_io.h"
+#include "translucent/io/image_io.h"
 
 namespace {
 namespace fs = std::filesystem;

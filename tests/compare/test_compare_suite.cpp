@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // `translucent compare --suite` through the real binary: a temporary suite of two tiny cube
 // scenes (32x24, few photons and samples, 2000 points as in test_compare_cli.cpp) around two that
 // fail as a whole (a scene file naming a missing mesh; a light the path tracer refuses, so there

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: GPL-3.0-or-later
 # xvfb-test.sh XVFB_RUN COMMAND [ARGS...]: runs COMMAND under a fresh X server (xvfb-run -a,
 # a 1600x1000x24 screen) and exits with COMMAND's status.
 #

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // libFuzzer target for `.bssrdf` files (bssrdf::parseBssrdf: parse only, no GL; issue #15).
 //
 // The input is the file's text. A BssrdfFileError is the expected outcome for a malformed file;
@@ -10,7 +11,7 @@
 #include <string_view>
 #include <variant>
 
-#include "bssrdf/bssrdf_file.h"
+#include "translucent/bssrdf/bssrdf_file.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string_view text(reinterpret_cast<const char*>(data), size);

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // libFuzzer target for cache files (issue #15): the point-cloud cache (readPointCloudCache) and
 // the atlas cache (readAtlasCache, for a fixed icosphere).
 //
@@ -15,9 +16,9 @@
 #include <fstream>
 #include <string>
 
-#include "geometry/atlas.h"
-#include "geometry/icosphere.h"
-#include "geometry/point_cloud.h"
+#include "translucent/geometry/atlas.h"
+#include "translucent/geometry/icosphere.h"
+#include "translucent/geometry/point_cloud.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace translucent::geometry;

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // libFuzzer target for the command line (issue #15 §7): the parsing and the checks of every
 // subcommand of `translucent`.
 //
@@ -38,10 +39,10 @@
 #include <typeinfo>
 #include <vector>
 
-#include "bssrdf/registry.h"  // UnknownModelError
+#include "translucent/bssrdf/registry.h"  // UnknownModelError
 #include "commands.h"
-#include "optics/medium.h"  // ParameterError
-#include "techniques/registry.h"  // UnknownTechniqueError
+#include "translucent/optics/medium.h"  // ParameterError
+#include "translucent/techniques/registry.h"  // UnknownTechniqueError
 
 namespace {
 namespace fs = std::filesystem;

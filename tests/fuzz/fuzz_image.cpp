@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // libFuzzer target for environment images (lights::EnvironmentMap::load through OpenImageIO,
 // issue #15).
 //
@@ -16,8 +17,8 @@
 #include <fstream>
 #include <string>
 
-#include "lights/environment_map.h"
-#include "optics/medium.h"  // ParameterError
+#include "translucent/lights/environment_map.h"
+#include "translucent/optics/medium.h"  // ParameterError
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size == 0) return 0;

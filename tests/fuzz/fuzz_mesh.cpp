@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // libFuzzer target for mesh loading (geometry::loadMesh on OBJ, PLY and OFF).
 //
 // Input: the first byte picks the format (0: .obj, 1: .ply, 2: .off, modulo 3), the rest is the
@@ -12,7 +13,7 @@
 #include <fstream>
 #include <string>
 
-#include "geometry/mesh.h"
+#include "translucent/geometry/mesh.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size == 0) return 0;

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // libFuzzer target for the partial files of sharded runs (issue 17: `pathtrace --shard`,
 // `translucent merge`): reference::decodeRunState on arbitrary bytes.
 //
@@ -11,7 +12,7 @@
 #include <stdexcept>
 #include <string_view>
 
-#include "reference/run_state.h"
+#include "translucent/reference/run_state.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace translucent::reference;

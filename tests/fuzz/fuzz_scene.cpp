@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // libFuzzer target for scene files (scene::parseScene on JSON text, issue #15).
 //
 // The input is the scene text. Relative file names resolve against a temporary folder that holds
@@ -13,8 +14,8 @@
 #include <fstream>
 #include <string>
 
-#include "optics/medium.h"  // ParameterError
-#include "scene/scene.h"
+#include "translucent/optics/medium.h"  // ParameterError
+#include "translucent/scene/scene.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static const std::filesystem::path dir = [] {

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Writes fuzz_cli seed inputs into the folder given (default: /tmp/translucent_fuzz_cli_seeds).
 
 A seed is a real command line, one argument per line (fuzz_cli.cpp): every `translucent ...`

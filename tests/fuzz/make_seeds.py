@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Writes fuzz_mesh seed inputs into the folder given (default: /tmp/translucent_fuzz_seeds).
 
 An input is one byte choosing the extension (0 .obj, 1 .ply, 2 .off; fuzz_mesh.cpp) and then the

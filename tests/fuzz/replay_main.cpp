@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Replays fuzzer inputs through the fuzz target's entry point without libFuzzer, so that the
 // committed corpus runs in every build (ctest label fuzz): each argument is a file, or a folder
 // whose files are all replayed. A crash, an abort or an exception the target does not expect

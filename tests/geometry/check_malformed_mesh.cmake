@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Loads FILE with EXE (translucent_load_mesh); it must fail cleanly: exit status 1 (a crash is a
 # signal, which execute_process reports as text), stderr naming the file and containing EXPECTED
 # literally (not as a regular expression: messages hold brackets and dots).

@@ -1,9 +1,10 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // translucent_load_mesh FILE: loads FILE with geometry::loadMesh and prints its counts, or the
 // MeshError on stderr with exit status 1. The malformed-mesh corpus test (malformed_meshes.cmake)
 // runs it on each file, so that a crash shows as a signal, not as a failed expectation.
 #include <cstdio>
 
-#include "geometry/mesh.h"
+#include "translucent/geometry/mesh.h"
 
 int main(int argc, char** argv) {
   if (argc != 2) {

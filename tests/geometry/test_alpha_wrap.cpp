@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Alpha wrapping (geometry/alpha_wrap.h): a soup that is neither closed nor manifold comes out as a
 // closed, outward-oriented surface that encloses the input at about the offset; the cache returns
 // the same mesh and recomputes a tampered file.
@@ -13,9 +14,9 @@
 
 #include <glm/geometric.hpp>
 
-#include "geometry/alpha_wrap.h"
-#include "geometry/icosphere.h"
-#include "geometry/ray_scene.h"
+#include "translucent/geometry/alpha_wrap.h"
+#include "translucent/geometry/icosphere.h"
+#include "translucent/geometry/ray_scene.h"
 
 namespace translucent::geometry {
 namespace {

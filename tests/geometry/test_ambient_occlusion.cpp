@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Per-vertex ambient occlusion (geometry/ambient_occlusion.h, seed Eq. 3.5) against geometry
 // whose visible-sky fraction is known in closed form.
 #include <gtest/gtest.h>
@@ -11,7 +12,7 @@
 
 #include <glm/geometric.hpp>
 
-#include "geometry/ambient_occlusion.h"
+#include "translucent/geometry/ambient_occlusion.h"
 
 namespace translucent::geometry {
 namespace {

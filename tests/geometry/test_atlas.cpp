@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The surface atlas (geometry/atlas.h): the properties texture-space importance sampling relies
 // on (seed 3.1.1, 3.2.1): every triangle owns a texel, no two triangles overlap, the texels give
 // back the surface area, and the mesh's own UVs are kept when valid and refused with a reason
@@ -13,7 +14,7 @@
 #include <fstream>
 #include <glm/geometric.hpp>
 
-#include "geometry/atlas.h"
+#include "translucent/geometry/atlas.h"
 #include "test_meshes.h"
 
 namespace translucent::geometry {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Procedural deformations (geometry/deform.h): amount 0 is the identity bit for bit; a twist
 // preserves a cylinder's area; bend and wave are finite, continuous and periodic in time; the
 // Jacobian matches finite differences; undeformPoint inverts deformPoint; deformed normals are
@@ -10,8 +11,8 @@
 
 #include <glm/geometric.hpp>
 
-#include "geometry/deform.h"
-#include "geometry/icosphere.h"
+#include "translucent/geometry/deform.h"
+#include "translucent/geometry/icosphere.h"
 
 namespace translucent::geometry {
 namespace {

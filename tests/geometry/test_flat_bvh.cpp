@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The flat BVH for GPU ray queries (geometry/flat_bvh.h, shaders/reference/bvh.glsl): the tree's
 // structure, its CPU traversal against Embree's own queries (geometry::RayScene) and for
 // watertightness at shared edges and vertices, and the GPU traversal (bvh.glsl, through
@@ -17,12 +18,12 @@
 
 #include <glm/geometric.hpp>
 
-#include "geometry/flat_bvh.h"
-#include "geometry/icosphere.h"
-#include "geometry/ray_scene.h"
-#include "gpu/compute.h"
+#include "translucent/geometry/flat_bvh.h"
+#include "translucent/geometry/icosphere.h"
+#include "translucent/geometry/ray_scene.h"
+#include "translucent/gpu/compute.h"
 #include "gpu/gpu_test.h"
-#include "gpu/program.h"
+#include "translucent/gpu/program.h"
 #include "test_meshes.h"
 
 namespace translucent::geometry {

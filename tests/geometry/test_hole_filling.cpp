@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Hole filling (geometry/hole_filling.h) on CGAL's open head meshes, found on the scene data
 // search path (scripts/install-test-data extracts them): every hole is filled, the result passes
 // the closed-mesh check the references use (TriangleMesh::requireClosed), the patches are a small
@@ -15,8 +16,8 @@
 
 #include <glm/geometric.hpp>
 
-#include "geometry/hole_filling.h"
-#include "scene/data_path.h"
+#include "translucent/geometry/hole_filling.h"
+#include "translucent/scene/data_path.h"
 
 namespace translucent::geometry {
 namespace {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Meshes shared by the point-cloud tests: icospheres and the closed Stanford bunny of Debian's
 // glmark2-data (34,835 vertices, 69,666 triangles, genus 0, about 2 units wide).
 #pragma once
@@ -6,7 +7,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "geometry/mesh.h"
+#include "translucent/geometry/mesh.h"
 
 namespace translucent::geometry::testing {
 

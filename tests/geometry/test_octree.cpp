@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -8,9 +9,9 @@
 
 #include <glm/geometric.hpp>
 
-#include "geometry/icosphere.h"
-#include "geometry/octree.h"
-#include "geometry/point_cloud.h"
+#include "translucent/geometry/icosphere.h"
+#include "translucent/geometry/octree.h"
+#include "translucent/geometry/point_cloud.h"
 #include "test_meshes.h"
 
 namespace translucent::geometry {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include <gtest/gtest.h>
 #include <tbb/task_arena.h>
 #include <unistd.h>
@@ -14,8 +15,8 @@
 
 #include <glm/geometric.hpp>
 
-#include "geometry/icosphere.h"
-#include "geometry/point_cloud.h"
+#include "translucent/geometry/icosphere.h"
+#include "translucent/geometry/point_cloud.h"
 #include "test_meshes.h"
 
 namespace translucent::geometry {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Shared pieces of the GL tests: one headless context per test process, and temporary files.
 #pragma once
 
@@ -10,7 +11,7 @@
 
 #include <unistd.h>
 
-#include "gpu/context.h"
+#include "translucent/gpu/context.h"
 
 namespace translucent::gpu::testing {
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The seed's listing A.2 (bssrdf-explorer appendix A.2, "Diffusion dipole *.bssrdf"), verbatim
 // as transcribed in the seed, and the same listing with the transcription's LaTeX artifacts
 // (\text{}, \exp, \cdot) undone so that it is valid GLSL. Line numbers are those of the listing.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The .bssrdf parser (seed appendix A.2): the seed's own listing, and one malformed variant per
 // kind of mistake, each reported at the right line with what was expected. No GL needed.
 #include <gtest/gtest.h>
@@ -8,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "bssrdf/bssrdf_file.h"
+#include "translucent/bssrdf/bssrdf_file.h"
 #include "seed_listing.h"
 
 namespace translucent::bssrdf {

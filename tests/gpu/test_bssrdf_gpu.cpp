@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // GPU evaluation of .bssrdf models against the C++ models, and GLSL errors mapped back to the
 // .bssrdf file.
 #include <gtest/gtest.h>
@@ -14,10 +15,10 @@
 
 #include <fmt/format.h>
 
-#include "bssrdf/registry.h"
-#include "gpu/bssrdf_kernels.h"
+#include "translucent/bssrdf/registry.h"
+#include "translucent/gpu/bssrdf_kernels.h"
 #include "gpu_test.h"
-#include "optics/presets.h"
+#include "translucent/optics/presets.h"
 #include "seed_listing.h"
 
 namespace translucent::gpu {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // .bssrdf models on the GPU against the C++ models they mirror: curves, energy radius, profile
 // tables and the (Rd, ld) inversion of data/bssrdf/dipole.bssrdf vs bssrdf::model("dipole").
 #include <gtest/gtest.h>
@@ -5,12 +6,12 @@
 #include <algorithm>
 #include <cmath>
 
-#include "bssrdf/profile_table.h"
-#include "bssrdf/registry.h"
-#include "gpu/bssrdf_profiles.h"
+#include "translucent/bssrdf/profile_table.h"
+#include "translucent/bssrdf/registry.h"
+#include "translucent/gpu/bssrdf_profiles.h"
 #include "gpu_test.h"
-#include "optics/inversion.h"
-#include "optics/presets.h"
+#include "translucent/optics/inversion.h"
+#include "translucent/optics/presets.h"
 
 namespace translucent::gpu {
 namespace {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Compute dispatch, SSBO upload/download, and GPU pass timing.
 #include <gtest/gtest.h>
 
@@ -5,8 +6,8 @@
 #include <numeric>
 #include <stdexcept>
 
-#include "gpu/compute.h"
-#include "gpu/pass_timer.h"
+#include "translucent/gpu/compute.h"
+#include "translucent/gpu/pass_timer.h"
 #include "gpu_test.h"
 
 namespace translucent::gpu {

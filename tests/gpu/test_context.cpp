@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Headless context creation and the RAII object wrappers.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -5,7 +6,7 @@
 #include <cstddef>
 #include <string>
 
-#include "gpu/objects.h"
+#include "translucent/gpu/objects.h"
 #include "gpu_test.h"
 
 namespace translucent::gpu {

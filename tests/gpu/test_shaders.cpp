@@ -1,10 +1,11 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Shader loading: #include, error positions in original files, hot reloading.
 #include <gtest/gtest.h>
 
 #include <gmock/gmock.h>
 
-#include "gpu/compute.h"
-#include "gpu/program.h"
+#include "translucent/gpu/compute.h"
+#include "translucent/gpu/program.h"
 #include "gpu_test.h"
 
 namespace translucent::gpu {

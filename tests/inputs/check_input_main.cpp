@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Loads one user input the way the renderers do, for the malformed-input corpus
 // (tests/data/malformed/<family>/manifest.txt, issue #15):
 //
@@ -25,13 +26,13 @@
 #include <string>
 #include <vector>
 
-#include "analysis/image_io.h"
-#include "bssrdf/bssrdf_file.h"
-#include "geometry/atlas.h"
-#include "geometry/icosphere.h"
-#include "geometry/point_cloud.h"
-#include "lights/environment_map.h"
-#include "scene/scene.h"
+#include "translucent/io/image_io.h"
+#include "translucent/bssrdf/bssrdf_file.h"
+#include "translucent/geometry/atlas.h"
+#include "translucent/geometry/icosphere.h"
+#include "translucent/geometry/point_cloud.h"
+#include "translucent/lights/environment_map.h"
+#include "translucent/scene/scene.h"
 
 namespace fs = std::filesystem;
 using namespace translucent;

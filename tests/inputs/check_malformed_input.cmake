@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Runs EXE FAMILY FILE (translucent_check_input). It must end cleanly with an error (exit status
 # 1) or a warning (3): a crash is a signal, which execute_process reports as text, a hang is the
 # timeout, and 0 means the input was accepted without a word. stderr must name the file (its

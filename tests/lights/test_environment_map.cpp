@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Environment maps (lights/environment_map.h): the transmitted-irradiance kernel's λ_l, the SH
 // irradiance, and the importance sampler that the point-cloud technique, the path tracer and the
 // model reference share.
@@ -9,9 +10,9 @@
 
 #include <glm/geometric.hpp>
 
-#include "lights/environment_map.h"
-#include "optics/fresnel.h"
-#include "optics/medium.h"
+#include "translucent/lights/environment_map.h"
+#include "translucent/optics/fresnel.h"
+#include "translucent/optics/medium.h"
 
 namespace translucent::lights {
 namespace {

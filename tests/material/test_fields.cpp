@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The fields of material/ on their own: values against their definitions, majorants never below
 // the field (random points in random boxes, every type), OpenVDB grids and surface maps written
 // here and read back, and rd_map's inversion round trip.
@@ -12,18 +13,18 @@
 
 #include <openvdb/openvdb.h>
 
-#include "analysis/image_io.h"
-#include "bssrdf/registry.h"
-#include "geometry/mesh.h"
-#include "material/checker.h"
-#include "material/gradient.h"
-#include "material/layers.h"
-#include "material/noise.h"
-#include "material/parse_context.h"
-#include "material/surface_distance.h"
-#include "material/surface_maps.h"
-#include "material/veins.h"
-#include "material/voxels.h"
+#include "translucent/io/image_io.h"
+#include "translucent/bssrdf/registry.h"
+#include "translucent/geometry/mesh.h"
+#include "translucent/material/checker.h"
+#include "translucent/material/gradient.h"
+#include "translucent/material/layers.h"
+#include "translucent/material/noise.h"
+#include "translucent/material/parse_context.h"
+#include "translucent/material/surface_distance.h"
+#include "translucent/material/surface_maps.h"
+#include "translucent/material/veins.h"
+#include "translucent/material/voxels.h"
 #include "test_helpers.h"
 
 namespace translucent::material {

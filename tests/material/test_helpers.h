@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Shared by the material tests: a temporary folder, media, and a scene text around a material.
 #pragma once
 
@@ -9,8 +10,8 @@
 
 #include <unistd.h>
 
-#include "material/material.h"
-#include "material/medium_desc.h"
+#include "translucent/material/material.h"
+#include "translucent/material/medium_desc.h"
 
 namespace translucent::material::testing {
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Material descriptions in scene files (material/material_desc.h through scene::parseScene):
 // every type parses, round-trips through toJson, reports bad input naming the key, and
 // scene::sceneMaterial builds the Volume or Surface material it describes.
@@ -8,11 +9,11 @@
 
 #include <openvdb/openvdb.h>
 
-#include "analysis/image_io.h"
-#include "geometry/mesh.h"
-#include "material/material_desc.h"
-#include "material/parse_context.h"
-#include "scene/scene.h"
+#include "translucent/io/image_io.h"
+#include "translucent/geometry/mesh.h"
+#include "translucent/material/material_desc.h"
+#include "translucent/material/parse_context.h"
+#include "translucent/scene/scene.h"
 #include "test_helpers.h"
 
 namespace translucent::material {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Per-point SubEdit profiles (material/point_profiles.h; seed multiresolution-splatting Eqs. 8-9):
 // the representation against the model it is built from.
 #include <gtest/gtest.h>
@@ -8,9 +9,9 @@
 #include <numbers>
 #include <vector>
 
-#include "bssrdf/registry.h"
-#include "material/point_profiles.h"
-#include "optics/presets.h"
+#include "translucent/bssrdf/registry.h"
+#include "translucent/material/point_profiles.h"
+#include "translucent/optics/presets.h"
 
 namespace translucent::material {
 namespace {

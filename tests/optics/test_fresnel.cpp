@@ -1,9 +1,10 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "optics/fresnel.h"
-#include "optics/medium.h"
+#include "translucent/optics/fresnel.h"
+#include "translucent/optics/medium.h"
 
 namespace translucent {
 namespace {

@@ -1,8 +1,9 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "optics/inversion.h"
+#include "translucent/optics/inversion.h"
 
 namespace translucent {
 namespace {

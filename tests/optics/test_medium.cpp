@@ -1,10 +1,11 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
 
-#include "optics/medium.h"
-#include "optics/presets.h"
+#include "translucent/optics/medium.h"
+#include "translucent/optics/presets.h"
 
 namespace translucent {
 namespace {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Pencil plots (apps/plot): the chart honours each y scale (log drops non-positive values, sqrt
 // plots roots with ticks labelled in original units), legends and colours name models and
 // channels, references get points with ±1 s.e. bands, and PNG/SVG files come out well formed at
@@ -24,7 +25,7 @@
 #include <map>
 #include <set>
 
-#include "analysis/profile_curves.h"
+#include "translucent/bssrdf/profile_curves.h"
 #include "plot/profile_plot.h"
 
 namespace translucent::plot {

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Shared fixtures of the Python binding tests (run by ctest, label `python`).
 
 ctest sets PYTHONPATH to the build tree's module folder, TRANSLUCENT_CLI to the `translucent`

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Models and profiles against `translucent profile --out x.csv` (9 significant digits)."""
 import csv
 import json

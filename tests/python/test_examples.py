@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The examples run end to end, as a user runs them, and write their plots and images."""
 import os
 import pathlib

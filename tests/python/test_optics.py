@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Media, presets and inversion against `translucent presets --json` and `translucent invert`."""
 import json
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The slab and sphere path tracers against `translucent pathtrace slab|sphere` output files."""
 import json
 import os

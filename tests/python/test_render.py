@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Techniques and compare against `translucent render --exr` and `translucent compare`'s
 report.json (headless GL: Mesa llvmpipe without a GPU)."""
 import json

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Scenes (load, edit, save) and the mesh path tracer against `translucent pathtrace mesh`."""
 import json
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The flat-slab set-up that the model reference's tests share (test_model_reference.cpp,
 // test_environment.cpp): a wide box whose top face z = 0 is seen from straight above through a
 // window at the centre, in a medium many diffusion lengths across, so that the top face is a half
@@ -12,10 +13,10 @@
 #include <cmath>
 #include <string>
 
-#include "geometry/mesh.h"
-#include "optics/medium.h"
-#include "reference/camera.h"
-#include "reference/model_reference.h"
+#include "translucent/geometry/mesh.h"
+#include "translucent/optics/medium.h"
+#include "translucent/reference/camera.h"
+#include "translucent/reference/model_reference.h"
 
 namespace translucent::reference::testing {
 

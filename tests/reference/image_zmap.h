@@ -1,10 +1,11 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Per-pixel agreement of two Monte Carlo images (the GPU walks against the CPU tracers): z maps.
 #pragma once
 
 #include <algorithm>
 #include <cmath>
 
-#include "reference/mc_image.h"
+#include "translucent/reference/mc_image.h"
 
 namespace translucent::reference::test_support {
 

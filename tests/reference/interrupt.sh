@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Sourced by the Ctrl-C tests (tests/reference/sigint*.sh, tests/compare/sigint_*.sh):
 #   interrupt PID   sends SIGINT to the background job PID once the program has installed its
 #                   SIGINT handler, waits for it and sets $rc to its exit status; returns 1 (rc

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Scenes shared by the mesh tracer's CPU and GPU tests: an orthographic camera looking at the
 // origin, and three unit cubes in a row (exits and re-entries along a pencil beam).
 #pragma once
@@ -7,8 +8,8 @@
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
-#include "geometry/mesh.h"
-#include "reference/camera.h"
+#include "translucent/geometry/mesh.h"
+#include "translucent/reference/camera.h"
 
 namespace translucent::reference::test_support {
 

@@ -1,10 +1,11 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Setups with published or analytic answers, shared by the CPU and GPU tracers' tests.
 #pragma once
 
 #include <cmath>
 
-#include "optics/fresnel.h"
-#include "reference/slab.h"
+#include "translucent/optics/fresnel.h"
+#include "translucent/reference/slab.h"
 
 namespace translucent::reference::test_support {
 

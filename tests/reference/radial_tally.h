@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // A test tally shared by the mesh-tracer tests: annuli about the origin of a top face (z = 0,
 // normal +z) and the flux leaving anywhere else, per-photon scores kept for the second moments.
 #pragma once
@@ -8,7 +9,7 @@
 #include <utility>
 #include <vector>
 
-#include "reference/transport.h"
+#include "translucent/reference/transport.h"
 
 namespace translucent::reference::test_support {
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 # `translucent pathtrace sphere|mesh` and `translucent integrate sphere|mesh` through the real binary
 # (tests/cli/check.cmake: runs and writes a well-formed file, or fails with a message naming the
 # problem). Included from CMakeLists.txt.

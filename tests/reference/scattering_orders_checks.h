@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Checks of the scattering-order split (slab.h: ScatteringOrder) shared by the CPU and GPU tests
 // of the mesh tracer.
 #pragma once
@@ -6,7 +7,7 @@
 
 #include <cmath>
 
-#include "reference/mesh_tracer.h"
+#include "translucent/reference/mesh_tracer.h"
 #include "mesh_test_scenes.h"
 
 namespace translucent::reference::test_support {

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # `pathtrace slab|sphere|mesh --shard I/N --partial FILE` and `translucent merge` through the real
 # binary (issue 17): the merged outputs equal the unsharded run's bit for bit (the JSON up to its
 # timing keys, the CSV and EXR files byte for byte), and bad sets of parts are clear errors.

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Ctrl-C during `translucent pathtrace slab` stops the run cleanly and still writes the JSON with
 # "partial": true. Usage: sigint.sh <translucent binary> <output directory>
 # The signal is sent once the program has installed its handler (interrupt.sh says why).

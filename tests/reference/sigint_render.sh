@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Ctrl-C during `translucent pathtrace sphere` stops the pass cleanly and still writes the EXR and
 # the JSON with "partial": true. Usage: sigint_render.sh <translucent binary> <output directory>
 set -u

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The single-scattering part of the searchlight problem in closed form (up to a deterministic
 // quadrature): what the tracers' order split (slab.h: ScatteringOrder::Single) must reproduce.
 //
@@ -20,10 +21,10 @@
 #include <cmath>
 #include <functional>
 
-#include "optics/fresnel.h"
-#include "optics/quadrature.h"
-#include "reference/phase.h"
-#include "reference/slab.h"
+#include "translucent/optics/fresnel.h"
+#include "translucent/optics/quadrature.h"
+#include "translucent/reference/phase.h"
+#include "translucent/reference/slab.h"
 
 namespace translucent::reference::test_support {
 

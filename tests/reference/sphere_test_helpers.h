@@ -1,11 +1,12 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Pieces the sphere-integration tests share: Gauss-Legendre quadrature for the independent
 // reference integrals, and integrator options.
 #pragma once
 
 #include <cstdint>
 
-#include "optics/quadrature.h"
-#include "reference/sphere_integration.h"
+#include "translucent/optics/quadrature.h"
+#include "translucent/reference/sphere_integration.h"
 
 namespace translucent::reference::test_support {
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Environment lights in the references (transport.h EnvironmentLight, model_reference.h): the
 // photon tracer's emission against the analytic flux a constant sky sends into a sphere, a sky
 // that is one bright texel against the directional light it approximates (same shadows, same
@@ -11,12 +12,12 @@
 #include <string>
 #include <vector>
 
-#include "bssrdf/registry.h"
-#include "geometry/mesh.h"
-#include "lights/environment_map.h"
-#include "reference/mesh_tracer.h"
-#include "reference/model_reference.h"
-#include "reference/sphere.h"
+#include "translucent/bssrdf/registry.h"
+#include "translucent/geometry/mesh.h"
+#include "translucent/lights/environment_map.h"
+#include "translucent/reference/mesh_tracer.h"
+#include "translucent/reference/model_reference.h"
+#include "translucent/reference/sphere.h"
 #include "flat_slab.h"
 
 namespace translucent::reference {

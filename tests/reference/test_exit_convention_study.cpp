@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The exit-convention study (analysis/exit_convention_study.h): its pixel selection on the lit
 // sphere against the analytic n·v, and its bookkeeping on images whose cone radiance is a known
 // multiple of the cone-averaged Jensen law.
@@ -7,10 +8,10 @@
 #include <numbers>
 #include <vector>
 
-#include "analysis/exit_convention_study.h"
-#include "bssrdf/exit_radiance.h"
-#include "optics/medium.h"
-#include "reference/sphere.h"
+#include "translucent/analysis/exit_convention_study.h"
+#include "translucent/bssrdf/exit_radiance.h"
+#include "translucent/optics/medium.h"
+#include "translucent/reference/sphere.h"
 
 namespace translucent::analysis {
 namespace {

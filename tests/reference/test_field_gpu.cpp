@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The GLSL twins of the 3D material fields (shaders/reference/fields.glsl, packed by
 // reference/gpu/field_gpu.h) against the CPU fields, point for point through
 // shaders/tests/field_query.comp: every supported kind at ~2000 random points (fixed seeds) in
@@ -23,19 +24,19 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/matrix.hpp>
 
-#include "geometry/icosphere.h"
-#include "geometry/mesh.h"
-#include "gpu/compute.h"
+#include "translucent/geometry/icosphere.h"
+#include "translucent/geometry/mesh.h"
+#include "translucent/gpu/compute.h"
 #include "gpu/gpu_test.h"
-#include "gpu/program.h"
-#include "material/checker.h"
-#include "material/gradient.h"
-#include "material/layers.h"
-#include "material/medium_desc.h"
-#include "material/surface_distance.h"
-#include "material/veins.h"
-#include "material/voxels.h"
-#include "reference/gpu/field_gpu.h"
+#include "translucent/gpu/program.h"
+#include "translucent/material/checker.h"
+#include "translucent/material/gradient.h"
+#include "translucent/material/layers.h"
+#include "translucent/material/medium_desc.h"
+#include "translucent/material/surface_distance.h"
+#include "translucent/material/veins.h"
+#include "translucent/material/voxels.h"
+#include "translucent/reference/gpu/field_gpu.h"
 
 namespace translucent::reference {
 namespace {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Small material::VolumeField implementations for the heterogeneous tracer's tests: a homogeneous
 // medium as a field (with a majorant that may be loose on purpose), plane layers in material z,
 // and a sphere of one medium inside another.
@@ -10,7 +11,7 @@
 
 #include <glm/geometric.hpp>
 
-#include "material/material.h"
+#include "translucent/material/material.h"
 
 namespace translucent::reference::testing {
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The heterogeneous mesh walk (delta tracking through a majorant grid, majorant_grid.h) against
 // independent computations of the same medium: the homogeneous walk for a homogeneous field
 // traced with a loose majorant (null collisions), the homogeneous walk of the upper medium for a
@@ -13,10 +14,10 @@
 #include <vector>
 
 #include "radial_tally.h"
-#include "geometry/icosphere.h"
-#include "geometry/mesh.h"
-#include "reference/layered_slab.h"
-#include "reference/mesh_tracer.h"
+#include "translucent/geometry/icosphere.h"
+#include "translucent/geometry/mesh.h"
+#include "translucent/reference/layered_slab.h"
+#include "translucent/reference/mesh_tracer.h"
 #include "test_fields.h"
 
 namespace translucent::reference {

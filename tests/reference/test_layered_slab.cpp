@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The layered slab (reference/layered_slab.h) against an independent computation: MCML's
 // multi-layer photon walk written here from its published description (Wang, Jacques & Zheng
 // 1995; Wang & Jacques, "Monte Carlo modeling of light transport in multi-layered tissues in
@@ -17,8 +18,8 @@
 #include <string>
 #include <vector>
 
-#include "optics/fresnel.h"
-#include "reference/layered_slab.h"
+#include "translucent/optics/fresnel.h"
+#include "translucent/reference/layered_slab.h"
 
 namespace translucent::reference {
 namespace {

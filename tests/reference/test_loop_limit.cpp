@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The driver's loop limit that the GPU walks must stay clear of (reference/gpu/walk_program.h:
 // LoopLimit; mesh_walk.comp suspends its walks before it). On Mesa's llvmpipe every loop of an
 // invocation stops, without an error, once the loops of its SIMD group have iterated 65535 times
@@ -9,10 +10,10 @@
 
 #include <glm/vec2.hpp>
 
-#include "gpu/compute.h"
+#include "translucent/gpu/compute.h"
 #include "gpu/gpu_test.h"
-#include "gpu/program.h"
-#include "reference/gpu/walk_program.h"
+#include "translucent/gpu/program.h"
+#include "translucent/reference/gpu/walk_program.h"
 
 namespace translucent::reference {
 namespace {

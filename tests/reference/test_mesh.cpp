@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The triangle-mesh tracer (src/reference/mesh_tracer.h) against the slab walker (slab.h):
 // a thin, wide box lit by a pencil beam must reproduce the slab's diffuse reflectance, radial
 // profile and transmittance; a box lit by a wide beam, seen by pinhole and orthographic cameras,
@@ -16,12 +17,12 @@
 #include <vector>
 
 #include "radial_tally.h"
-#include "analysis/image_io.h"
-#include "geometry/mesh.h"
-#include "optics/fresnel.h"
-#include "reference/mesh_scene.h"
-#include "reference/mesh_tracer.h"
-#include "reference/slab.h"
+#include "translucent/io/image_io.h"
+#include "translucent/geometry/mesh.h"
+#include "translucent/optics/fresnel.h"
+#include "translucent/scene/mesh_scene.h"
+#include "translucent/reference/mesh_tracer.h"
+#include "translucent/reference/slab.h"
 
 namespace translucent::reference {
 namespace {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The mesh tracer's GPU walk (reference/gpu/mesh_gpu.h) against analytic fluxes (a cube under a
 // beam, three index-matched cubes in a row) and against the CPU tracer pixel by pixel on a cube
 // (two directional lights; an environment light) and on the bunny (non-convex: exits, flights
@@ -12,18 +13,18 @@
 #include <numbers>
 #include <vector>
 
-#include "geometry/mesh.h"
+#include "translucent/geometry/mesh.h"
 #include "gpu/gpu_test.h"
-#include "material/checker.h"
-#include "material/gradient.h"
-#include "material/layers.h"
-#include "material/medium_desc.h"
-#include "material/veins.h"
-#include "reference/gpu/device.h"
-#include "optics/fresnel.h"
-#include "reference/gpu/mesh_gpu.h"
-#include "reference/mesh_tracer.h"
-#include "scene/scene.h"
+#include "translucent/material/checker.h"
+#include "translucent/material/gradient.h"
+#include "translucent/material/layers.h"
+#include "translucent/material/medium_desc.h"
+#include "translucent/material/veins.h"
+#include "translucent/reference/gpu/device.h"
+#include "translucent/optics/fresnel.h"
+#include "translucent/reference/gpu/mesh_gpu.h"
+#include "translucent/reference/mesh_tracer.h"
+#include "translucent/scene/scene.h"
 #include "image_zmap.h"
 #include "mesh_test_scenes.h"
 #include "scattering_orders_checks.h"

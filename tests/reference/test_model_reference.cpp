@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The model reference (src/reference/model_reference.h): the analytic flat-slab value, agreement
 // with the independent sphere integrator (sphere_integration.h) on an icosphere, insensitivity to
 // the near-field radius, determinism and noise-consistency across seeds, the exit conventions,
@@ -10,12 +11,12 @@
 #include <numbers>
 #include <vector>
 
-#include "bssrdf/registry.h"
-#include "geometry/icosphere.h"
-#include "optics/fresnel.h"
-#include "reference/model_reference.h"
-#include "reference/sphere.h"
-#include "reference/sphere_integration.h"
+#include "translucent/bssrdf/registry.h"
+#include "translucent/geometry/icosphere.h"
+#include "translucent/optics/fresnel.h"
+#include "translucent/reference/model_reference.h"
+#include "translucent/reference/sphere.h"
+#include "translucent/reference/sphere_integration.h"
 #include "flat_slab.h"
 
 namespace translucent::reference {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The model reference on heterogeneous materials (model_reference.h, the material::Material
 // overload: brute-force Eq. 8 with per-point profiles): one medium passed as a field agrees with
 // the homogeneous reference; a two-medium sphere agrees, deep in each half, with that medium's
@@ -16,16 +17,16 @@
 
 #include <glm/geometric.hpp>
 
-#include "bssrdf/registry.h"
-#include "geometry/icosphere.h"
-#include "geometry/point_cloud.h"
-#include "geometry/ray_scene.h"
-#include "material/material.h"
-#include "material/point_profiles.h"
-#include "optics/fresnel.h"
-#include "reference/model_reference.h"
-#include "scene/scene.h"
-#include "techniques/pointcloud/cpu_traversal.h"
+#include "translucent/bssrdf/registry.h"
+#include "translucent/geometry/icosphere.h"
+#include "translucent/geometry/point_cloud.h"
+#include "translucent/geometry/ray_scene.h"
+#include "translucent/material/material.h"
+#include "translucent/material/point_profiles.h"
+#include "translucent/optics/fresnel.h"
+#include "translucent/reference/model_reference.h"
+#include "translucent/scene/scene.h"
+#include "translucent/techniques/pointcloud/cpu_traversal.h"
 #include "flat_slab.h"
 
 namespace translucent::reference {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The model error study (analysis/model_study.h): its reference totals against the tracer's own,
 // its L1 against an independent quadrature, its standard errors against the spread of
 // independent replicates, and determinism.
@@ -8,10 +9,10 @@
 #include <tuple>
 #include <vector>
 
-#include "analysis/model_study.h"
-#include "bssrdf/registry.h"
-#include "optics/presets.h"
-#include "reference/slab.h"
+#include "translucent/analysis/model_study.h"
+#include "translucent/bssrdf/registry.h"
+#include "translucent/optics/presets.h"
+#include "translucent/reference/slab.h"
 
 namespace translucent::analysis {
 namespace {

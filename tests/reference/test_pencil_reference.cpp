@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The progressive pencil-beam reference (analysis/pencil_reference.h): pooling of estimates is
 // exact, passes double, a stop request ends the run, and the pooled tally agrees with an
 // independent single run within its standard error.
@@ -8,8 +9,8 @@
 #include <random>
 #include <vector>
 
-#include "analysis/pencil_reference.h"
-#include "optics/presets.h"
+#include "translucent/analysis/pencil_reference.h"
+#include "translucent/optics/presets.h"
 
 namespace translucent::analysis {
 namespace {

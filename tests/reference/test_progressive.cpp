@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Progressive runs (src/reference/progressive.h): the doubling schedule's sums, the equality of a
 // progressive path-traced run with one pass of the same photons and seed, the integrator's
 // schedule-determinism over thread counts, cancellation before and during a pass. (The comparison
@@ -11,10 +12,10 @@
 #include <thread>
 #include <vector>
 
-#include "bssrdf/registry.h"
-#include "reference/progressive.h"
-#include "reference/sphere.h"
-#include "reference/sphere_integration.h"
+#include "translucent/bssrdf/registry.h"
+#include "translucent/reference/progressive.h"
+#include "translucent/reference/sphere.h"
+#include "translucent/reference/sphere_integration.h"
 
 namespace translucent::reference {
 namespace {

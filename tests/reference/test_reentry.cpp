@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Non-convex bodies in the reference photon tracer (src/reference/transport.h): light that
 // leaves one part of a body, crosses air and enters another. At η = 1 the tracer is checked
 // against an independent volumetric estimator written here, delta tracking (Woodcock tracking)
@@ -20,12 +21,12 @@
 
 #include <glm/vec2.hpp>
 
-#include "geometry/mesh.h"
-#include "reference/camera.h"
-#include "reference/mesh_tracer.h"
-#include "reference/rng.h"
-#include "reference/sphere.h"
-#include "reference/transport_impl.h"
+#include "translucent/geometry/mesh.h"
+#include "translucent/reference/camera.h"
+#include "translucent/reference/mesh_tracer.h"
+#include "translucent/reference/rng.h"
+#include "translucent/reference/sphere.h"
+#include "translucent/reference/transport_impl.h"
 
 namespace translucent::reference {
 namespace {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The walker's building blocks: random streams, the float transcendentals, Henyey-Greenstein
 // sampling (χ² against the exact density and the mean cosine, Eq. 2.7) and the direction frame.
 #include <gtest/gtest.h>
@@ -7,10 +8,10 @@
 #include <vector>
 
 #include "../bssrdf/stats.h"
-#include "optics/fresnel.h"
-#include "reference/fastmath.h"
-#include "reference/phase.h"
-#include "reference/rng.h"
+#include "translucent/optics/fresnel.h"
+#include "translucent/reference/fastmath.h"
+#include "translucent/reference/phase.h"
+#include "translucent/reference/rng.h"
 
 namespace translucent::reference {
 namespace {

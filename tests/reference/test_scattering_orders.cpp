@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The split of every tally by scattering order (slab.h: ScatteringOrder; seed Eq. 2.13, the
 // explorer's "multi + single scattering" selector): the parts add up to the totals, and the
 // single-scattering part equals the analytic single-scattering term of the searchlight problem
@@ -11,11 +12,11 @@
 #include <string>
 #include <utility>
 
-#include "optics/fresnel.h"
-#include "reference/layered_slab.h"
-#include "reference/mesh_tracer.h"
-#include "reference/slab.h"
-#include "reference/sphere.h"
+#include "translucent/optics/fresnel.h"
+#include "translucent/reference/layered_slab.h"
+#include "translucent/reference/mesh_tracer.h"
+#include "translucent/reference/slab.h"
+#include "translucent/reference/sphere.h"
 #include "image_zmap.h"
 #include "published_setups.h"
 #include "scattering_orders_checks.h"

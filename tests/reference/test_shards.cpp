@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Runs traced in shards and merged (issue 17): the order-independent sums (exact_sum.h) against
 // long-double sums and under permutation, the run-state files (run_state.h), and — the contract —
 // the slab, sphere and mesh tracers' shards added up equal, bit for bit, the run traced at once.
@@ -9,11 +10,11 @@
 #include <random>
 #include <vector>
 
-#include "geometry/mesh.h"
-#include "reference/mesh_tracer.h"
-#include "reference/run_state.h"
-#include "reference/slab.h"
-#include "reference/sphere.h"
+#include "translucent/geometry/mesh.h"
+#include "translucent/reference/mesh_tracer.h"
+#include "translucent/reference/run_state.h"
+#include "translucent/reference/slab.h"
+#include "translucent/reference/sphere.h"
 
 namespace translucent::reference {
 namespace {

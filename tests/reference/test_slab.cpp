@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The slab walker against published Monte Carlo benchmarks, analytic transport results, energy
 // conservation, reciprocity, its own tallies, and the dipole's far field. Every tolerance is a
 // number of standard errors (the walker's own, combined with the published one) unless stated.
@@ -8,11 +9,11 @@
 #include <utility>
 #include <vector>
 
-#include "bssrdf/half_space.h"
-#include "bssrdf/registry.h"
-#include "optics/fresnel.h"
-#include "optics/medium.h"
-#include "reference/slab.h"
+#include "translucent/bssrdf/half_space.h"
+#include "translucent/bssrdf/registry.h"
+#include "translucent/optics/fresnel.h"
+#include "translucent/optics/medium.h"
+#include "translucent/reference/slab.h"
 #include "published_setups.h"
 
 namespace translucent::reference {

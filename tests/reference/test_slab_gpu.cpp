@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The GPU slab tracer (reference/gpu/slab_gpu.h) against the CPU tracer and against published
 // values, and its generator (Philox4x32-10) against Random123's known answers and for uniformity.
 // GL runs on whatever EGL offers (llvmpipe here): small photon counts, bounds from the standard
@@ -10,13 +11,13 @@
 #include <string>
 #include <vector>
 
-#include "gpu/compute.h"
+#include "translucent/gpu/compute.h"
 #include "gpu/gpu_test.h"
-#include "gpu/program.h"
-#include "reference/gpu/slab_gpu.h"
-#include "reference/gpu/walk_program.h"
-#include "reference/philox.h"
-#include "reference/run_state.h"
+#include "translucent/gpu/program.h"
+#include "translucent/reference/gpu/slab_gpu.h"
+#include "translucent/reference/gpu/walk_program.h"
+#include "translucent/reference/philox.h"
+#include "translucent/reference/run_state.h"
 #include "published_setups.h"
 #include "image_zmap.h"
 #include "single_scattering.h"

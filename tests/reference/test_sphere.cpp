@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The lit sphere path tracer (src/reference/sphere.h) and the cameras (camera.h): energy
 // conservation against the analytic transmitted flux, the image tally against an independent
 // tally of the same photons, mirror symmetry, determinism over thread counts and pass splits,
@@ -8,11 +9,11 @@
 #include <numbers>
 #include <vector>
 
-#include "optics/fresnel.h"
-#include "reference/camera.h"
-#include "reference/sphere.h"
+#include "translucent/optics/fresnel.h"
+#include "translucent/reference/camera.h"
+#include "translucent/reference/sphere.h"
 #include "published_setups.h"
-#include "reference/transport_impl.h"
+#include "translucent/reference/transport_impl.h"
 
 namespace translucent::reference {
 namespace {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The lit sphere's GPU walk (reference/gpu/sphere_gpu.h) against analytic fluxes and against the
 // CPU tracer, pixel by pixel, and its determinism, pass splits and stops. GL runs on whatever
 // EGL offers (llvmpipe here): small images and photon counts, bounds from the standard errors.
@@ -8,9 +9,9 @@
 #include <vector>
 
 #include "gpu/gpu_test.h"
-#include "optics/fresnel.h"
-#include "reference/gpu/sphere_gpu.h"
-#include "reference/sphere.h"
+#include "translucent/optics/fresnel.h"
+#include "translucent/reference/gpu/sphere_gpu.h"
+#include "translucent/reference/sphere.h"
 #include "published_setups.h"
 #include "image_zmap.h"
 

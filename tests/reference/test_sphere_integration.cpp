@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // BSSRDF integration on the lit sphere (src/reference/sphere_integration.h): both surface
 // samplers against deterministic quadrature of the same integral, against each other on whole
 // images (per-pixel z-test at a corrected significance level, as in Mitsuba's render tests), and
@@ -8,11 +9,11 @@
 #include <numbers>
 #include <vector>
 
-#include "bssrdf/registry.h"
-#include "optics/fresnel.h"
-#include "reference/slab.h"
-#include "reference/sphere.h"
-#include "reference/sphere_integration.h"
+#include "translucent/bssrdf/registry.h"
+#include "translucent/optics/fresnel.h"
+#include "translucent/reference/slab.h"
+#include "translucent/reference/sphere.h"
+#include "translucent/reference/sphere_integration.h"
 #include "sphere_test_helpers.h"
 
 namespace translucent::reference {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Sphere integration of a directional model (the directional dipole's kernel with the light's true
 // direction, reference/sphere_integration.h): both surface samplers against deterministic
 // quadrature of the same integral, and the model against the path tracer at oblique light, next to
@@ -9,10 +10,10 @@
 #include <numbers>
 #include <vector>
 
-#include "bssrdf/registry.h"
-#include "optics/fresnel.h"
-#include "reference/sphere.h"
-#include "reference/sphere_integration.h"
+#include "translucent/bssrdf/registry.h"
+#include "translucent/optics/fresnel.h"
+#include "translucent/reference/sphere.h"
+#include "translucent/reference/sphere_integration.h"
 #include "sphere_test_helpers.h"
 
 namespace translucent::reference {

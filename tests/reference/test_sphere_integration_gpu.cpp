@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The GPU sphere integration of .bssrdf files (reference/gpu/sphere_integration_gpu.h) against the
 // CPU integrator of the C++ twins, pixel by pixel (z maps at a Bonferroni-corrected threshold):
 // the directional dipole with the light off the view axis (the kernel sees the light's direction),
@@ -8,13 +9,13 @@
 #include <cmath>
 #include <cstdio>
 
-#include "bssrdf/registry.h"
-#include "gpu/bssrdf_kernels.h"
+#include "translucent/bssrdf/registry.h"
+#include "translucent/gpu/bssrdf_kernels.h"
 #include "gpu/gpu_test.h"
 #include "image_zmap.h"
-#include "optics/presets.h"
-#include "reference/gpu/sphere_integration_gpu.h"
-#include "reference/sphere_integration.h"
+#include "translucent/optics/presets.h"
+#include "translucent/reference/gpu/sphere_integration_gpu.h"
+#include "translucent/reference/sphere_integration.h"
 
 namespace translucent::reference {
 namespace {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Scene files (scene/scene.h): every key parses, the scene round-trips through toJson, bad input
 // names the key, and meshes are normalised and placed as documented.
 #include <gtest/gtest.h>
@@ -13,11 +14,11 @@
 
 #include <glm/geometric.hpp>
 
-#include "analysis/image_io.h"
-#include "scene/data_path.h"
-#include "geometry/icosphere.h"
-#include "geometry/ray_scene.h"
-#include "scene/scene.h"
+#include "translucent/io/image_io.h"
+#include "translucent/scene/data_path.h"
+#include "translucent/geometry/icosphere.h"
+#include "translucent/geometry/ray_scene.h"
+#include "translucent/scene/scene.h"
 
 namespace translucent::scene {
 namespace {

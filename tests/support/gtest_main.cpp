@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The tests' main: GoogleTest's, plus the leak check run here rather than at exit under ASan.
 //
 // LeakSanitizer's own check runs from an atexit handler, while the static destructors of the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Point clouds for the CPU traversal tests (test_pointcloud_cpu, test_pointcloud_hetero_cpu):
 // sampled from a mesh and lit by a directional light without shadows.
 #pragma once
@@ -7,8 +8,8 @@
 
 #include <glm/geometric.hpp>
 
-#include "geometry/mesh.h"
-#include "geometry/point_cloud.h"
+#include "translucent/geometry/mesh.h"
+#include "translucent/geometry/point_cloud.h"
 
 namespace translucent::pointcloud::testing {
 

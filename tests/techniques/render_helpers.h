@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Shared pieces of the GPU technique tests: meshes written to OBJ files, small scenes, and a
 // prepared point-cloud technique (on the process-wide headless context of tests/gpu/gpu_test.h).
 #pragma once
@@ -14,10 +15,10 @@
 #include <string_view>
 #include <vector>
 
-#include "geometry/mesh.h"
+#include "translucent/geometry/mesh.h"
 #include "gpu/gpu_test.h"
-#include "scene/scene.h"
-#include "techniques/pointcloud/pointcloud_technique.h"
+#include "translucent/scene/scene.h"
+#include "translucent/techniques/pointcloud/pointcloud_technique.h"
 
 namespace translucent::pointcloud::testing {
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Mesh deformation on the GPU (techniques::GpuMesh::deform, shaders/common/deform.comp) against
 // the CPU's (geometry::deformMesh, scene::loadSceneMesh), on Mesa llvmpipe here:
 //   - the vertex buffer after deform() holds the CPU-deformed positions and normals (float
@@ -16,15 +17,15 @@
 
 #include <glm/geometric.hpp>
 
-#include "geometry/deform.h"
-#include "geometry/icosphere.h"
-#include "gpu/compute.h"
+#include "translucent/geometry/deform.h"
+#include "translucent/geometry/icosphere.h"
+#include "translucent/gpu/compute.h"
 #include "render_helpers.h"
-#include "scene/scene.h"
-#include "techniques/common/gl_resources.h"
-#include "techniques/empirical/empirical_technique.h"
-#include "techniques/tsis/tsis_technique.h"
-#include "techniques/tsm/tsm_technique.h"
+#include "translucent/scene/scene.h"
+#include "translucent/techniques/common/gl_resources.h"
+#include "translucent/techniques/empirical/empirical_technique.h"
+#include "translucent/techniques/tsis/tsis_technique.h"
+#include "translucent/techniques/tsm/tsm_technique.h"
 
 namespace translucent::techniques {
 namespace {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The empirical technique on the GPU (techniques/empirical/empirical_technique.h), against closed
 // forms and the CPU reference of its per-pixel mathematics (techniques/empirical/shading.h).
 #include <gtest/gtest.h>
@@ -7,11 +8,11 @@
 
 #include <glm/geometric.hpp>
 
-#include "geometry/icosphere.h"
+#include "translucent/geometry/icosphere.h"
 #include "render_helpers.h"
-#include "techniques/empirical/empirical_technique.h"
-#include "techniques/empirical/shading.h"
-#include "techniques/registry.h"
+#include "translucent/techniques/empirical/empirical_technique.h"
+#include "translucent/techniques/empirical/shading.h"
+#include "translucent/techniques/registry.h"
 
 namespace translucent::empirical {
 namespace {

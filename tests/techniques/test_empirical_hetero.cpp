@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The empirical technique on a heterogeneous material (empirical_technique.h, "Heterogeneous
 // materials"): K_d scaled per vertex by Rd(local) / Rd(representative).
 #include <gtest/gtest.h>
@@ -6,10 +7,10 @@
 #include <cstdio>
 #include <memory>
 
-#include "geometry/icosphere.h"
-#include "optics/presets.h"
+#include "translucent/geometry/icosphere.h"
+#include "translucent/optics/presets.h"
 #include "render_helpers.h"
-#include "techniques/empirical/empirical_technique.h"
+#include "translucent/techniques/empirical/empirical_technique.h"
 
 namespace translucent::empirical {
 namespace {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The empirical shader's per-pixel mathematics (techniques/empirical/shading.h): depth
 // linearisation, thickness, the depth-aware smoothing of appendix C (Eq. C.1), the lighting
 // equation (Eq. 3.6) term by term and the survey presets (Table 4.3).
@@ -8,8 +9,8 @@
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "optics/medium.h"
-#include "techniques/empirical/shading.h"
+#include "translucent/optics/medium.h"
+#include "translucent/techniques/empirical/shading.h"
 
 namespace translucent::empirical {
 namespace {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The lss technique (techniques/lss/lss_technique.h: Mertens et al. 2003, per-pixel importance
 // sampling of the profile on the image plane) on whatever OpenGL 4.5 implementation the machine
 // has (Mesa llvmpipe here), at small sizes:
@@ -18,16 +19,16 @@
 #include <glm/geometric.hpp>
 #include <glm/matrix.hpp>
 
-#include "analysis/image_io.h"
-#include "bssrdf/registry.h"
-#include "geometry/icosphere.h"
-#include "optics/fresnel.h"
-#include "optics/presets.h"
+#include "translucent/io/image_io.h"
+#include "translucent/bssrdf/registry.h"
+#include "translucent/geometry/icosphere.h"
+#include "translucent/optics/fresnel.h"
+#include "translucent/optics/presets.h"
 #include "reference/flat_slab.h"
-#include "reference/sphere_integration.h"
+#include "translucent/reference/sphere_integration.h"
 #include "render_helpers.h"
-#include "techniques/common/gl_resources.h"
-#include "techniques/lss/lss_technique.h"
+#include "translucent/techniques/common/gl_resources.h"
+#include "translucent/techniques/lss/lss_technique.h"
 
 namespace translucent::lss {
 namespace {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Open meshes (issue 14 §5): the point-cloud technique renders them (points need no interior),
 // the techniques that need one refuse them naming the file and the technique that would do.
 // Lit and seen from above, a box without its bottom face renders as the closed box: no light
@@ -7,9 +8,9 @@
 
 #include <cmath>
 
-#include "optics/presets.h"
+#include "translucent/optics/presets.h"
 #include "render_helpers.h"
-#include "techniques/registry.h"
+#include "translucent/techniques/registry.h"
 
 namespace translucent::techniques {
 namespace {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -9,13 +10,13 @@
 
 #include "cloud_helpers.h"
 #include "../geometry/test_meshes.h"
-#include "bssrdf/profile_table.h"
-#include "bssrdf/registry.h"
-#include "geometry/icosphere.h"
-#include "geometry/octree.h"
-#include "geometry/point_cloud.h"
-#include "optics/presets.h"
-#include "techniques/pointcloud/cpu_traversal.h"
+#include "translucent/bssrdf/profile_table.h"
+#include "translucent/bssrdf/registry.h"
+#include "translucent/geometry/icosphere.h"
+#include "translucent/geometry/octree.h"
+#include "translucent/geometry/point_cloud.h"
+#include "translucent/optics/presets.h"
+#include "translucent/techniques/pointcloud/cpu_traversal.h"
 
 namespace translucent::pointcloud {
 namespace {

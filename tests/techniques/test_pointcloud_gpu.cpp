@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The point-cloud technique on the GPU (techniques/pointcloud/pointcloud_technique.h), on whatever
 // OpenGL 4.5 implementation the machine has (Mesa llvmpipe here), at small sizes:
 //   - the GPU traversal equals the CPU oracle (cpu_traversal.h) pixel by pixel;
@@ -15,19 +16,19 @@
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "analysis/image_io.h"
-#include "bssrdf/bssrdf_file.h"
-#include "bssrdf/exit_radiance.h"
-#include "bssrdf/registry.h"
-#include "geometry/icosphere.h"
-#include "gpu/bssrdf_kernels.h"
-#include "gpu/gl.h"
-#include "gpu/compute.h"
-#include "optics/fresnel.h"
-#include "optics/presets.h"
-#include "reference/sphere_integration.h"
+#include "translucent/io/image_io.h"
+#include "translucent/bssrdf/bssrdf_file.h"
+#include "translucent/bssrdf/exit_radiance.h"
+#include "translucent/bssrdf/registry.h"
+#include "translucent/geometry/icosphere.h"
+#include "translucent/gpu/bssrdf_kernels.h"
+#include "translucent/gpu/gl.h"
+#include "translucent/gpu/compute.h"
+#include "translucent/optics/fresnel.h"
+#include "translucent/optics/presets.h"
+#include "translucent/reference/sphere_integration.h"
 #include "render_helpers.h"
-#include "lights/environment_map.h"
+#include "translucent/lights/environment_map.h"
 
 namespace translucent::pointcloud {
 namespace {

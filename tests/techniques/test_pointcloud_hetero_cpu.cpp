@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The point-cloud traversal on heterogeneous materials (cpu_traversal.h, Eq. 8 per term and the
 // power-weighted node representatives) against the brute-force Eq. 8 sum over every point.
 #include <gtest/gtest.h>
@@ -11,14 +12,14 @@
 #include <glm/geometric.hpp>
 
 #include "cloud_helpers.h"
-#include "bssrdf/registry.h"
-#include "geometry/icosphere.h"
-#include "geometry/octree.h"
-#include "geometry/point_cloud.h"
-#include "material/point_profiles.h"
-#include "optics/presets.h"
-#include "scene/scene.h"
-#include "techniques/pointcloud/cpu_traversal.h"
+#include "translucent/bssrdf/registry.h"
+#include "translucent/geometry/icosphere.h"
+#include "translucent/geometry/octree.h"
+#include "translucent/geometry/point_cloud.h"
+#include "translucent/material/point_profiles.h"
+#include "translucent/optics/presets.h"
+#include "translucent/scene/scene.h"
+#include "translucent/techniques/pointcloud/cpu_traversal.h"
 
 namespace translucent::pointcloud {
 namespace {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The point-cloud technique on a heterogeneous material (pointcloud_technique.h, "Heterogeneous
 // materials"; shaders/pointcloud/hetero.glsl) on whatever OpenGL 4.5 implementation the machine
 // has (Mesa llvmpipe here), small sizes:
@@ -15,8 +16,8 @@
 
 #include <glm/geometric.hpp>
 
-#include "geometry/icosphere.h"
-#include "optics/presets.h"
+#include "translucent/geometry/icosphere.h"
+#include "translucent/optics/presets.h"
 #include "render_helpers.h"
 
 namespace translucent::pointcloud {

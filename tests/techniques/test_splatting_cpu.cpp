@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The CPU pieces of multiresolution splatting (techniques/splatting/splatting_math.h): the mean
 // normalised profile and R̄ (Eqs. 14-16) with each level's range split (Eq. 13) measured against
 // Eq. 14's ε, adaptive selection covering every texel once (Eqs. 10-11, Algorithm 1 as the text
@@ -10,7 +11,7 @@
 #include <random>
 #include <vector>
 
-#include "techniques/splatting/splatting_math.h"
+#include "translucent/techniques/splatting/splatting_math.h"
 
 namespace translucent::splatting {
 namespace {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The splatting technique (src/techniques/splatting/splatting_technique.h) and the shah baseline
 // on whatever OpenGL 4.5 implementation the machine has (Mesa llvmpipe here), at small sizes:
 //   - without acceleration (one level, every irradiance texel, full-range splats) the GPU's B
@@ -22,14 +23,14 @@
 #include <glm/vec4.hpp>
 
 #include "gpu/gpu_test.h"
-#include "geometry/atlas.h"
-#include "geometry/deform.h"
-#include "material/point_profiles.h"
-#include "material/surface_uv.h"
+#include "translucent/geometry/atlas.h"
+#include "translucent/geometry/deform.h"
+#include "translucent/material/point_profiles.h"
+#include "translucent/material/surface_uv.h"
 #include "render_helpers.h"
-#include "scene/scene.h"
-#include "techniques/registry.h"
-#include "techniques/splatting/splatting_technique.h"
+#include "translucent/scene/scene.h"
+#include "translucent/techniques/registry.h"
+#include "translucent/techniques/splatting/splatting_technique.h"
 
 namespace translucent::splatting {
 namespace {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // A tabulated profile (bssrdf/tabulated.h) is a model for every technique: a box of marble
 // (scene units of 1 cm, so the table's millimetres are converted) rendered by each registered
 // technique with the dipole and with a dense table of the dipole, written to a CSV and named by
@@ -7,10 +8,10 @@
 #include <cmath>
 #include <cstdio>
 
-#include "bssrdf/registry.h"
-#include "bssrdf/tabulated.h"
+#include "translucent/bssrdf/registry.h"
+#include "translucent/bssrdf/tabulated.h"
 #include "render_helpers.h"
-#include "techniques/registry.h"
+#include "translucent/techniques/registry.h"
 
 namespace translucent::techniques {
 namespace {

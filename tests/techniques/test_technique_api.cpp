@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The technique interface without a GPU: typed parameter descriptors and values, the registry,
 // and the environment-lighting mathematics of the point-cloud technique (SH irradiance with
 // Fresnel transmission, importance sampling of a latitude-longitude map).
@@ -8,11 +9,11 @@
 
 #include <glm/geometric.hpp>
 
-#include "bssrdf/exit_radiance.h"
-#include "optics/fresnel.h"
-#include "techniques/pointcloud/pointcloud_technique.h"
-#include "lights/environment_map.h"
-#include "techniques/registry.h"
+#include "translucent/bssrdf/exit_radiance.h"
+#include "translucent/optics/fresnel.h"
+#include "translucent/techniques/pointcloud/pointcloud_technique.h"
+#include "translucent/lights/environment_map.h"
+#include "translucent/techniques/registry.h"
 
 namespace translucent::techniques {
 namespace {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The texture-space importance sampling technique on the GPU (techniques/tsis/tsis_technique.h)
 // on whatever OpenGL 4.5 implementation the machine has (Mesa llvmpipe here), at small sizes:
 //   - the sum mipmap's base is E' a_t of the texels and its top the total;
@@ -20,15 +21,15 @@
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "analysis/image_io.h"
-#include "bssrdf/registry.h"
-#include "geometry/icosphere.h"
-#include "optics/presets.h"
-#include "reference/sphere_integration.h"
+#include "translucent/io/image_io.h"
+#include "translucent/bssrdf/registry.h"
+#include "translucent/geometry/icosphere.h"
+#include "translucent/optics/presets.h"
+#include "translucent/reference/sphere_integration.h"
 #include "render_helpers.h"
-#include "optics/fresnel.h"
-#include "techniques/common/surface_irradiance.h"
-#include "techniques/tsis/tsis_technique.h"
+#include "translucent/optics/fresnel.h"
+#include "translucent/techniques/common/surface_irradiance.h"
+#include "translucent/techniques/tsis/tsis_technique.h"
 
 namespace translucent::tsis {
 namespace {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The hybrid local/global method of the tsis technique (seed 3.3; techniques/tsis/hybrid_split.h,
 // issue #11 §3 and §5):
 //   - the split: W_l in [0, 1], ½ at R_p from both sides, W_l + W_g = 1 on the tables, and R_p of
@@ -17,17 +18,17 @@
 
 #include <glm/geometric.hpp>
 
-#include "bssrdf/profile.h"
-#include "bssrdf/registry.h"
-#include "geometry/mesh.h"
-#include "optics/fresnel.h"
+#include "translucent/bssrdf/profile.h"
+#include "translucent/bssrdf/registry.h"
+#include "translucent/geometry/mesh.h"
+#include "translucent/optics/fresnel.h"
 #include "reference/flat_slab.h"
-#include "reference/model_reference.h"
-#include "reference/transport.h"
+#include "translucent/reference/model_reference.h"
+#include "translucent/reference/transport.h"
 #include "render_helpers.h"
-#include "scene/scene.h"
-#include "techniques/tsis/hybrid_split.h"
-#include "techniques/tsis/tsis_technique.h"
+#include "translucent/scene/scene.h"
+#include "translucent/techniques/tsis/hybrid_split.h"
+#include "translucent/techniques/tsis/tsis_technique.h"
 
 namespace translucent::tsis {
 namespace {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The translucent-shadow-map technique on the GPU (techniques/tsm/tsm_technique.h) on whatever
 // OpenGL 4.5 implementation the machine has (Mesa llvmpipe here), on the flat-slab set-up of
 // tests/reference/flat_slab.h (a wide box, a short-range medium, an orthographic camera from
@@ -23,12 +24,12 @@
 
 #include <glm/geometric.hpp>
 
-#include "geometry/icosphere.h"
-#include "geometry/mesh.h"
-#include "optics/fresnel.h"
+#include "translucent/geometry/icosphere.h"
+#include "translucent/geometry/mesh.h"
+#include "translucent/optics/fresnel.h"
 #include "reference/flat_slab.h"
 #include "render_helpers.h"
-#include "techniques/tsm/tsm_technique.h"
+#include "translucent/techniques/tsm/tsm_technique.h"
 
 namespace translucent::tsm {
 namespace {

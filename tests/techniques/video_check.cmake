@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 # `render --frames N --video FILE` through Debian's ffmpeg (scripts/install-deps installs it):
 # renders, then asks ffprobe what FILE holds: an H.264 stream of the frame size with exactly N
 # decoded frames at the requested rate. EXE, ARGS, VIDEO, FRAMES, SIZE (WxH) and FPS come from

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // "Copy command line": the `translucent render` invocation that reproduces the viewport's image
 // from a saved scene file (round trip with the CLI, issue 6 section 2).
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The console (issue 6): every ExplorerState message (info, warning, error: shader compile errors
 // with file and line, broken meshes, bad .bssrdf files) and Qt's own warnings, colour coded.
 #pragma once

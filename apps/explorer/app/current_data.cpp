@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // "Print current data" of the explorer (current_data.h).
 #include "app/current_data.h"
 
@@ -7,7 +8,7 @@
 #include <string>
 #include <variant>
 
-#include "techniques/registry.h"
+#include "translucent/techniques/registry.h"
 
 namespace translucent::explorer {
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // translucent-explorer: the interactive desktop app (issue 6). `translucent-explorer [scene.json]`
 // opens the scene (default: the built-in bunny, scene::defaultScene()).
 //

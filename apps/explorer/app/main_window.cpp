@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "app/main_window.h"
 
 #include <QtCore/QCoreApplication>
@@ -16,7 +17,7 @@
 
 #include <exception>
 
-#include "bssrdf/tabulated.h"
+#include "translucent/bssrdf/tabulated.h"
 #include "app/command_line.h"
 #include "app/console_dock.h"
 #include "app/technique_views_dock.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The explorer's main window: every view is a dock widget (pop out, move, resize), the layout and
 // window geometry are remembered across runs (QSettings), File and View menus, and the status bar
 // with the viewport's frame rate and the mesh's faces, vertices and points.
@@ -8,7 +9,7 @@
 
 #include <filesystem>
 
-#include "scene/scene.h"
+#include "translucent/scene/scene.h"
 
 class QLabel;
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Widgets generated from a technique's parameter list (techniques::ParameterInfo): Float -> slider
 // and spin box (logarithmic slider when the parameter says so), Int -> spin box, Bool -> check
 // box, Enum -> combo box. Every edit is reported as the scene setting it becomes.
@@ -10,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "scene/scene.h"
-#include "techniques/technique.h"
+#include "translucent/scene/scene.h"
+#include "translucent/techniques/technique.h"
 
 namespace translucent::explorer {
 

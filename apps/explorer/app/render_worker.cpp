@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "app/render_worker.h"
 
 #include <QtCore/QCoreApplication>
@@ -8,8 +9,8 @@
 #include <string>
 #include <utility>
 
-#include "gpu/context.h"
-#include "techniques/registry.h"
+#include "translucent/gpu/context.h"
+#include "translucent/techniques/registry.h"
 
 namespace translucent::explorer {
 namespace {

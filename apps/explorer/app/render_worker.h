@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The viewport's renderer: one thread that owns a headless OpenGL 4.5 core context (gpu::Context,
 // EGL, the same path as `translucent render`) and the technique, and turns render requests into
 // linear frames (techniques::Frame) for the viewport to show.
@@ -28,8 +29,8 @@
 #include <optional>
 #include <thread>
 
-#include "scene/scene.h"
-#include "techniques/technique.h"
+#include "translucent/scene/scene.h"
+#include "translucent/techniques/technique.h"
 
 namespace translucent::explorer {
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "app/technique_views_dock.h"
 
 #include <QtWidgets/QComboBox>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The technique's inspection views (techniques::Frame::views), e.g. tsis's irradiance atlas with
 // the frame's samples drawn over it (seed Fig. 3.1): a choice of view, the picture and what it
 // shows. The views cost a read-back of their own, so the viewport asks for them only while this

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "app/view_math.h"
 
 #include <glm/geometric.hpp>

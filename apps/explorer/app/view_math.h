@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Camera and light manipulation for the viewport's mouse input (pure functions, tested).
 #pragma once
 
@@ -5,7 +6,7 @@
 
 #include <glm/vec3.hpp>
 
-#include "reference/camera.h"
+#include "translucent/reference/camera.h"
 
 namespace translucent::explorer {
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "app/viewport_dock.h"
 
 #include <QtCore/QDir>
@@ -27,11 +28,11 @@
 #include <numbers>
 #include <stdexcept>
 
-#include "analysis/image_io.h"
+#include "translucent/io/image_io.h"
 #include "app/parameter_form.h"
 #include "app/viewport_widget.h"
 #include "core/explorer_state.h"
-#include "techniques/registry.h"
+#include "translucent/techniques/registry.h"
 
 namespace translucent::explorer {
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The viewport dock (seed 3.6.4, the point cloud widget): the picture (ViewportWidget), and beside
 // it the technique selector with the technique's own settings as generated widgets, mesh
 // loading (dialog and drag and drop), the lighting mode, camera (field of view, clip planes,

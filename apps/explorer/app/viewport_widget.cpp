@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "app/viewport_widget.h"
 
 #include <QtGui/QMouseEvent>
@@ -10,7 +11,7 @@
 
 #include "app/view_math.h"
 #include "core/explorer_state.h"
-#include "gpu/frame_display.h"
+#include "translucent/gpu/frame_display.h"
 
 namespace translucent::explorer {
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The viewport's picture: a QOpenGLWidget with a 4.5 core context that shows the render thread's
 // latest frame (RenderWorker), tone mapped with the scene's exposure and gamma
 // (gpu::FrameDisplay), and turns mouse input into camera and light edits of the ExplorerState:

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "compare/compare_dock.h"
 
 #include <fmt/format.h>
@@ -18,13 +19,13 @@
 #include <exception>
 #include <utility>
 
-#include "analysis/colormap.h"
-#include "analysis/metrics.h"
-#include "bssrdf/bssrdf_file.h"
+#include "translucent/analysis/colormap.h"
+#include "translucent/analysis/metrics.h"
+#include "translucent/bssrdf/bssrdf_file.h"
 #include "core/explorer_state.h"
 #include "core/pixel_image_view.h"
 #include "core/trace_device_box.h"
-#include "reference/slab.h"  // kBlockPhotons
+#include "translucent/reference/slab.h"  // kBlockPhotons
 
 namespace translucent::explorer {
 namespace {

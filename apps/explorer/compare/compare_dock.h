@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The Compare dock: the viewport's technique against a reference of the same scene and camera,
 // as `translucent compare` computes them (analysis/compare.h), at a small size and refined while
 // the user watches: the technique's frame, the reference (the volumetric path tracer by default,
@@ -38,7 +39,7 @@
 #include <string>
 #include <vector>
 
-#include "analysis/compare.h"
+#include "translucent/compare/compare.h"
 #include "app/render_worker.h"
 #include "compare/compare_run.h"
 

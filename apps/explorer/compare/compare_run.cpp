@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "compare/compare_run.h"
 
 #include <algorithm>
@@ -6,9 +7,9 @@
 #include <filesystem>
 #include <utility>
 
-#include "reference/gpu/device.h"
-#include "reference/mesh_tracer.h"
-#include "reference/progressive.h"
+#include "translucent/reference/gpu/device.h"
+#include "translucent/reference/mesh_tracer.h"
+#include "translucent/reference/progressive.h"
 
 namespace translucent::explorer {
 namespace {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // One background reference of the Compare dock: the scene at the dock's camera, computed on a
 // thread of its own in passes, each reported as a complete analysis::Reference with its masks.
 //
@@ -26,8 +27,8 @@
 #include <string>
 #include <thread>
 
-#include "analysis/compare.h"
-#include "scene/scene.h"
+#include "translucent/compare/compare.h"
+#include "translucent/scene/scene.h"
 
 namespace translucent::explorer {
 

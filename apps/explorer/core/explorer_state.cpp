@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "core/explorer_state.h"
 
 #include <algorithm>
@@ -7,7 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "bssrdf/registry.h"
+#include "translucent/bssrdf/registry.h"
 
 namespace translucent::explorer {
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The explorer's document: the scene being edited (the same scene::Scene the CLI renders), the
 // models shown in the pencil plot, and the console log. Docks read it and edit it through these
 // calls; every edit emits a signal so that views refresh and background computations restart.
@@ -17,8 +18,8 @@
 #include <string>
 #include <vector>
 
-#include "optics/medium.h"
-#include "scene/scene.h"
+#include "translucent/optics/medium.h"
+#include "translucent/scene/scene.h"
 
 namespace translucent::explorer {
 

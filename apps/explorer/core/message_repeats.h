@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Repeated identical messages are shown once (issue 15 §6): a renderer that fails on every frame
 // (a broken shader, a mesh that cannot be loaded) would otherwise fill the console, or a
 // scripted run's stderr, with the same line 60 times a second. A message equal to the previous

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // An image scaled to the widget, keeping its aspect ratio, nearest-neighbour (the pixels of a
 // Monte Carlo image are worth seeing), centred on a dark background; "computing…" before the
 // first. Header-only and widgets only: for the docks (the lit spheres, Compare), not for core's
@@ -13,7 +14,7 @@
 #include <span>
 #include <utility>
 
-#include "analysis/image_io.h"  // toneMap
+#include "translucent/io/image_io.h"  // toneMap
 
 namespace translucent::explorer {
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The path tracers' device choice of the docks (the lit spheres' tracer, the pencil plot's
 // reference): a combo box of "auto", "cpu" and "gpu" (its items' data: the words
 // reference::openTraceDevice takes), with the tooltip that says what each means. Header-only

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "material/debug_view.h"
 
 #include <algorithm>
@@ -5,14 +6,14 @@
 #include <limits>
 #include <map>
 
-#include "analysis/colormap.h"
-#include "bssrdf/registry.h"
-#include "material/material.h"
+#include "translucent/analysis/colormap.h"
+#include "translucent/bssrdf/registry.h"
+#include "translucent/material/material.h"
 #include "material/material_worker.h"
-#include "geometry/atlas.h"
-#include "material/point_profiles.h"
-#include "material/surface_uv.h"
-#include "reference/camera.h"
+#include "translucent/geometry/atlas.h"
+#include "translucent/material/point_profiles.h"
+#include "translucent/material/surface_uv.h"
+#include "translucent/reference/camera.h"
 
 namespace translucent::explorer {
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The material debug view (issue 12, §5): σa, σs', Rd or the 95% radius of the scene's material
 // over the mesh, in false colour, seen from the scene's camera. Computed on the CPU (no GL):
 //   - per vertex of the placed mesh, the local medium Material::surfaceMedium (a 3D field: the
@@ -18,8 +19,8 @@
 #include <string>
 #include <vector>
 
-#include "geometry/mesh.h"
-#include "scene/scene.h"
+#include "translucent/geometry/mesh.h"
+#include "translucent/scene/scene.h"
 
 namespace translucent::explorer {
 

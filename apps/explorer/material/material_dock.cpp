@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "material/material_dock.h"
 
 #include <QtConcurrent/QtConcurrentRun>
@@ -23,8 +24,8 @@
 #include <algorithm>
 
 #include "core/explorer_state.h"
-#include "material/material_desc.h"
-#include "optics/presets.h"
+#include "translucent/material/material_desc.h"
+#include "translucent/optics/presets.h"
 
 namespace translucent::explorer {
 namespace {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The Material dock (issue 12, §5): the scene's material type and its parameters.
 //
 //   - a type combo: homogeneous and every registered spatially varying type
@@ -33,7 +34,7 @@
 #include <memory>
 #include <string>
 
-#include "geometry/mesh.h"
+#include "translucent/geometry/mesh.h"
 #include "material/debug_view.h"
 
 class QComboBox;

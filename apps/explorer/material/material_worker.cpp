@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "material/material_worker.h"
 
 #include <fmt/format.h>
@@ -6,10 +7,10 @@
 
 #include <algorithm>
 
-#include "bssrdf/bssrdf_file.h"
+#include "translucent/bssrdf/bssrdf_file.h"
 #include "core/explorer_state.h"
-#include "gpu/context.h"
-#include "gpu/program.h"
+#include "translucent/gpu/context.h"
+#include "translucent/gpu/program.h"
 
 namespace translucent::explorer {
 

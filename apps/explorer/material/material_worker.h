@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The material docks' worker thread: one thread that runs jobs in order, owns the headless GL
 // context (gpu::Context, EGL) and the loaded `.bssrdf` models (gpu::BssrdfEvaluator), and computes
 // the pencil plot's model curves. `.bssrdf` models run on the GPU, so everything that touches them
@@ -22,7 +23,7 @@
 #include <string>
 #include <thread>
 
-#include "gpu/bssrdf_kernels.h"
+#include "translucent/gpu/bssrdf_kernels.h"
 
 namespace translucent::gpu {
 class Context;

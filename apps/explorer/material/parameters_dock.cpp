@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "material/parameters_dock.h"
 
 #include <fmt/format.h>
@@ -21,15 +22,15 @@
 #include <algorithm>
 #include <cmath>
 
-#include "analysis/profile_curves.h"
-#include "bssrdf/registry.h"
+#include "translucent/bssrdf/profile_curves.h"
+#include "translucent/bssrdf/registry.h"
 #include "core/explorer_state.h"
-#include "gpu/bssrdf_profiles.h"
+#include "translucent/gpu/bssrdf_profiles.h"
 #include "material/material_worker.h"
 #include "material/value_slider.h"
-#include "bssrdf/tabulated.h"
-#include "optics/inversion.h"
-#include "optics/presets.h"
+#include "translucent/bssrdf/tabulated.h"
+#include "translucent/optics/inversion.h"
+#include "translucent/optics/presets.h"
 
 namespace translucent::explorer {
 namespace {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The parameters dock (seed 3.6.1, figure 3.7): the material of the scene and of the pencil plot.
 //
 //   - σa and σs per RGB channel on logarithmic sliders with numeric fields, or Rd and ℓd per
@@ -29,7 +30,7 @@
 #include <string>
 #include <vector>
 
-#include "optics/medium.h"
+#include "translucent/optics/medium.h"
 
 class QCheckBox;
 class QComboBox;

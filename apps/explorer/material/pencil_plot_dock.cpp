@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "material/pencil_plot_dock.h"
 
 #include <fmt/format.h>
@@ -21,11 +22,11 @@
 #include <optional>
 #include <map>
 
-#include "bssrdf/registry.h"
-#include "bssrdf/tabulated.h"
+#include "translucent/bssrdf/registry.h"
+#include "translucent/bssrdf/tabulated.h"
 #include "core/explorer_state.h"
 #include "core/trace_device_box.h"
-#include "gpu/bssrdf_profiles.h"
+#include "translucent/gpu/bssrdf_profiles.h"
 #include "material/material_worker.h"
 #include "plot/profile_plot.h"
 

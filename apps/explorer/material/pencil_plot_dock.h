@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The pencil-plot dock (seed 3.6.3, figure 3.8): the radial profile R(r) of every plotted model on
 // a semi-infinite slab lit by a pencil beam, drawn by plot::makeProfileChart (the CLI's PNG/SVG
 // code), plus the path-traced reference with ±1 standard-error bands.
@@ -25,8 +26,8 @@
 #include <thread>
 #include <vector>
 
-#include "analysis/pencil_reference.h"
-#include "analysis/profile_curves.h"
+#include "translucent/analysis/pencil_reference.h"
+#include "translucent/bssrdf/profile_curves.h"
 
 class QChart;
 class QChartView;

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // A slider with a numeric field for one real parameter: logarithmic (σa, σs, ℓd, scale span
 // decades; seed 3.6.1 "the sliders are in logarithmic scale where appropriate") or linear (g, η,
 // Rd, .bssrdf floats in [min, max]).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "spheres/lit_spheres_dock.h"
 
 #include <fmt/format.h>
@@ -26,16 +27,16 @@
 #include <utility>
 #include <variant>
 
-#include "analysis/colormap.h"
-#include "analysis/image_io.h"
-#include "bssrdf/registry.h"
-#include "analysis/pencil_reference.h"
+#include "translucent/analysis/colormap.h"
+#include "translucent/io/image_io.h"
+#include "translucent/bssrdf/registry.h"
+#include "translucent/analysis/pencil_reference.h"
 #include "core/explorer_state.h"
 #include "core/pixel_image_view.h"
 #include "core/trace_device_box.h"
-#include "gpu/bssrdf_profiles.h"
+#include "translucent/gpu/bssrdf_profiles.h"
 #include "material/material_worker.h"
-#include "reference/slab.h"  // kBlockPhotons
+#include "translucent/reference/slab.h"  // kBlockPhotons
 
 namespace translucent::explorer {
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The lit spheres dock (seed 3.6.2, figure 3.9): the sphere of the current material under a
 // directional light, path traced (the volumetric reference, seed 3.2) and as the current BSSRDF
 // model predicts it (the model integrated over the sphere's surface, seed 3.5), in tabs or side by
@@ -34,7 +35,7 @@
 
 #include <glm/vec3.hpp>
 
-#include "analysis/mc_compare.h"
+#include "translucent/analysis/mc_compare.h"
 #include "spheres/sphere_run.h"
 
 class QCheckBox;

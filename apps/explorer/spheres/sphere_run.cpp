@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "spheres/sphere_run.h"
 
 #include <algorithm>
@@ -5,11 +6,11 @@
 #include <exception>
 #include <utility>
 
-#include "gpu/context.h"
-#include "reference/gpu/device.h"
-#include "reference/progressive.h"
-#include "reference/gpu/sphere_integration_gpu.h"
-#include "reference/sphere_integration.h"
+#include "translucent/gpu/context.h"
+#include "translucent/reference/gpu/device.h"
+#include "translucent/reference/progressive.h"
+#include "translucent/reference/gpu/sphere_integration_gpu.h"
+#include "translucent/reference/sphere_integration.h"
 
 namespace translucent::explorer {
 

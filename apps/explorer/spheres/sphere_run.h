@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // One background computation of the lit sphere widgets (seed 3.6.2): either the path-traced
 // reference (reference::SpherePathTracer) or a model's sphere integration
 // (reference::SphereIntegrator; reference::GpuSphereIntegrator for a directional .bssrdf file), refined by doubling passes (reference::runProgressive) on a
@@ -21,10 +22,10 @@
 #include <utility>
 #include <vector>
 
-#include "gpu/bssrdf_kernels.h"
-#include "optics/medium.h"
-#include "reference/mc_image.h"
-#include "reference/sphere.h"
+#include "translucent/gpu/bssrdf_kernels.h"
+#include "translucent/optics/medium.h"
+#include "translucent/reference/mc_image.h"
+#include "translucent/reference/sphere.h"
 
 namespace translucent::bssrdf {
 class Model;

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Pure parts of the explorer's shell: the mouse-driven camera and light mathematics, the command
 // line builder, the generated sliders' value mapping, the frame-rate statistics.
 #include <QtTest/QtTest>
@@ -8,11 +9,11 @@
 
 #include "app/command_line.h"
 #include "app/current_data.h"
-#include "techniques/registry.h"
+#include "translucent/techniques/registry.h"
 #include "app/main_window.h"
 #include "app/parameter_form.h"
 #include "app/view_math.h"
-#include "reference/camera.h"
+#include "translucent/reference/camera.h"
 #include "app/viewport_dock.h"
 
 using namespace translucent;

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The Material dock with the viewport under Xvfb (issue 12, §5): switching the type to veins and
 // back, a number edited in the generated form changes the scene's material (toJson) and renders a
 // new frame, an invalid value names its key in the console and the last good material keeps

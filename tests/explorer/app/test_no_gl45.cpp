@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // A machine without OpenGL 4.5: Mesa is told to offer at most OpenGL 3.3
 // (MESA_GL_VERSION_OVERRIDE, set before anything starts). The viewport must say so clearly in
 // the picture and on the console, and the application must keep running (no crash, no throw).

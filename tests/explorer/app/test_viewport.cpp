@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The viewport under Xvfb on whatever OpenGL 4.5 the machine has (Mesa llvmpipe here): the first
 // image of the default scene, a technique switch, a broken mesh, the round trip through the CLI
 // and the tone map on screen. Settings are cut down (few points, coarse traversal, a 128x96
@@ -16,8 +17,8 @@
 #include <fstream>
 #include <sstream>
 
-#include "analysis/image_io.h"
-#include "lights/environment_map.h"
+#include "translucent/io/image_io.h"
+#include "translucent/lights/environment_map.h"
 #include "app/console_dock.h"
 #include "app/technique_views_dock.h"
 #include "app/main_window.h"
@@ -25,7 +26,7 @@
 #include "app/viewport_dock.h"
 #include "app/viewport_widget.h"
 #include "core/explorer_state.h"
-#include "geometry/icosphere.h"
+#include "translucent/geometry/icosphere.h"
 
 using namespace translucent;
 using namespace translucent::explorer;

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The Compare dock (apps/explorer/compare): the technique frame and the reference appear, the
 // reference refines pass by pass (its photon count grows, the numbers shown change), the metrics
 // shown are analysis::computeMetrics of the images shown (bit for bit), the physical reference
@@ -19,11 +20,11 @@
 #include <memory>
 #include <vector>
 
-#include "analysis/compare.h"
-#include "analysis/metrics.h"
+#include "translucent/compare/compare.h"
+#include "translucent/analysis/metrics.h"
 #include "compare/compare_dock.h"
 #include "core/explorer_state.h"
-#include "optics/presets.h"
+#include "translucent/optics/presets.h"
 
 using namespace translucent;
 using namespace translucent::explorer;

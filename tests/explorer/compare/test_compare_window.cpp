@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The Compare dock in the explorer's main window: present, tabbed behind another dock and idle
 // (no render thread, no photons) until raised; raised, it renders the viewport's technique and
 // refines a reference of the scene while the viewport and the lit spheres run beside it, and is

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The explorer's parameters and pencil-plot docks (issue 6, sections 1, 3 and 4): a slider move
 // changes the plot's data, the plotted model curves are the library's profiles, the path-traced
 // reference refines and restarts on a change, a malformed .bssrdf is reported with file:line and
@@ -21,14 +22,14 @@
 #include <cmath>
 #include <map>
 
-#include "analysis/profile_curves.h"
-#include "bssrdf/registry.h"
-#include "bssrdf/tabulated.h"
+#include "translucent/bssrdf/profile_curves.h"
+#include "translucent/bssrdf/registry.h"
+#include "translucent/bssrdf/tabulated.h"
 #include "core/explorer_state.h"
 #include "material/parameters_dock.h"
 #include "material/pencil_plot_dock.h"
 #include "material/value_slider.h"
-#include "optics/presets.h"
+#include "translucent/optics/presets.h"
 
 using namespace translucent;
 using namespace translucent::explorer;

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The lit spheres dock (issue 6 section 1, seed 3.6.2): both images appear and refine pass by
 // pass (the photon and sample counts grow), a material change cancels and restarts both runs and
 // the new images differ from the old by far more than their noise, exposure changes the display
@@ -20,7 +21,7 @@
 #include <vector>
 
 #include "core/explorer_state.h"
-#include "optics/presets.h"
+#include "translucent/optics/presets.h"
 #include "spheres/lit_spheres_dock.h"
 
 using namespace translucent;

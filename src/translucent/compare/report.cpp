@@ -1,0 +1,543 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "translucent/compare/report.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <set>
+
+#include "translucent/analysis/colormap.h"
+#include "translucent/io/image_io.h"
+#include "translucent/compare/report_text.h"
+#include "translucent/geometry/atomic_file.h"
+
+namespace translucent::analysis {
+namespace fs = std::filesystem;
+using nlohmann::json;
+using text::html, text::number, text::num, text::pct, text::spct;
+
+namespace {
+
+constexpr const char* kGenerator = "translucent compare";
+constexpr double kPi = 3.14159265358979323846;
+
+json metricsJson(const Metrics& m) {
+  return {{"pixels", m.pixels},
+          {"mean_reference", number(m.mean_reference)},
+          {"mean_test", number(m.mean_test)},
+          {"rel_rmse", number(m.rel_rmse)},
+          {"rel_rmse_raw", number(m.rel_rmse_raw)},
+          {"noise_mse", number(m.noise_mse)},
+          {"noise_mse_stderr", number(m.noise_mse_stderr)},
+          {"noise_variance", number(m.noise_variance)},
+          {"bias", number(m.bias)},
+          {"bias_stderr", number(m.bias_stderr)},
+          {"ssim", number(m.ssim)},
+          {"flip", number(m.flip)},
+          {"mean_abs_z", number(m.mean_abs_z)},
+          {"fraction_abs_z_above_3", number(m.fraction_abs_z_above_3)},
+          {"z_pixels", m.z_pixels}};
+}
+
+json pairJson(const PairMetrics& p) {
+  json j = {{"test", p.test},         {"reference", p.reference}, {"quantity", p.quantity},
+            {"convention", p.convention}, {"mask", p.mask}};
+  j["metrics"] = metricsJson(p.metrics);
+  return j;
+}
+
+// A technique's row name as a file name: a variant "tsis:mode=hybrid:samples=900" (cmd_compare)
+// holds ':' and '=', which a relative URL would read as a scheme; letters, digits, '.', '-' and
+// '_' are kept, '=' becomes '-', anything else '_'.
+std::string fileStem(const std::string& name) {
+  std::string out = name;
+  for (char& c : out) {
+    const auto u = static_cast<unsigned char>(c);
+    if (std::isalnum(u) || c == '.' || c == '-' || c == '_') continue;
+    c = c == '=' ? '-' : '_';
+  }
+  return out;
+}
+
+std::string pairStem(const PairMetrics& p) {
+  return fmt::format("err-{}-vs-{}-{}{}", fileStem(p.test), p.reference, p.quantity,
+                     p.convention.empty() ? "" : "-" + p.convention);
+}
+
+int modelSubpixels(const CompareReport& r) {
+  for (const Reference& ref : r.references)
+    if (ref.kind == ReferenceKind::Model) return ref.request.subpixels;
+  return 0;
+}
+
+const Reference* findReference(const CompareReport& r, const std::string& kind) {
+  for (const Reference& ref : r.references)
+    if (toString(ref.kind) == kind) return &ref;
+  return nullptr;
+}
+
+// The two images and the mask a row of the metrics compared.
+struct PairImages {
+  CompareImage test, reference;
+  const std::vector<uint8_t>* mask = nullptr;
+};
+
+PairImages pairImages(const CompareReport& r, const PairMetrics& p) {
+  const double eta = r.scene.medium.eta;
+  const bssrdf::ExitConvention conv =
+      p.convention.empty() ? bssrdf::ExitConvention::Jensen : bssrdf::parseExitConvention(p.convention);
+  PairImages out;
+  out.mask = p.mask == "interior_cone" ? &r.masks.cone : &r.masks.interior;
+  if (p.test == "model") {
+    const Reference* m = findReference(r, "model");
+    out.test = p.quantity == "exitance" ? m->exitance : m->radianceFor(conv, eta);
+  } else {
+    for (const TechniqueRun& t : r.techniques)
+      if (t.images.name == p.test)
+        out.test = p.quantity == "exitance" ? t.images.exitance : t.images.radiance;
+  }
+  const Reference* ref = findReference(r, p.reference);
+  out.reference = p.quantity == "exitance"        ? ref->exitance
+                  : p.quantity == "cone_radiance" ? ref->cone_radiance
+                                                  : ref->radianceFor(conv, eta);
+  return out;
+}
+
+class Writer {
+ public:
+  Writer(fs::path dir, const CompareReport& r) : dir_(std::move(dir)), r_(r) {}
+
+  std::string file(const std::string& name) {
+    files_.push_back(name);
+    return (dir_ / name).string();
+  }
+  // Tone-mapped PNG: radiance at the scene's exposure, exitance at exposure - log2 π (B/π, the
+  // radiance of a white Lambertian exit) so that the two look alike.
+  std::string png(const std::string& name, const CompareImage& img, bool exitance) {
+    const ToneMap tm{r_.scene.exposure - (exitance ? std::log2(kPi) : 0.0), r_.scene.gamma};
+    writePng(file(name), img.width, img.height, img.rgb, tm);
+    return name;
+  }
+  std::string map(const std::string& name, std::span<const float> values, ColorMap cmap,
+                  double lo, double hi) {
+    const int w = r_.scene.camera.width, h = r_.scene.camera.height;
+    writePng8(file(name), w, h, falseColor(values, w, h, cmap, lo, hi));
+    return name;
+  }
+  std::string bar(const std::string& name, ColorMap cmap, double lo, double hi) {
+    const int w = 320, h = 40;  // colorBar needs >= 24 rows for its labels
+    writePng8(file(name), w, h, colorBar(w, h, cmap, lo, hi));
+    return name;
+  }
+  std::string text(const std::string& name, const std::string& content) {
+    // Temporary file and rename: an interrupted or failing write never leaves half a page.
+    const std::string why = geometry::writeFileAtomically(file(name), content);
+    if (!why.empty())
+      throw ImageError(fmt::format("cannot write '{}': {}", (dir_ / name).string(), why));
+    return name;
+  }
+  const std::vector<std::string>& files() const { return files_; }
+  void addExisting(const std::string& name) { files_.push_back(name); }
+
+ private:
+  fs::path dir_;
+  const CompareReport& r_;
+  std::vector<std::string> files_;
+};
+
+std::string maskPng(Writer& w, const std::string& name, const std::vector<uint8_t>& mask, int width,
+                    int height) {
+  CompareImage m{width, height, {}, {}};
+  for (uint8_t v : mask) m.rgb.insert(m.rgb.end(), 3, v ? 1.0f : 0.0f);
+  const std::string path = name;
+  writePng(w.file(path), width, height, m.rgb, {0.0, 1.0});
+  return path;
+}
+
+std::string sceneSummary(const scene::Scene& s) {
+  return fmt::format("{} ({}x{}), medium{} σa = ({:.4g}, {:.4g}, {:.4g}), σs = ({:.4g}, {:.4g}, "
+                     "{:.4g}) per medium unit, {} medium units per scene unit, g = {}, η = {}, "
+                     "model {}",
+                     s.mesh_file.string(), s.camera.width, s.camera.height,
+                     s.preset.empty() ? "" : " " + s.preset, s.medium.sigma_a[0],
+                     s.medium.sigma_a[1], s.medium.sigma_a[2], s.medium.sigma_s[0],
+                     s.medium.sigma_s[1], s.medium.sigma_s[2], s.medium.scale, s.medium.g,
+                     s.medium.eta, s.model);
+}
+
+const char* kStyle = R"(body{font-family:sans-serif;margin:1.5em;max-width:1400px;color:#222}
+table{border-collapse:collapse;margin:0.5em 0 1.5em}td,th{border:1px solid #bbb;padding:3px 7px;
+text-align:right;font-size:13px}th{background:#eee}td.l,th.l{text-align:left}
+figure{display:inline-block;margin:4px;text-align:center;font-size:12px;vertical-align:top}
+figure img{image-rendering:pixelated;border:1px solid #888;width:240px}
+figure img.bar{width:320px;height:40px;image-rendering:auto;border:none}
+pre{background:#f4f4f4;padding:8px;white-space:pre-wrap;word-break:break-all}
+.warn{color:#a00;font-weight:bold}.plot{width:800px;border:1px solid #ccc})";
+
+}  // namespace
+
+void prepareReportDirectory(const fs::path& dir, bool force, const fs::path& ignore,
+                            const std::string& option) {
+  std::error_code ec;
+  if (!fs::exists(dir, ec)) {
+    fs::create_directories(dir, ec);
+    if (ec)
+      throw ParameterError(fmt::format("{} '{}': cannot create the folder: {}", option,
+                                       dir.string(), ec.message()));
+    return;
+  }
+  if (!fs::is_directory(dir, ec))
+    throw ParameterError(fmt::format("{} '{}': exists and is not a folder", option, dir.string()));
+  // The previous report's files, if there is one.
+  std::set<std::string> ours;
+  const fs::path previous = dir / "report.json";
+  if (fs::exists(previous, ec)) {
+    try {
+      std::ifstream f(previous);
+      const json j = json::parse(f);
+      if (j.value("generator", "") == kGenerator) {
+        ours.insert("report.json");
+        for (const auto& name : j.at("files")) ours.insert(name.get<std::string>());
+      }
+    } catch (const std::exception&) {
+      ours.clear();  // not a report of ours
+    }
+  }
+  std::vector<fs::path> remove;
+  for (const auto& entry : fs::directory_iterator(dir, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (!ignore.empty() && fs::equivalent(entry.path(), ignore, ec)) continue;
+    if (ours.contains(name) && entry.is_regular_file()) {
+      remove.push_back(entry.path());
+    } else if (!force) {
+      throw ParameterError(fmt::format(
+          "{} '{}': the folder holds '{}', which is not part of a previous compare report; "
+          "choose an empty or new folder, or pass --force to write into it anyway",
+          option, dir.string(), name));
+    }
+  }
+  for (const auto& p : remove) fs::remove(p, ec);
+}
+
+std::vector<std::string> writeReport(const fs::path& dir, const CompareReport& r) {
+  Writer w(dir, r);
+  const int width = r.scene.camera.width, height = r.scene.camera.height;
+  const double eta = r.scene.medium.eta;
+  // The references' L is shown under the first technique's convention that rendered.
+  bssrdf::ExitConvention shown = bssrdf::ExitConvention::Jensen;
+  for (auto t = r.techniques.rbegin(); t != r.techniques.rend(); ++t)
+    if (!t->failed()) shown = t->images.convention;
+  std::vector<const TechniqueRun*> failed;
+  for (const TechniqueRun& t : r.techniques)
+    if (t.failed()) failed.push_back(&t);
+  json j;
+  j["generator"] = kGenerator;
+  j["version"] = r.version;
+  j["versions"] = {{"translucent", r.version}, {"gl", r.gpu},
+                   {"compiler", __VERSION__},
+                   {"reference_code_version", kReferenceCodeVersion}};
+  for (const auto& [k, v] : r.settings) j["settings"][k] = v;
+  j["created"] = r.created;
+  j["command"] = r.command;
+  j["scene_file"] = r.scene_file;
+  j["scene"] = json::parse(scene::toJson(r.scene));
+  j["gpu"] = r.gpu;
+  j["partial"] = r.partial;
+  j["notes"] = r.notes;
+  j["material"] = {{"kind", r.material.kind},
+                   {"physical_reference", r.material.physical},
+                   {"references", r.material.text}};
+  j["cache_dir"] = r.cache_dir.string();
+  j["masks"] = {{"interior_pixels", r.masks.interiorPixels()},
+                {"interior_cone_pixels", r.masks.conePixels()},
+                {"pixels", static_cast<uint64_t>(width) * static_cast<uint64_t>(height)},
+                {"interior", "every ray of a 4x4 grid per pixel hits the mesh, and the model "
+                             "reference's coverage is 1 where it was computed"},
+                {"interior_cone", fmt::format("interior, and |n·v| >= sin θc (θc = {} degrees) "
+                                              "for every ray of the grid: the cone radiance is "
+                                              "biased low within θc of silhouettes",
+                                              r.scene.cone_angle)}};
+
+  // ---- Images ----------------------------------------------------------------------------
+  struct Shown { std::string label, exitance, radiance, cone; };
+  std::vector<Shown> shownRows;
+  json techniques = json::array();
+  for (const TechniqueRun& t : r.techniques) {
+    const std::string n = t.images.name;
+    if (t.failed()) {
+      json tj = {{"name", n}, {"description", t.description}, {"status", "failed"},
+                 {"error", t.error}, {"notes", t.notes}};
+      for (const auto& [k, v] : t.parameters) tj["parameters"][k] = v;
+      techniques.push_back(tj);
+      continue;
+    }
+    Shown s{n, "", "", ""};
+    std::vector<ExrLayer> layers;
+    if (!t.images.exitance.empty()) layers.push_back({"exitance", t.images.exitance.rgb});
+    const std::pair<std::string, std::string> attrs[] = {
+        {"translucent:quantity",
+         fmt::format("radiance L ({} convention); layer exitance: B", toString(t.images.convention))},
+        {"translucent:technique", n}};
+    const std::string f = fileStem(n);
+    writeExr(w.file(f + ".exr"), width, height, t.images.radiance.rgb, layers, attrs);
+    s.radiance = w.png(f + "-radiance.png", t.images.radiance, false);
+    if (!t.images.exitance.empty()) s.exitance = w.png(f + "-exitance.png", t.images.exitance, true);
+    shownRows.push_back(s);
+    json tj = {{"name", n}, {"description", t.description}, {"status", "done"},
+               {"convention", toString(t.images.convention)},
+               {"frame_ms", t.frame_ms}, {"timed_frames", t.timed_frames},
+               {"warmup_frames", t.warmup_frames}, {"notes", t.notes},
+               {"has_exitance", !t.images.exitance.empty()}, {"exr", f + ".exr"}};
+    for (const auto& [k, v] : t.parameters) tj["parameters"][k] = v;
+    for (const PassStat& p : t.passes)
+      tj["passes"].push_back({{"name", p.name}, {"depth", p.depth}, {"median_ms", p.median_ms},
+                              {"min_ms", p.min_ms}, {"max_ms", p.max_ms}});
+    techniques.push_back(tj);
+  }
+  j["techniques"] = techniques;
+  json references = json::array();
+  for (const Reference& ref : r.references) {
+    const std::string n = toString(ref.kind);
+    writeReferenceExr(w.file(n + ".exr"), ref, "translucent compare: " + r.command);
+    Shown s{n + " reference", "", "", ""};
+    s.exitance = w.png(n + "-exitance.png", ref.exitance, true);
+    s.radiance = w.png(n + "-radiance.png", ref.radianceFor(shown, eta), false);
+    if (!ref.cone_radiance.empty()) s.cone = w.png(n + "-cone_radiance.png", ref.cone_radiance, false);
+    shownRows.push_back(s);
+    references.push_back({{"kind", n}, {"count", ref.request.count},
+                          {"count_unit", ref.kind == ReferenceKind::Physical
+                                             ? "photons per channel" : "samples"},
+                          {"count_done", ref.count_done}, {"seed", ref.request.seed},
+                          {"subpixels", ref.kind == ReferenceKind::Model ? json(ref.request.subpixels)
+                                                                         : json(nullptr)},
+                          {"seconds", ref.seconds}, {"partial", ref.partial},
+                          {"from_cache", ref.from_cache}, {"key", ref.key},
+                          {"cache_file", ref.cache_file.string()}, {"cache_note", ref.cache_note},
+                          {"exr", n + ".exr"}, {"stored_convention", "jensen"}});
+  }
+  j["references"] = references;
+  const std::string maskInterior = maskPng(w, "mask-interior.png", r.masks.interior, width, height);
+  const std::string maskCone = maskPng(w, "mask-interior_cone.png", r.masks.cone, width, height);
+
+  // ---- Metrics and error maps ------------------------------------------------------------
+  const std::string barRel = w.bar("bar-relative.png", ColorMap::Diverging, -kRelativeRange, kRelativeRange);
+  const std::string barZ = w.bar("bar-z.png", ColorMap::Diverging, -kZRange, kZRange);
+  const std::string barFlip = w.bar("bar-flip.png", ColorMap::Magma, 0.0, 1.0);
+  json metrics = json::array();
+  struct Maps { std::string rel, z, flip; };
+  std::vector<Maps> maps;
+  for (const PairMetrics& p : r.metrics) {
+    const PairImages im = pairImages(r, p);
+    const std::string stem = pairStem(p);
+    MetricOptions o;
+    o.mask = *im.mask;
+    o.exposure = r.scene.exposure;
+    o.gamma = r.scene.gamma;
+    Maps m;
+    m.rel = w.map(stem + "-rel.png", relativeDifferenceMap(im.test.ref(), im.reference.ref(), *im.mask),
+                  ColorMap::Diverging, -kRelativeRange, kRelativeRange);
+    m.z = w.map(stem + "-z.png", zScoreMap(im.test.ref(), im.reference.ref(), *im.mask),
+                ColorMap::Diverging, -kZRange, kZRange);
+    // FLIP is computed on the whole image (its filters see the neighbours); shown, like the
+    // other maps, where it is averaged: grey outside the mask.
+    std::vector<float> flip = flipMap(im.test.ref(), im.reference.ref(), o);
+    for (size_t i = 0; i < flip.size() && i < im.mask->size(); ++i)
+      if (!(*im.mask)[i]) flip[i] = std::numeric_limits<float>::quiet_NaN();
+    m.flip = w.map(stem + "-flip.png", flip, ColorMap::Magma, 0.0, 1.0);
+    maps.push_back(m);
+    json pj = pairJson(p);
+    pj["maps"] = {{"relative", m.rel}, {"z", m.z}, {"flip", m.flip}};
+    metrics.push_back(pj);
+  }
+  j["metrics"] = metrics;
+  json sweep = json::array();
+  for (const SweepPoint& s : r.sweep) {
+    json sj = {{"technique", s.technique}, {"parameter", s.parameter}, {"value", s.value},
+               {"frame_ms", s.frame_ms}};
+    for (const PairMetrics& p : s.metrics) sj["metrics"].push_back(pairJson(p));
+    sweep.push_back(sj);
+  }
+  j["sweep"] = sweep;
+  for (const Figure& f : r.figures) {
+    w.addExisting(f.file);
+    j["figures"].push_back({{"file", f.file}, {"caption", f.caption}});
+  }
+
+  // ---- index.html ------------------------------------------------------------------------
+  std::string h;
+  h += "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>translucent compare: " +
+       html(r.scene_file.empty() ? "built-in bunny" : r.scene_file) + "</title><style>" + kStyle +
+       "</style></head><body>\n";
+  h += "<h1>translucent compare</h1>\n";
+  if (r.partial)
+    h += "<p class=\"warn\">Partial report: stopped early (Ctrl-C); a reference is partial or "
+         "missing and its numbers are from fewer samples than requested.</p>\n";
+  h += "<p>Scene: <b>" + html(r.scene_file.empty() ? "built-in bunny" : r.scene_file) + "</b>: " +
+       html(sceneSummary(r.scene)) + ". GPU: " + html(r.gpu) + ". " + html(r.version) +
+       ", created " + html(r.created) + ".</p>\n";
+  if (!failed.empty()) {
+    h += fmt::format("<p class=\"warn\">{} of {} techniques failed on this scene (no images or "
+                     "metrics; the others and the references are complete):</p>\n<ul>\n",
+                     failed.size(), r.techniques.size());
+    for (const TechniqueRun* t : failed)
+      h += "<li class=\"warn\">" + html(t->images.name) + ": " + html(t->error) + "</li>\n";
+    h += "</ul>\n";
+  }
+  h += "<p>Reproduce:</p><pre>" + html(r.command) + "</pre>\n";
+  if (!r.material.text.empty()) h += "<p>References: " + html(r.material.text) + "</p>\n";
+  for (const std::string& n : r.notes) h += "<p>" + html(n) + "</p>\n";
+
+  h += "<h2>Images</h2>\n<p>Tone mapped with exposure " + num(r.scene.exposure) + " stops, gamma " +
+       num(r.scene.gamma) + "; exitance B shown as B/π (exposure − log2 π). Radiance L by the " +
+       toString(shown) + " convention (Eq. 2.16); the cone radiance is the path tracer's true "
+       "radiance towards the camera (cone half-angle " + num(r.scene.cone_angle) +
+       "°). Linear EXRs: the links.</p>\n<table><tr><th class=\"l\">source</th><th>exitance B</th>"
+       "<th>radiance L</th><th>true radiance (cone)</th></tr>\n";
+  auto figure = [](const std::string& src, const std::string& caption, const char* cls) {
+    return "<figure><img" + std::string(cls) + " src=\"" + html(src) + "\" alt=\"" +
+           html(caption) + "\"><figcaption>" + html(caption) + "</figcaption></figure>";
+  };
+  auto cell = [&](const std::string& src, const std::string& caption) {
+    return src.empty() ? std::string("<td>–</td>") : "<td>" + figure(src, caption, "") + "</td>";
+  };
+  for (const TechniqueRun* t : failed)
+    h += "<tr><td class=\"l\">" + html(t->images.name) + "</td><td class=\"l warn\" colspan=\"3\">"
+         "failed: " + html(t->error) + "</td></tr>\n";
+  for (const Shown& s : shownRows) {
+    const std::string exr = (s.label.ends_with(" reference") ? s.label.substr(0, s.label.size() - 10)
+                                                             : s.label) + ".exr";
+    h += "<tr><td class=\"l\">" + html(s.label) + "<br><a href=\"" + html(exr) + "\">" + html(exr) +
+         "</a></td>" + cell(s.exitance, s.label + " B") + cell(s.radiance, s.label + " L") +
+         cell(s.cone, s.label + " cone L") + "</tr>\n";
+  }
+  h += "</table>\n";
+  h += "<p>Masks (white: compared): " + figure(maskInterior, fmt::format("interior, {} pixels",
+                                                                      r.masks.interiorPixels()), "") +
+       figure(maskCone, fmt::format("interior, away from silhouettes (cone), {} pixels",
+                                  r.masks.conePixels()), "") +
+       "</p>\n<p>" + html(j["masks"]["interior"].get<std::string>()) + "; for the cone radiance: " +
+       html(j["masks"]["interior_cone"].get<std::string>()) + ".</p>\n";
+
+  h += "<h2>Errors</h2>\n<p>Technique vs model: the technique's own error; model vs physical: the "
+       "model's error; technique vs physical: the total. rel. RMSE: noise-aware (the reference "
+       "noise removed: sqrt(max(0, MSE − noise MSE)) / mean reference); raw: without; bias: "
+       "mean(test − reference) / mean reference ± its standard error; |z|: per pixel and channel "
+       "|test − reference| / combined standard error (≈ 0.8 for agreement within noise); FLIP "
+       "and SSIM of the tone-mapped images over the mask.</p>\n<p>Caveats: standard errors "
+       "are per pixel and channel and the aggregate ones assume independent pixels and channels. "
+       "The model reference's pixels and channels share its surface samples, so for pairs with "
+       "the model reference the bias ± stderr and z understate the uncertainty (per pixel, up to "
+       "√3 in z). A pixel that no photon reached has a standard error of 0: at low photon counts "
+       "(the cone radiance needs about 1/sin²θc times more photons than B) z and the noise-aware "
+       "RMSE are unreliable; raise --photons until they settle. Pixel filters: the techniques "
+       "shade the pixel centre; the model reference traces " + (modelSubpixels(r) > 0 ? fmt::format("{0}x{0}", modelSubpixels(r)) : std::string("(none here)")) +
+       " rays per pixel (1x1: the centre, so technique vs model has no filter difference); the "
+       "physical reference is a pixel average (box filter), so pairs with it include the "
+       "difference between point and box sampling, which grows with the detail per pixel.</p>\n";
+  h += "<table><tr><th class=\"l\">test</th><th class=\"l\">reference</th><th class=\"l\">quantity"
+       "</th><th class=\"l\">L convention</th><th>pixels</th><th>mean ref.</th><th>mean test</th>"
+       "<th>rel. RMSE</th><th>rel. RMSE raw</th><th>bias</th><th>± stderr</th><th>SSIM</th>"
+       "<th>FLIP</th><th>mean |z|</th><th>|z| &gt; 3</th></tr>\n";
+  for (const PairMetrics& p : r.metrics) {
+    const Metrics& m = p.metrics;
+    h += fmt::format("<tr><td class=\"l\">{}</td><td class=\"l\">{}</td><td class=\"l\">{}</td>"
+                     "<td class=\"l\">{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>"
+                     "<td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
+                     html(p.test), html(p.reference), html(p.quantity),
+                     p.convention.empty() ? "–" : html(p.convention), m.pixels,
+                     num(m.mean_reference), num(m.mean_test), pct(m.rel_rmse), pct(m.rel_rmse_raw),
+                     spct(m.bias), pct(m.bias_stderr), num(m.ssim), num(m.flip), num(m.mean_abs_z),
+                     pct(m.fraction_abs_z_above_3));
+  }
+  // A failed technique is a row with its reason, never blank or zero numbers.
+  for (const TechniqueRun* t : failed)
+    h += "<tr><td class=\"l\">" + html(t->images.name) + "</td><td class=\"l warn\" "
+         "colspan=\"14\">failed: " + html(t->error) + "</td></tr>\n";
+  h += "</table>\n<h3>Error maps</h3>\n<p>Relative difference (test − reference) / reference: " +
+       figure(barRel, fmt::format("−{0:g}% … +{0:g}%", 100 * kRelativeRange), " class=\"bar\"") +
+       " z-score: " + figure(barZ, fmt::format("−{0:g} … +{0:g}", kZRange), " class=\"bar\"") +
+       " FLIP: " + figure(barFlip, "0 … 1", " class=\"bar\"") +
+       "</p>\n<table><tr><th class=\"l\">pair</th><th>relative difference</th><th>z-score</th>"
+       "<th>FLIP</th></tr>\n";
+  for (size_t i = 0; i < r.metrics.size(); ++i) {
+    const PairMetrics& p = r.metrics[i];
+    const std::string label = fmt::format("{} vs {}: {}{}", p.test, p.reference, p.quantity,
+                                          p.convention.empty() ? "" : " (" + p.convention + ")");
+    h += "<tr><td class=\"l\">" + html(label) + "</td>" + cell(maps[i].rel, "relative") +
+         cell(maps[i].z, "z") + cell(maps[i].flip, "FLIP") + "</tr>\n";
+  }
+  h += "</table>\n";
+
+  h += "<h2>Time</h2>\n<table><tr><th class=\"l\">technique</th><th class=\"l\">pass</th>"
+       "<th>median [ms]</th><th>min [ms]</th><th>max [ms]</th></tr>\n";
+  for (const TechniqueRun& t : r.techniques) {
+    if (t.failed()) {
+      h += "<tr><th class=\"l\">" + html(t.images.name) + "</th><td class=\"l warn\" colspan=\"4\">"
+           "failed: " + html(t.error) + "</td></tr>\n";
+      continue;
+    }
+    for (const PassStat& p : t.passes)
+      h += fmt::format("<tr><td class=\"l\">{}</td><td class=\"l\">{}{}</td><td>{}</td><td>{}</td>"
+                       "<td>{}</td></tr>\n", html(t.images.name),
+                       std::string(static_cast<size_t>(4 * p.depth), '.'), html(p.name),
+                       num(p.median_ms), num(p.min_ms), num(p.max_ms));
+    h += fmt::format("<tr><th class=\"l\">{}</th><th class=\"l\">frame (median of {} after {} "
+                     "warm-up)</th><th>{}</th><th></th><th></th></tr>\n", html(t.images.name),
+                     t.timed_frames, t.warmup_frames, num(t.frame_ms));
+  }
+  h += "</table>\n<table><tr><th class=\"l\">reference</th><th>count</th><th>seed</th>"
+       "<th>seconds</th><th class=\"l\">cache</th></tr>\n";
+  for (const Reference& ref : r.references)
+    h += fmt::format("<tr><td class=\"l\">{}{}</td><td>{} {}</td><td>{}</td><td>{}</td>"
+                     "<td class=\"l\">{}</td></tr>\n", toString(ref.kind),
+                     ref.partial ? " <span class=\"warn\">(partial)</span>" : "", ref.count_done,
+                     ref.kind == ReferenceKind::Physical ? "photons/channel" : "samples",
+                     ref.request.seed, num(ref.seconds),
+                     html(ref.from_cache ? "reused from " + ref.cache_file.string()
+                                         : ref.cache_file.empty() ? ref.cache_note
+                                                                  : "stored as " + ref.cache_file.string()));
+  h += "</table>\n<h3>Technique settings</h3>\n";
+  for (const TechniqueRun& t : r.techniques) {
+    h += "<p><b>" + html(t.images.name) + "</b> (" + html(t.description) + ")" +
+         (t.failed() ? " <span class=\"warn\">failed: " + html(t.error) + "</span>" : "") + ": ";
+    for (size_t i = 0; i < t.parameters.size(); ++i)
+      h += (i ? ", " : "") + html(t.parameters[i].first) + " = " + html(t.parameters[i].second);
+    for (const std::string& n : t.notes) h += "<br>" + html(n);
+    h += "</p>\n";
+  }
+
+  if (!r.sweep.empty() || !r.figures.empty()) {
+    h += "<h2>Sweep: error against time</h2>\n";
+    for (const Figure& f : r.figures)
+      h += "<figure><img class=\"plot\" src=\"" + html(f.file) + "\" alt=\"" + html(f.caption) +
+           "\"><figcaption>" + html(f.caption) + "</figcaption></figure>\n";
+    h += "<table><tr><th class=\"l\">technique</th><th class=\"l\">parameter</th><th>value</th>"
+         "<th>frame [ms]</th><th class=\"l\">rel. RMSE (noise-aware)</th></tr>\n";
+    for (const SweepPoint& s : r.sweep) {
+      std::string errs;
+      for (const PairMetrics& p : s.metrics)
+        errs += fmt::format("{}{} vs {}: {}", errs.empty() ? "" : "; ", p.quantity, p.reference,
+                            pct(p.metrics.rel_rmse));
+      h += fmt::format("<tr><td class=\"l\">{}</td><td class=\"l\">{}</td><td>{}</td><td>{}</td>"
+                       "<td class=\"l\">{}</td></tr>\n", html(s.technique), html(s.parameter),
+                       num(s.value), num(s.frame_ms), html(errs));
+    }
+    h += "</table>\n";
+  }
+  h += "<h2>Files</h2>\n<p><a href=\"report.json\">report.json</a> (every number)</p>\n"
+       "</body></html>\n";
+  w.text("index.html", h);
+  std::vector<std::string> files = w.files();
+  files.push_back("report.json");
+  j["files"] = files;
+  if (const std::string why = geometry::writeFileAtomically(dir / "report.json", j.dump(2) + "\n");
+      !why.empty())
+    throw ImageError(fmt::format("cannot write '{}': {}", (dir / "report.json").string(), why));
+  return files;
+}
+
+}  // namespace translucent::analysis

@@ -1,0 +1,83 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// HDR and LDR image output: OpenEXR (linear floats, exactly as computed) and PNG (tone mapped
+// with an exposure in stops and a display gamma, as the seed's lit sphere widgets do, 3.6.2).
+//
+// Pixel data are interleaved RGB floats, row by row from the top.
+//
+// Every writer encodes the image in memory and writes it, with every write and the close checked,
+// to a temporary file beside the target that is renamed over it only then: a failed write
+// (ImageError naming the file) leaves no file and never truncates an existing one. A target that
+// exists and is not a regular file (a device, a FIFO) is written in place.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace translucent::analysis {
+
+// Thrown when an image cannot be written; the message names the file and the reason.
+class ImageError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// Extra RGB layers for an EXR file, stored as channels "<name>.R", "<name>.G", "<name>.B".
+struct ExrLayer {
+  std::string name;
+  std::span<const float> rgb;
+};
+
+// Writes a float RGB OpenEXR file (channels R, G, B, then the extra layers); `attributes` are
+// stored as string metadata (key, value), e.g. what the pixels mean and how they were computed.
+void writeExr(const std::string& path, int width, int height, std::span<const float> rgb,
+              std::span<const ExrLayer> layers = {},
+              std::span<const std::pair<std::string, std::string>> attributes = {});
+
+struct ToneMap {
+  double exposure = 0.0;  // stops: values are multiplied by 2^exposure
+  double gamma = 2.2;     // display gamma: v -> v^(1/gamma), after clamping to [0, 1]
+};
+
+// Display value in [0, 1] of one linear value under a tone map: v 2^exposure, clamped to [0, 1]
+// (NaN to 0), to the power 1/gamma. The perceptual metrics (metrics.h) see images through it.
+double toneMapValue(double value, const ToneMap& tm);
+// The same as an 8-bit value (rounded), as written to PNG files.
+unsigned char toneMap(float value, const ToneMap& tm);
+
+// Reads the first three channels of an image file (any format OpenImageIO reads) as linear
+// floats; throws ImageError naming the file.
+struct RgbImage {
+  int width = 0, height = 0;
+  std::vector<float> rgb;
+  std::vector<std::string> channel_names;  // all channels in the file
+};
+RgbImage readRgb(const std::string& path);
+
+// Every channel of an EXR written by writeExr: R, G, B and the "<name>.R/G/B" layers, and the
+// string attributes. Throws ImageError naming the file (also for a layer missing a channel).
+struct LayeredImage {
+  int width = 0, height = 0;
+  std::vector<float> rgb;
+  std::map<std::string, std::vector<float>> layers;
+  std::map<std::string, std::string> attributes;
+};
+LayeredImage readExrLayers(const std::string& path);
+
+// Writes an 8-bit RGB PNG of the tone-mapped image.
+void writePng(const std::string& path, int width, int height, std::span<const float> rgb,
+              const ToneMap& tm = {});
+
+// Writes an 8-bit RGB PNG of pixels that are already 8-bit (interleaved, width*height*3), e.g. a
+// false-colour map (colormap.h).
+void writePng8(const std::string& path, int width, int height, std::span<const uint8_t> rgb8);
+
+// Writes `bytes` to `file` (created or truncated) and closes it; false when any write, the flush
+// or the close failed (a device such as /dev/full too). Shared with the CLI's outputs.
+bool writeBytes(const std::string& file, std::string_view bytes);
+
+}  // namespace translucent::analysis

@@ -1,0 +1,71 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "translucent/reference/gpu/device.h"
+
+#include <fmt/format.h>
+
+#include "translucent/material/layers.h"
+#include "translucent/optics/medium.h"
+#include "translucent/reference/gpu/field_gpu.h"
+#include "translucent/reference/gpu/mesh_gpu.h"
+#include "translucent/reference/gpu/slab_gpu.h"
+#include "translucent/reference/gpu/sphere_gpu.h"
+
+namespace translucent::reference {
+
+TraceDevice openTraceDevice(const std::string& choice, const std::string& option) {
+  if (choice != "cpu" && choice != "gpu" && choice != "auto")
+    throw ParameterError(fmt::format("{} '{}': expected cpu, gpu or auto", option, choice));
+  TraceDevice d;
+  if (choice == "cpu") return d;
+  try {
+    d.context = std::make_unique<gpu::Context>();
+  } catch (const gpu::ContextError& e) {
+    if (choice == "gpu") throw ParameterError(fmt::format("{} gpu: {}", option, e.what()));
+    return d;  // auto without any GL: the CPU
+  }
+  if (choice == "auto" && d.context->info().software) {
+    d.context.reset();
+    return d;
+  }
+  d.device = Device::Gpu;
+  return d;
+}
+
+void useDevice(const TraceDevice& device, SpherePathTracer& tracer) {
+  if (device.device == Device::Gpu) tracer.setWalker(makeGpuSphereWalker(*device.context));
+}
+
+std::string meshGpuRefusal(const MeshPathTracer& tracer) {
+  if (std::string why = tracer.walkerRefusal(); !why.empty()) return why;
+  const VolumeMedium* v = tracer.volume();
+  if (!v) return "";
+  return gpu_field::refusal(*v->field);
+}
+
+void useDevice(const TraceDevice& device, const std::string& choice, MeshPathTracer& tracer,
+               const geometry::TriangleMesh& mesh, const std::string& what,
+               const std::string& option) {
+  if (device.device != Device::Gpu) return;
+  if (const std::string why = meshGpuRefusal(tracer); !why.empty()) {
+    if (choice == "auto") return;
+    throw ParameterError(fmt::format("{} gpu: {}", option, why));
+  }
+  tracer.setWalker(makeGpuMeshWalker(*device.context, mesh, what));
+}
+
+SlabResult traceSlab(const TraceDevice& device, const SlabSetup& setup, const TraceOptions& options,
+                     const ProgressCallback& progress, RunState* state) {
+  if (device.device == Device::Cpu) return traceSlab(setup, options, progress, state);
+  device.context->makeCurrent();
+  return traceSlabGpu(setup, options, progress, state);
+}
+
+SlabResult traceSlabRun(const TraceDevice& device, const SlabRun& run,
+                        const ProgressCallback& progress, RunState* state) {
+  if (device.device == Device::Cpu) return traceSlabRun(run, progress, state);
+  if (!run.layered) return traceSlab(device, run.setup, run.options, progress, state);
+  device.context->makeCurrent();
+  return traceLayeredSlabGpu(*run.layered, run.options, progress, state);
+}
+
+}  // namespace translucent::reference

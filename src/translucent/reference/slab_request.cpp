@@ -1,0 +1,260 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Slab runs from user requests (slab_request.h).
+#include "translucent/reference/slab_request.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "translucent/optics/presets.h"
+
+namespace translucent::reference {
+namespace {
+
+// Legal numbers that lead nowhere (issue 15): with almost no absorption a walk in a thick slab
+// goes on for ~1/(1 − α') scattering events before it is absorbed, and in a half-space the walk
+// lengths are heavy-tailed (the depth is a 1D random walk: P(N > k) ~ k^{-1/2}), so the longest
+// of n photons is ~n² events. A photon is never interrupted mid-walk, so Ctrl-C and time limits
+// cannot stop such a run either. Without long-path roulette (which ends every walk) a longest walk
+// over kMaxWalkEvents is refused with the estimate.
+constexpr double kMaxWalkEvents = 1e10;  // ~minutes for one photon at ~1e8 events/s
+
+void checkWalkLength(const SlabSetup& s, const TraceOptions& o,
+                     const std::string& what = "--sigma-a") {
+  if (o.long_path_roulette != 0 || !(s.sigma_a > 0.0)) return;  // σa = 0: traceSlab says why
+  const double sigmaTPrime = s.sigma_a + (1.0 - s.g) * s.sigma_s;
+  const double absorbed = s.sigma_a / sigmaTPrime;  // 1 − α': absorption chance per step
+  const double n = static_cast<double>(o.photons);
+  double longest = std::min(absorbed > 0.0 ? 1.0 / absorbed : HUGE_VAL, n * n);
+  // A finite slab: a diffusing walk crosses it after ~(σt' L)² steps and leaves.
+  if (s.finite()) longest = std::min(longest, 10.0 * std::pow(sigmaTPrime * s.thickness, 2) + 10.0);
+  if (longest > kMaxWalkEvents)
+    throw ParameterError(fmt::format(
+        "{} is {} with σs' = {}: absorption ends a walk only after ~1/(1 − α') = {:.3g} "
+        "scattering events, and the longest of {} walks would take ~{:.3g} events (hours to years, "
+        "and no photon is interrupted mid-walk); give --long-path-roulette N (e.g. 1e6) to end "
+        "long walks without bias, a larger --sigma-a, or a --thickness",
+        what, s.sigma_a, (1.0 - s.g) * s.sigma_s, absorbed > 0.0 ? 1.0 / absorbed : HUGE_VAL,
+        o.photons, longest));
+}
+
+SlabSetup buildSetup(const SlabRequest& a, bool layered, std::string& lengthUnit) {
+  SlabSetup s;
+  const bool scalar = a.sigma_a || a.sigma_s;
+  if (layered) {
+    // The layers give the media; the slab's surfaces and beam come from the request.
+    if (scalar || a.g || !a.preset.empty() || !a.channel.empty() || a.thickness)
+      throw ParameterError("--layers gives the media and thicknesses: it cannot be combined "
+                           "with --sigma-a, --sigma-s, --g, --preset, --channel or --thickness");
+    if (!a.eta)
+      throw ParameterError("--eta: required with --layers (index of every layer, e.g. 1.4)");
+    s.n_inside = *a.eta;
+    lengthUnit = "length unit of the coefficients";
+  } else if (scalar) {
+    if (!a.preset.empty())
+      throw ParameterError("--preset cannot be combined with --sigma-a/--sigma-s");
+    if (!a.sigma_a || !a.sigma_s)
+      throw ParameterError("--sigma-a and --sigma-s must be given together");
+    if (!a.eta)
+      throw ParameterError("--eta: required with --sigma-a/--sigma-s (index of the slab, e.g. 1.3)");
+    if (!a.channel.empty()) throw ParameterError("--channel applies to --preset only");
+    s.sigma_a = *a.sigma_a;
+    s.sigma_s = *a.sigma_s;
+    s.g = a.g.value_or(0.0);
+    s.n_inside = *a.eta;
+    lengthUnit = "length unit of the coefficients";
+  } else {
+    if (a.preset.empty())
+      throw ParameterError("give the medium: --sigma-a A --sigma-s S --eta N, or --preset NAME "
+                           "--channel r|g|b");
+    int c = -1;
+    if (a.channel == "r" || a.channel == "red") c = 0;
+    if (a.channel == "g" || a.channel == "green") c = 1;
+    if (a.channel == "b" || a.channel == "blue") c = 2;
+    if (c < 0)
+      throw ParameterError(fmt::format("--channel '{}': expected r, g or b with --preset",
+                                       a.channel));
+    const Preset& p = translucent::preset(a.preset);
+    const double g = a.g.value_or(p.g);
+    const Medium m = Medium::fromReduced(p.sigma_a, p.sigma_s_prime, g, a.eta.value_or(p.eta));
+    const ScalarMedium ch = m.channel(c);
+    s.sigma_a = ch.sigma_a;
+    s.sigma_s = ch.sigma_s;
+    s.g = ch.g;
+    s.n_inside = ch.eta;
+    lengthUnit = "mm";
+  }
+  s.n_above = a.eta_above;
+  s.n_below = a.eta_below;
+  if (a.thickness) {
+    if (!(std::isfinite(*a.thickness) && *a.thickness > 0.0))
+      throw ParameterError(fmt::format("--thickness is {}: expected a positive length "
+                                       "(leave it out for a semi-infinite medium)",
+                                       *a.thickness));
+    s.thickness = *a.thickness;
+  }
+  if (!(a.theta >= 0.0 && a.theta < 90.0))
+    throw ParameterError(fmt::format("--theta is {}: expected degrees in [0, 90)", a.theta));
+  s.theta = a.theta * std::numbers::pi / 180.0;
+  s.phi = a.phi * std::numbers::pi / 180.0;
+  if (!layered) s.validate();
+  return s;
+}
+
+TraceOptions buildOptions(const SlabRequest& a) {
+  TraceOptions o;
+  o.photons = a.photons;
+  o.seed = a.seed;
+  o.threads = a.threads;
+  if (a.radial_bins < 0)
+    throw ParameterError(fmt::format("--radial-bins is {}: expected >= 0", a.radial_bins));
+  if ((a.radial_bins > 0) != a.radial_max.has_value())
+    throw ParameterError("--radial-bins and --radial-max must be given together");
+  o.radial_bins = a.radial_bins;
+  o.radial_max = a.radial_max.value_or(0.0);
+  o.angle_bins = a.angle_bins;
+  o.long_path_roulette = a.long_path_roulette;
+  if (a.absorption != "analog" && a.absorption != "weighted")
+    throw ParameterError(fmt::format("--absorption '{}': expected analog or weighted", a.absorption));
+  if (a.kernel != "lanes" && a.kernel != "portable" && a.kernel != "scalar")
+    throw ParameterError(fmt::format("--kernel '{}': expected lanes, portable or scalar", a.kernel));
+  o.absorption = a.absorption == "weighted" ? Absorption::Weighted : Absorption::Analog;
+  o.kernel = a.kernel == "scalar"     ? Kernel::Scalar
+             : a.kernel == "portable" ? Kernel::LanesPortable
+                                      : Kernel::Lanes;
+  o.validate();
+  return o;
+}
+
+void estimate(nlohmann::json& j, const std::string& key, const Estimate& e) {
+  j[key] = e.value;
+  j[key + "_stderr"] = e.std_error;
+}
+
+}  // namespace
+
+SlabRun makeSlabRun(const SlabRequest& a, const std::optional<std::vector<SlabLayer>>& layers,
+                    const std::string& layers_what) {
+  SlabRun run;
+  run.setup = buildSetup(a, layers.has_value(), run.length_unit);
+  run.options = buildOptions(a);
+  if (a.device != "cpu" && a.device != "gpu" && a.device != "auto")
+    throw ParameterError(fmt::format("--device '{}': expected cpu, gpu or auto", a.device));
+  run.device = a.device;
+  checkWalkLength(run.setup, run.options);
+  run.shown = run.setup;
+  if (!layers) return run;
+  LayeredSlabSetup L;
+  L.layers = *layers;
+  L.n_inside = run.setup.n_inside;
+  L.n_above = run.setup.n_above;
+  L.n_below = run.setup.n_below;
+  L.theta = run.setup.theta;
+  L.phi = run.setup.phi;
+  try {
+    L.validate();
+  } catch (const ParameterError& e) {
+    throw ParameterError(fmt::format("--layers {}: {}", layers_what, e.what()));
+  }
+  run.shown.sigma_a = L.layers[0].sigma_a;
+  run.shown.sigma_s = L.layers[0].sigma_s;
+  run.shown.g = L.layers[0].g;
+  run.shown.thickness = L.totalThickness();
+  // Each layer on its own, as a slab of its thickness (the last one semi-infinite): a walk stays
+  // at least as long in the stack as in its most transparent thick layer.
+  for (size_t i = 0; i < L.layers.size(); ++i) {
+    SlabSetup one = run.shown;
+    one.sigma_a = L.layers[i].sigma_a;
+    one.sigma_s = L.layers[i].sigma_s;
+    one.g = L.layers[i].g;
+    one.thickness = L.layers[i].thickness;
+    checkWalkLength(one, run.options, fmt::format("--layers {}: layer [{}]: sigma_a", layers_what, i));
+  }
+  run.layered = std::move(L);
+  return run;
+}
+
+SlabResult traceSlabRun(const SlabRun& run, const ProgressCallback& progress, RunState* state) {
+  return run.layered ? traceLayeredSlab(*run.layered, run.options, progress, state)
+                     : traceSlab(run.setup, run.options, progress, state);
+}
+
+nlohmann::json slabResultJson(const SlabRun& run, const SlabResult& r) {
+  const SlabSetup& s = run.shown;
+  const TraceOptions& o = run.options;
+  nlohmann::json j;
+  j["geometry"] = run.layered ? "layered slab" : "slab";
+  if (run.layered) {
+    nlohmann::json layers = nlohmann::json::array();
+    for (const auto& L : run.layered->layers)
+      layers.push_back({{"thickness", std::isfinite(L.thickness) ? nlohmann::json(L.thickness)
+                                                                 : nlohmann::json(nullptr)},
+                        {"sigma_a", L.sigma_a}, {"sigma_s", L.sigma_s}, {"g", L.g}});
+    j["medium"] = {{"layers", layers}, {"eta", s.n_inside}, {"eta_above", s.n_above},
+                   {"eta_below", s.n_below}, {"length_unit", run.length_unit}};
+  } else {
+    j["medium"] = {{"sigma_a", s.sigma_a}, {"sigma_s", s.sigma_s}, {"g", s.g},
+                   {"eta", s.n_inside}, {"eta_above", s.n_above}, {"eta_below", s.n_below},
+                   {"length_unit", run.length_unit}};
+  }
+  j["thickness"] = s.finite() ? nlohmann::json(s.thickness) : nlohmann::json(nullptr);
+  j["theta_deg"] = s.theta * 180.0 / std::numbers::pi;
+  j["phi_deg"] = s.phi * 180.0 / std::numbers::pi;
+  j["absorption"] = o.absorption == Absorption::Analog ? "analog" : "weighted";
+  j["device"] = r.device;
+  j["long_path_roulette"] = o.long_path_roulette;
+  estimate(j, "specular_reflectance", r.specular_reflectance);
+  estimate(j, "diffuse_reflectance", r.diffuse_reflectance);
+  estimate(j, "transmittance", r.transmittance);
+  estimate(j, "diffuse_transmittance", r.diffuse_transmittance);
+  estimate(j, "unscattered_transmittance", r.unscattered_transmittance);
+  estimate(j, "absorbed", r.absorbed);
+  // The radial and angular tallies of all exits or of one scattering order.
+  auto profiles = [&](nlohmann::json& out, const RadialProfileTally& rad, const AngularTally& ang) {
+    if (o.radial_bins > 0) {
+      out["radial"] = {{"dr", rad.dr},
+                       {"r", rad.r},
+                       {"rd", rad.rd},
+                       {"rd_stderr", rad.rd_stderr},
+                       {"beyond_rmax", rad.beyond.value},
+                       {"beyond_rmax_stderr", rad.beyond.std_error},
+                       {"unit", fmt::format("per {}^2 per incident photon", run.length_unit)}};
+    }
+    if (o.angle_bins > 0) {
+      std::vector<double> deg;
+      for (double t : ang.theta) deg.push_back(t * 180.0 / std::numbers::pi);
+      out["angular"] = {{"theta_deg", deg},
+                        {"rd", ang.rd},
+                        {"rd_stderr", ang.rd_stderr},
+                        {"unit", "per steradian per incident photon (exit angle outside)"}};
+      if (o.radial_bins > 0) {
+        out["angular"]["rd_r_theta"] = ang.rd_r_theta;
+        out["angular"]["rd_r_theta_stderr"] = ang.rd_r_theta_stderr;
+      }
+    }
+  };
+  profiles(j, r.radial, r.angular);
+  // Seed Eq. 2.13: the same tallies for the light that left unscattered, after one scattering
+  // event, or after more; each set adds up to the totals above.
+  nlohmann::json orders = nlohmann::json::object();
+  for (ScatteringOrder k : kAllScatteringOrders) {
+    const SlabResult::Order& ord = r.order(k);
+    nlohmann::json oj;
+    estimate(oj, "diffuse_reflectance", ord.diffuse_reflectance);
+    estimate(oj, "transmittance", ord.transmittance);
+    profiles(oj, ord.radial, ord.angular);
+    orders[toString(k)] = std::move(oj);
+  }
+  j["scattering_orders"] = std::move(orders);
+  j["photons"] = r.photons;
+  j["scattering_events"] = r.scattering_events;
+  j["seconds"] = r.seconds;
+  j["photons_per_second"] = r.photonsPerSecond();
+  j["threads"] = r.threads;
+  j["seed"] = r.seed;
+  j["partial"] = r.partial;
+  return j;
+}
+
+}  // namespace translucent::reference
