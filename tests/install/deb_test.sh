@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
+# Builds the .deb with CPack, checks its control fields (Depends: from dpkg-shlibdeps), extracts it
+# into a temporary root with dpkg -x (no installation) and runs the packaged CLI from there.
+# Usage: deb_test.sh BUILD_DIR
+set -euo pipefail
+BUILD=$(realpath "$1")
+T=$(mktemp -d)
+trap 'rm -rf "$T"' EXIT
+fail() { echo "deb_test: FAIL: $*" >&2; exit 1; }
+
+(cd "$T" && cpack -G DEB --config "$BUILD/CPackConfig.cmake" -B "$T/pkg") >"$T/cpack.log" 2>&1 \
+  || { cat "$T/cpack.log"; fail "cpack -G DEB"; }
+deb=$(find "$T/pkg" -maxdepth 1 -name 'translucent_*.deb' | head -1)
+[[ -n "$deb" ]] || { cat "$T/cpack.log"; fail "no .deb written"; }
+echo "deb: $(basename "$deb") $(du -h "$deb" | cut -f1) ($(stat -c %s "$deb") bytes)"
+depends=$(dpkg-deb -f "$deb" Depends)
+echo "Depends: $depends"
+for lib in libc6 libstdc++6 libopenimageio libembree libtbb libassimp libepoxy; do
+  grep -q "$lib" <<<"$depends" || fail "Depends: does not name $lib"
+done
+dpkg-deb -c "$deb" | grep -q './usr/bin/translucent$' || fail "no /usr/bin/translucent in the package"
+dpkg-deb -c "$deb" | grep -q './usr/share/translucent/shaders/' || fail "no shaders in the package"
+dpkg -x "$deb" "$T/root"
+# The packaged CLI, run from the extracted root: it finds ../share/translucent beside itself.
+env -u TRANSLUCENT_SHARE_DIR "$T/root/usr/bin/translucent" --version | grep -q "0\.1\.0" || fail "--version"
+env -u TRANSLUCENT_SHARE_DIR "$T/root/usr/bin/translucent" profile --preset Marble --model dipole \
+    --out "$T/profile.csv" >"$T/profile.log" 2>&1 || { cat "$T/profile.log"; fail "profile"; }
+[[ $(wc -l <"$T/profile.csv") -gt 10 ]] || fail "profile.csv has $(wc -l <"$T/profile.csv") lines"
+echo "deb_test: PASS"
