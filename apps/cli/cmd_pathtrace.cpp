@@ -168,7 +168,7 @@ void runSlab(const PathtraceArgs& a) {
 
 void addPathtraceCommand(CLI::App& app) {
   auto* pt = app.add_subcommand(
-      "pathtrace", "Reference Monte Carlo transport (volumetric path tracing, seed 3.2)");
+      "pathtrace", "Reference Monte Carlo transport (volumetric path tracing, Bitterli 2013, §3.2)");
   pt->require_subcommand(1);
   auto args = std::make_shared<PathtraceArgs>();
   auto* cmd = pt->add_subcommand(

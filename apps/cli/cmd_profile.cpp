@@ -429,7 +429,7 @@ void addProfileCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--scattering", args->scattering,
                   "Which light of the reference: all (multi + single scattering), single, "
-                  "multiple, or split (the three curves; seed Eq. 2.13, Fig. 3.6)")
+                  "multiple, or split (the three curves; Bitterli 2013, Eq. 2.13, Fig. 3.6)")
       ->check(CLI::IsMember(std::vector<std::string>(analysis::kScatteringSelections.begin(),
                                                      analysis::kScatteringSelections.end())))
       ->capture_default_str();

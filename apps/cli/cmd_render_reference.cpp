@@ -87,7 +87,7 @@ struct RunArgs {
   // The path tracers' flag: images by scattering order as further EXR layers.
   void addSplitOrders(CLI::App& cmd) {
     cmd.add_flag("--split-orders", split_orders,
-                 "Also write every quantity split by scattering order (seed Eq. 2.13): layers "
+                 "Also write every quantity split by scattering order (Bitterli 2013, Eq. 2.13): layers "
                  "<quantity>_unscattered, _single and _multiple (each with _stderr), which add "
                  "up to <quantity>");
   }
@@ -661,7 +661,7 @@ CLI::App* subcommand(CLI::App& app, const std::string& name, const std::string& 
 void addRenderReferenceCommands(CLI::App& app) {
   const std::vector<std::string> tracerQuantities = {"exitance", "radiance", "cone-radiance"};
   auto* pt = subcommand(app, "pathtrace",
-                        "Reference Monte Carlo transport (volumetric path tracing, seed 3.2)");
+                        "Reference Monte Carlo transport (volumetric path tracing, Bitterli 2013, §3.2)");
   {
     auto s = std::make_shared<SphereArgs>();
     auto a = std::make_shared<RunArgs>();
@@ -716,12 +716,12 @@ void addRenderReferenceCommands(CLI::App& app) {
     a->count = "64";
     auto* cmd = in->add_subcommand(
         "sphere", "A model's radiant exitance on the lit sphere by integrating its profile over "
-                  "the surface (seed 3.5), same scene and pixels as `pathtrace sphere`");
+                  "the surface (Bitterli 2013, §3.5), same scene and pixels as `pathtrace sphere`");
     s->add(*cmd, false);
     cmd->add_option("--model", *model, "Model name (" + fmt::format("{}", fmt::join(bssrdf::modelNames(), ", ")) + "), a radial .bssrdf file (tabulated on the GPU for the medium) or a tabulated profile FILE.csv")
         ->capture_default_str();
     cmd->add_option("--sampling", *sampling,
-                    "uniform: points uniform on the lit hemisphere (the seed's method); "
+                    "uniform: points uniform on the lit hemisphere (the method of Bitterli 2013); "
                     "importance: probe rays from the model's radial sampler")
         ->check(CLI::IsMember({"uniform", "importance"}))
         ->capture_default_str();

@@ -167,7 +167,7 @@ void LitSpheresDock::buildUi() {
   light_box_->addItem(tr("multi + single"), QStringLiteral("all"));
   light_box_->addItem(tr("single scattering"), QStringLiteral("single"));
   light_box_->addItem(tr("multiple scattering"), QStringLiteral("multiple"));
-  light_box_->setToolTip(tr("The path tracer's light by scattering order (seed Eq. 2.13): the "
+  light_box_->setToolTip(tr("The path tracer's light by scattering order (Bitterli 2013, Eq. 2.13): the "
                             "diffusion models describe multiple scattering only"));
   auto angleBox = [&](const char* name, double lo, double hi, double value, const QString& tip) {
     auto* b = new QDoubleSpinBox(root);

@@ -226,7 +226,7 @@ Medium invertBssrdfMedium(BssrdfEvaluator& evaluator, const Rgb& rd, const Rgb& 
   if (!evaluator.hasDiffuseReflectance())
     throw ParameterError(fmt::format(
         "{}: no diffuseReflectance section: inverting (Rd, ld) needs DiffuseReflectance(alpha') "
-        "(seed appendix A.2)",
+        "(Bitterli 2013, appendix A.2)",
         evaluator.file().path));
   Medium m;  // only η (and g) reach DiffuseReflectance(); the coefficients are placeholders
   m.eta = eta;

@@ -22,11 +22,11 @@ struct Entry {
 
 // One line per technique.
 constexpr Entry kTechniques[] = {
-    {"pointcloud", "hierarchical point-cloud BSSRDF evaluation (Jensen & Buhler 2002; seed 2.6.4, 3.3)",
+    {"pointcloud", "hierarchical point-cloud BSSRDF evaluation (Jensen & Buhler 2002; Bitterli 2013, §2.6.4, §3.3)",
      &pointcloud::makePointCloudTechnique},
-    {"empirical", "empirical translucency shader: depth-peeled thickness, per-vertex AO (seed chapter 3)",
+    {"empirical", "empirical translucency shader: depth-peeled thickness, per-vertex AO (Gascons 2011, chapter 3)",
      &empirical::makeEmpiricalTechnique},
-    {"tsis", "texture-space importance sampling of the irradiance over a surface atlas (seed chapter 3)",
+    {"tsis", "texture-space importance sampling of the irradiance over a surface atlas (Chang 2007, chapter 3)",
      &tsis::makeTsisTechnique},
     {"tsm", "translucent shadow maps: a 21-sample filter of light-view irradiance maps (Dachsbacher & Stamminger 2003)",
      &tsm::makeTsmTechnique},

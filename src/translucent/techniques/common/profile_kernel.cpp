@@ -20,7 +20,7 @@ ParameterInfo tableSizeParameter(std::string help) {
 ParameterInfo radianceConventionParameter() {
   return ParameterInfo::enumeration("radiance_convention", kDefaultRadianceConvention,
                                     bssrdf::exitConventionNames(),
-                                    "radiance from the exitance B (seed Eq. 2.16): jensen Ft B/π, or "
+                                    "radiance from the exitance B (Bitterli 2013, Eq. 2.16): jensen Ft B/π, or "
                                     "normalized Ft B/(π 4Cφ(1/η)), which carries out exactly B; see "
                                     "docs/radiance-convention.md");
 }

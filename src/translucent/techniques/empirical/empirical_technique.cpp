@@ -43,7 +43,7 @@ std::vector<ParameterInfo> parameterInfos() {
   for (const std::string& n : surveyPresetNames()) presets.push_back(n);
   return {
       ParameterInfo::enumeration("preset", "none", presets,
-                                 "survey configuration of the seed's Table 4.3: sets "
+                                 "survey configuration of Gascons 2011, Table 4.3: sets "
                                  "thickness_exponent, backlight and diffuse_weight"),
       ParameterInfo::floating("ka", d.ka, 0.0, 10.0, "material ambient intensity k_a (Eq. 3.7)"),
       ParameterInfo::floating("kd_red", d.Kd.r, 0.0, 1.0, "material diffuse colour K_d, red"),
@@ -95,10 +95,10 @@ std::vector<ParameterInfo> parameterInfos() {
       ParameterInfo::boolean("ao", true, "per-vertex ambient occlusion a (Eq. 3.5); off: a = 1"),
       ParameterInfo::integer("ao_rays", 320, 1, 100000, "ambient occlusion rays per vertex"),
       ParameterInfo::boolean("ao_cosine", false,
-                             "cosine-weighted ambient occlusion rays (seed: uniform)"),
+                             "cosine-weighted ambient occlusion rays (Gascons 2011: uniform)"),
       ParameterInfo::boolean("random_lighting", false,
                              "move every light along a smooth random path, one step per frame "
-                             "(seed A.1.1, Random Lighting)"),
+                             "(Gascons 2011, A.1.1, Random Lighting)"),
       ParameterInfo::integer("random_seed", 1, 0, 1000000,
                              "seed of the random lighting path (light i uses seed + i)"),
   };
@@ -265,7 +265,7 @@ struct EmpiricalTechnique::Impl {
     radius = bs.radius;
     if (!state.empty() && params.getBool("ao"))
       notes.push_back("empirical: the deformed mesh keeps the rest pose's per-vertex ambient "
-                      "occlusion (precomputed once, as the seed's is; not traced again per time)");
+                      "occlusion (precomputed once, as in Gascons 2011; not traced again per time)");
     boundsState = state;
   }
 
@@ -498,7 +498,7 @@ EmpiricalTechnique::~EmpiricalTechnique() = default;
 
 std::string_view EmpiricalTechnique::description() const {
   return "empirical translucency shader: screen-space thickness by depth peeling, per-vertex AO "
-         "(seed chapter 3)";
+         "(Gascons 2011, chapter 3)";
 }
 
 const std::vector<techniques::ParameterInfo>& EmpiricalTechnique::parameters() const {

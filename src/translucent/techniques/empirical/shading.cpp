@@ -99,7 +99,7 @@ SurveyPreset surveyPreset(int image) {
       {25, 1.20, 0.20}, {18, 1.20, 0.20}, {30, 1.20, 0.20}, {25, 1.20, 0.20}, {25, 0.80, 0.20},
       {25, 1.60, 0.20}, {25, 1.20, 0.20}, {25, 1.20, 0.0},  {25, 1.20, 0.50}};
   if (image < 1 || image > kSurveyPresetCount)
-    throw ParameterError(fmt::format("survey preset {}: expected 1 .. {} (seed Table 4.3)", image,
+    throw ParameterError(fmt::format("survey preset {}: expected 1 .. {} (Gascons 2011, Table 4.3)", image,
                                      kSurveyPresetCount));
   return kTable[image - 1];
 }

@@ -80,7 +80,7 @@ std::vector<ParameterInfo> parameterInfos() {
           .withSweep({0.8, 0.4, 0.2, 0.1, 0.05, 0.025}),
       ParameterInfo::enumeration("criterion", "bbox", {"bbox", "centroid"},
                                  "distance d of the criterion: to the node's bounding box "
-                                 "(conservative, seed 2.6.4) or to its centroid (Jensen & Buhler)"),
+                                 "(conservative, Bitterli 2013, §2.6.4) or to its centroid (Jensen & Buhler)"),
       ParameterInfo::enumeration("kernel", "table", {"table", "shader"},
                                  "BSSRDF evaluation: tabulated radial profile, or the model's "
                                  ".bssrdf shader code in the traversal (a directional file with "
@@ -625,7 +625,7 @@ PointCloudTechnique::PointCloudTechnique() : impl_(std::make_unique<Impl>()) {}
 PointCloudTechnique::~PointCloudTechnique() = default;
 
 std::string_view PointCloudTechnique::description() const {
-  return "hierarchical point-cloud BSSRDF evaluation (Jensen & Buhler 2002; seed 2.6.4, 3.3)";
+  return "hierarchical point-cloud BSSRDF evaluation (Jensen & Buhler 2002; Bitterli 2013, §2.6.4, §3.3)";
 }
 
 const std::vector<techniques::ParameterInfo>& PointCloudTechnique::parameters() const {

@@ -72,21 +72,21 @@ std::vector<ParameterInfo> parameterInfos() {
       ParameterInfo::enumeration("atlas_method", "lscm", {"lscm", "authalic", "triangles"},
                                  "parameterisation of the atlas (geometry/atlas.h)"),
       ParameterInfo::enumeration("mode", "global", {"global", "hybrid"},
-                                 "global: texture-space importance sampling of the whole Rd (seed "
-                                 "3.1); hybrid (seed 3.3): Rd W_g by TSIS plus Rd W_l by the Local "
+                                 "global: texture-space importance sampling of the whole Rd (Chang 2007, "
+                                 "§3.1); hybrid (Chang 2007, §3.3): Rd W_g by TSIS plus Rd W_l by the Local "
                                  "Translucent Shadow Map of one directional or point light"),
       ParameterInfo::enumeration("term", "full", {"full", "local", "global"},
                                  "which part of B the image shows: full B = B_l + B_g, or the "
-                                 "local (Rd W_l) or global (Rd W_g) term alone (seed Fig. 3.6); in "
+                                 "local (Rd W_l) or global (Rd W_g) term alone (Chang 2007, Fig. 3.6); in "
                                  "global mode TSIS integrates that part"),
       ParameterInfo::floating("split_k", 1.5, 0.01, 100.0,
-                              "K of the split's weighting W_l (seed 3.3.1), per mm of the medium",
+                              "K of the split's weighting W_l (Chang 2007, §3.3.1), per mm of the medium",
                               "1/mm"),
       ParameterInfo::floating("split_bound", 0.1, 1e-6, 100.0,
-                              "R_p is the largest r with 2πr Rd(r) above this bound (seed Fig. "
-                              "3.5), per mm", "1/mm", true),
+                              "R_p is the largest r with 2πr Rd(r) above this bound (Chang 2007, "
+                              "Fig. 3.5), per mm", "1/mm", true),
       ParameterInfo::integer("circles", 20, 1, 64,
-                             "L: circles of the local pattern (L×C + 1 samples; seed Fig. 3.9)"),
+                             "L: circles of the local pattern (L×C + 1 samples; Chang 2007, Fig. 3.9)"),
       ParameterInfo::integer("circle_samples", 20, 1, 64,
                              "C: samples on each circle of the local pattern"),
       ParameterInfo::integer("ltsm_map_size", 1024, 64, 4096,
@@ -548,7 +548,7 @@ TsisTechnique::TsisTechnique() : impl_(std::make_unique<Impl>()) {}
 TsisTechnique::~TsisTechnique() = default;
 
 std::string_view TsisTechnique::description() const {
-  return "texture-space importance sampling of the irradiance over a surface atlas (seed chapter 3)";
+  return "texture-space importance sampling of the irradiance over a surface atlas (Chang 2007, chapter 3)";
 }
 
 const std::vector<techniques::ParameterInfo>& TsisTechnique::parameters() const {
