@@ -11,10 +11,10 @@ PYTHON=/usr/bin/python3
 [[ -x "$PYTHON" ]] || PYTHON=python3
 
 if ! "$PYTHON" -c "import sphinx, myst_parser, furo, jsonschema" 2>/dev/null; then
-  echo "check_docs: Sphinx, MyST, Furo or jsonschema missing (scripts/install-deps): skipped"; exit 77
+  echo "check_docs: FAIL: Sphinx, MyST, Furo or jsonschema missing (run scripts/install-deps)" >&2; exit 1
 fi
 CHROMIUM=$(command -v chromium || command -v chromium-browser || true)
-[[ -n "$CHROMIUM" ]] || { echo "check_docs: no chromium (scripts/install-deps): skipped"; exit 77; }
+[[ -n "$CHROMIUM" ]] || { echo "check_docs: FAIL: no chromium (run scripts/install-deps)" >&2; exit 1; }
 
 "$ROOT/scripts/build-docs" "$CLI"
 HTML=$ROOT/build/docs/html
