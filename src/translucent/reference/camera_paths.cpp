@@ -1,0 +1,569 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The camera-side mesh reference: backward volumetric path tracing with next-event estimation
+// (camera_paths.h).
+#include "translucent/reference/camera_paths.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <stdexcept>
+
+#include <glm/geometric.hpp>
+
+#include "translucent/reference/block_driver.h"
+#include "translucent/reference/phase.h"
+#include "translucent/reference/rng.h"
+#include "translucent/reference/sampling.h"
+#include "translucent/reference/walk.h"
+
+namespace translucent::reference {
+
+using detail::tangentFrame;
+using detail::uniform01;
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+// Throughput roulette: below this, survive with probability β / kRoulette at weight kRoulette.
+constexpr double kRoulette = 0.25;
+// Shadow rays: an optical depth beyond this is transmittance 0 (e^-50 ~ 2e-22: far below any
+// Monte Carlo error; it saves the further ray queries of a ray that crosses the body again).
+constexpr double kOpaqueDepth = 50.0;
+
+// 2D (0,2)-sequence in base 2: the first two Sobol dimensions (van der Corput and its Pascal-
+// matrix companion; Sobol 1967, Joe & Kuo 2008), as 32-bit fractions.
+uint32_t vanDerCorput(uint32_t i) {
+  i = (i << 16) | (i >> 16);
+  i = ((i & 0x00ff00ffu) << 8) | ((i & 0xff00ff00u) >> 8);
+  i = ((i & 0x0f0f0f0fu) << 4) | ((i & 0xf0f0f0f0u) >> 4);
+  i = ((i & 0x33333333u) << 2) | ((i & 0xccccccccu) >> 2);
+  i = ((i & 0x55555555u) << 1) | ((i & 0xaaaaaaaau) >> 1);
+  return i;
+}
+uint32_t sobolSecond(uint32_t i) {
+  uint32_t r = 0;
+  for (uint32_t v = 1u << 31; i != 0; i >>= 1, v ^= v >> 1)
+    if (i & 1u) r ^= v;
+  return r;
+}
+// (a + shift) mod 1 for a 32-bit fraction a.
+double shifted(uint32_t a, uint32_t shift) {
+  return static_cast<double>(static_cast<uint32_t>(a + shift)) * 0x1.0p-32;
+}
+
+// The medium at a collision: albedo and g (homogeneous: the channel's; a field: the local ones).
+struct Collision {
+  double albedo = 0.0, g = 0.0;
+};
+
+struct Counters {
+  uint64_t paths = 0, events = 0, shadowRays = 0;
+};
+
+// One channel's paths through the body (camera_paths.h).
+class ChannelPaths {
+ public:
+  ChannelPaths(const MeshBody& body, std::span<const Light> lights, const ScalarMedium* medium,
+               const VolumeMedium* volume, int channel, uint64_t longPath)
+      : body_(body), lights_(lights), volume_(volume), c_(channel), longPath_(longPath),
+        eps_(body.epsilon()) {
+    if (medium) {
+      sigmaT_ = medium->sigmaT();
+      albedo_ = medium->sigma_s / sigmaT_;
+      g_ = medium->g;
+    }
+  }
+
+  // The radiance arriving at the surface point x from inside along -d (d points into the body),
+  // split into its single-scattered part (out[0]) and the rest (out[1]).
+  void radiance(glm::dvec3 x, glm::dvec3 d, Rng& rng, Counters& k, double out[2]) const {
+    ++k.paths;
+    double beta = 1.0;
+    uint64_t scatters = 0;
+    bool onSurface = true;
+    Collision col;
+    for (;;) {
+      if (!flight(x, d, onSurface, rng, col)) return;  // escaped (or lost)
+      onSurface = false;
+      ++k.events;
+      beta *= col.albedo;
+      if (!(beta > 0.0)) return;
+      out[scatters == 0 ? 0 : 1] += beta * direct(x, d, col.g, rng, k);
+      ++scatters;
+      if (longPath_ != 0 && scatters > longPath_) {
+        if (rng.next() >= detail::kSurviveThreshold) return;
+        beta *= detail::kSurviveBoost;
+      }
+      if (beta < kRoulette) {
+        if (!(uniform01(rng) * kRoulette < beta)) return;
+        beta = kRoulette;
+      }
+      // Henyey-Greenstein about the path's direction: the light arriving along -d' scatters into
+      // -d with cos θ = d·d', the same density as forwards.
+      const double mu = static_cast<double>(
+          sampleHgCosine(static_cast<float>(col.g), rng.uniform()));
+      const double phi = 2.0 * kPi * uniform01(rng);
+      const double sinT = std::sqrt(std::max(0.0, 1.0 - mu * mu));
+      glm::dvec3 t1, t2;
+      tangentFrame(d, t1, t2);
+      d = glm::normalize(sinT * std::cos(phi) * t1 + sinT * std::sin(phi) * t2 + mu * d);
+    }
+  }
+
+ private:
+  // From x along d to the next real collision (x moved there, `col` its medium); false when the
+  // path leaves the body for good. At η = 1 a flight that meets the boundary goes on straight in
+  // air and re-enters where its line meets the body again.
+  bool flight(glm::dvec3& x, const glm::dvec3& d, bool onSurface, Rng& rng, Collision& col) const {
+    SurfaceHit hit;
+    if (!volume_) {
+      double s = -std::log(1.0 - uniform01(rng)) / sigmaT_;
+      for (;;) {
+        if (!body_.intersect(x, d, onSurface ? eps_ : 0.0, s, hit)) {
+          x += s * d;
+          col = {albedo_, g_};
+          return true;
+        }
+        x += hit.t * d;
+        s = std::max(0.0, s - hit.t);  // the rest of the free path goes on after a re-entry
+        if (!body_.intersect(x, d, eps_, kInf, hit)) return false;
+        x += hit.t * d;
+        onSurface = true;
+      }
+    }
+    const VolumeMedium& V = *volume_;
+    const size_t ci = static_cast<size_t>(c_);
+    const double scale = V.coefficient_scale;
+    for (;;) {
+      const glm::dvec3 o = x;
+      material::LocalMedium local;
+      double localSigmaT = 0.0;
+      auto accept = [&](double tc, double bound) {
+        local = V.at(o + tc * d);
+        localSigmaT = (local.sigma_a[ci] + local.sigma_s[ci]) * scale;
+        if (localSigmaT >= bound) {
+          if (localSigmaT > bound * (1.0 + 1e-9))
+            V.majorant_violations->fetch_add(1, std::memory_order_relaxed);
+          return true;
+        }
+        return uniform01(rng) * bound < localSigmaT;
+      };
+      double t = 0.0;
+      const bool collided = V.grid->track(o, d, kInf, c_, rng, accept, t);
+      if (!body_.intersect(o, d, onSurface ? eps_ : 0.0, collided ? t : kInf, hit)) {
+        if (!collided) return false;  // neither a collision nor the boundary: lost
+        x = o + t * d;
+        col = {localSigmaT > 0.0 ? local.sigma_s[ci] * scale / localSigmaT : 0.0, local.g};
+        return true;
+      }
+      // Left the body: on in air to the re-entry, where the tracking starts afresh.
+      x = o + hit.t * d;
+      if (!body_.intersect(x, d, eps_, kInf, hit)) return false;
+      x += hit.t * d;
+      onSurface = true;
+    }
+  }
+
+  // Σ over the lights of p(d·ω_l) L_l T(x, light): next-event estimation at the collision x of a
+  // path travelling along d (camera_paths.h).
+  double direct(const glm::dvec3& x, const glm::dvec3& d, double g, Rng& rng, Counters& k) const {
+    const size_t ci = static_cast<size_t>(c_);
+    double sum = 0.0;
+    for (const Light& light : lights_) {
+      glm::dvec3 w;
+      double li = 0.0, dist = kInf;
+      if (const auto* dl = std::get_if<DirectionalLight>(&light.emitter)) {
+        w = dl->direction;
+        li = dl->irradiance;
+      } else if (const auto* pl = std::get_if<PointLight>(&light.emitter)) {
+        w = pl->position - x;
+        dist = glm::length(w);
+        if (!(dist > 0.0)) continue;
+        w /= dist;
+        li = pl->intensity / (dist * dist);
+      } else if (const auto* bl = std::get_if<BeamLight>(&light.emitter)) {
+        const glm::dvec3 r = x - bl->origin;
+        const double along = glm::dot(r, bl->direction);
+        if (!(along > 0.0) || glm::length(r - along * bl->direction) > bl->radius) continue;
+        w = -bl->direction;
+        dist = along;
+        li = bl->power / (kPi * bl->radius * bl->radius);
+      } else {
+        continue;  // refused by the tracer (refusal())
+      }
+      li *= light.color[ci];
+      const double phase = hgCosineDensity(glm::dot(d, w), g) / (2.0 * kPi);
+      if (!(li * phase > 0.0)) continue;
+      ++k.shadowRays;
+      sum += phase * li * transmittance(x, w, dist, rng);
+    }
+    return sum;
+  }
+
+  // T along x + t w, t in (0, dist], x inside the body (not on its surface): the product over
+  // the parts of the ray inside the body (η = 1: straight through every boundary).
+  double transmittance(glm::dvec3 x, const glm::dvec3& w, double dist, Rng& rng) const {
+    double depth = 0.0, ratio = 1.0;
+    bool inside = true, onSurface = false;
+    SurfaceHit hit;
+    for (;;) {
+      const bool h = body_.intersect(x, w, onSurface ? eps_ : 0.0, dist, hit);
+      const double len = h ? hit.t : dist;
+      if (inside && len > 0.0) {
+        if (!volume_) {
+          depth += sigmaT_ * len;
+        } else {
+          ratio *= ratioTracking(x, w, len, rng);
+          if (!(ratio > 0.0)) return 0.0;
+        }
+        if (depth > kOpaqueDepth) return 0.0;
+      }
+      if (!h) break;
+      x += hit.t * w;
+      if (std::isfinite(dist)) dist = std::max(0.0, dist - hit.t);
+      inside = !inside;
+      onSurface = true;
+    }
+    return ratio * std::exp(-depth);
+  }
+
+  // Ratio tracking over x + t w, t in (0, len] (Novák et al. 2018, Eq. 29): ∏ (1 - σt/σ̄) over
+  // the tentative collisions of the majorant grid, with a roulette (survive 1/2, weight x2) once
+  // the product is below 0.01.
+  double ratioTracking(const glm::dvec3& x, const glm::dvec3& w, double len, Rng& rng) const {
+    const VolumeMedium& V = *volume_;
+    const size_t ci = static_cast<size_t>(c_);
+    const double scale = V.coefficient_scale;
+    double T = 1.0;
+    auto accept = [&](double tc, double bound) {
+      const material::LocalMedium local = V.at(x + tc * w);
+      const double sigmaT = (local.sigma_a[ci] + local.sigma_s[ci]) * scale;
+      if (sigmaT > bound * (1.0 + 1e-9))
+        V.majorant_violations->fetch_add(1, std::memory_order_relaxed);
+      T *= 1.0 - std::min(1.0, sigmaT / bound);
+      if (!(T > 0.0)) return true;  // stop: T = 0
+      if (T < 0.01) {
+        if (uniform01(rng) < 0.5) {
+          T = 0.0;
+          return true;
+        }
+        T *= 2.0;
+      }
+      return false;
+    };
+    double t = 0.0;
+    (void)V.grid->track(x, w, len, c_, rng, accept, t);
+    return T;
+  }
+
+  const MeshBody& body_;
+  std::span<const Light> lights_;
+  const VolumeMedium* volume_;
+  int c_;
+  uint64_t longPath_;
+  double eps_;
+  double sigmaT_ = 1.0, albedo_ = 0.0, g_ = 0.0;
+};
+
+std::vector<ScalarMedium> materialChannels(const material::Material& m) {
+  if (m.kind == material::Material::Kind::Surface)
+    throw ParameterError(
+        "camera paths: a surface-map material (2D maps over the atlas) has no volume to trace; "
+        "its reference is the compare report's model reference (brute-force Eq. 8)");
+  m.medium.validate();
+  std::vector<ScalarMedium> ch;
+  for (int c = 0; c < 3; ++c) ch.push_back(m.medium.channel(c));
+  return ch;
+}
+
+// The images' per-sample scores of one pixel and channel: [image][order], image 0 the radiance
+// towards the camera, 1 the exitance, 2 the diffusion radiance; order 0 unscattered (always 0),
+// 1 single, 2 multiple.
+using Scores = std::array<std::array<double, kScatteringOrders>, 3>;
+
+}  // namespace
+
+void CameraPathOptions::validate() const {
+  if (threads < 0)
+    throw ParameterError(fmt::format("camera paths: threads is {}: expected >= 0 (0: all)", threads));
+  if (!(cone_half_angle >= 0.0 && cone_half_angle < 90.0))
+    throw ParameterError(fmt::format(
+        "camera paths: cone half-angle is {}: expected degrees in [0, 90) (0: the true radiance)",
+        cone_half_angle));
+}
+
+std::string CameraPathTracer::refusal(double eta, std::span<const Light> lights) {
+  if (eta != 1.0)
+    return fmt::format(
+        "the camera method needs an index-matched boundary (eta 1), the material has eta {}: a "
+        "straight shadow ray cannot pass a smooth refractive boundary towards a directional, "
+        "point or beam light (that needs manifold next-event estimation, not implemented); the "
+        "light method (`pathtrace mesh --method light`) traces it",
+        eta);
+  for (size_t i = 0; i < lights.size(); ++i) {
+    if (std::holds_alternative<EnvironmentLight>(lights[i].emitter))
+      return fmt::format(
+          "light {} is an environment light: the camera method does not sample environment "
+          "maps yet; the light method (`pathtrace mesh --method light`) traces it",
+          i + 1);
+    if (const auto* b = std::get_if<BeamLight>(&lights[i].emitter); b && !(b->radius > 0.0))
+      return fmt::format(
+          "light {} is a pencil beam (radius 0): no shadow ray can hit it; the light method "
+          "(`pathtrace mesh --method light`) traces it",
+          i + 1);
+  }
+  return {};
+}
+
+CameraPathTracer::CameraPathTracer(const geometry::TriangleMesh& mesh, const Medium& medium,
+                                   std::vector<Light> lights, const Camera& camera,
+                                   const CameraPathOptions& options)
+    : lights_(std::move(lights)), options_(options), body_(mesh), camera_(camera) {
+  medium.validate();
+  for (int c = 0; c < 3; ++c) channels_.push_back(medium.channel(c));
+  init();
+}
+
+CameraPathTracer::CameraPathTracer(const geometry::TriangleMesh& mesh, const ScalarMedium& medium,
+                                   std::vector<Light> lights, const Camera& camera,
+                                   const CameraPathOptions& options)
+    : channels_{medium}, lights_(std::move(lights)), options_(options), body_(mesh),
+      camera_(camera) {
+  medium.validate();
+  init();
+}
+
+CameraPathTracer::CameraPathTracer(const geometry::TriangleMesh& mesh,
+                                   const material::Material& material, std::vector<Light> lights,
+                                   const Camera& camera, const CameraPathOptions& options,
+                                   glm::ivec3 majorant_cells)
+    : channels_(materialChannels(material)), lights_(std::move(lights)), options_(options),
+      body_(mesh), camera_(camera) {
+  if (material.kind == material::Material::Kind::Volume) {
+    const geometry::Bounds b = mesh.bounds();
+    const glm::dvec3 pad(1e-6 * (glm::length(b.center()) + b.radius()));
+    volume_ = VolumeMedium::make(material, b.lower - pad, b.upper + pad, majorant_cells);
+  }
+  init();
+}
+
+CameraPathTracer::~CameraPathTracer() = default;
+
+void CameraPathTracer::init() {
+  options_.validate();
+  if (lights_.empty()) throw ParameterError("camera paths: no lights: expected at least one");
+  for (size_t i = 0; i < lights_.size(); ++i)
+    lights_[i] = lights_[i].validated(fmt::format("light {}", i + 1));
+  for (size_t c = 0; c < channels_.size(); ++c) {
+    const ScalarMedium& m = channels_[c];
+    m.validate(channels_.size() == 3 ? kChannelNames[c] : "");
+    if (!volume_ && !(m.sigmaT() > 0.0))
+      throw ParameterError("camera paths: sigma_a + sigma_s is 0: expected a scattering or "
+                           "absorbing medium");
+  }
+  const double eta = volume_ ? volume_->eta : channels_.front().eta;
+  for (const ScalarMedium& m : channels_)
+    if (!volume_ && m.eta != eta)
+      throw ParameterError("camera paths: the channels have different eta: expected one");
+  if (const std::string why = refusal(eta, lights_); !why.empty()) throw ParameterError(why);
+
+  // The grid of the images' exact sums: about the radiance a light gives by single scattering.
+  const BoundingSphere bounds = body_.bounds();
+  double typical = 0.0;
+  for (const Light& l : lights_) {
+    double e = 0.0;
+    if (const auto* dl = std::get_if<DirectionalLight>(&l.emitter)) e = dl->irradiance;
+    if (const auto* pl = std::get_if<PointLight>(&l.emitter)) {
+      const double r = std::max(glm::length(pl->position - bounds.center), bounds.radius);
+      e = pl->intensity / (r * r);
+    }
+    if (const auto* bl = std::get_if<BeamLight>(&l.emitter))
+      e = bl->power / (kPi * bl->radius * bl->radius);
+    typical = std::max(typical, e * std::max({l.color[0], l.color[1], l.color[2]}) / (4.0 * kPi));
+  }
+  const Camera& cam = camera_.camera();
+  const int nc = static_cast<int>(channels_.size());
+  auto make = [&] {
+    CameraImages im;
+    const FixedScale scale = FixedScale::around(typical);
+    im.cone_radiance = McImage(cam.width, cam.height, nc, McImage::Statistics::PerPixel, scale);
+    im.radiance = im.cone_radiance;
+    im.exitance = McImage(cam.width, cam.height, nc, McImage::Statistics::PerPixel,
+                          FixedScale::around(kPi * typical));
+    return im;
+  };
+  images_ = make();
+  if (options_.split_orders) orders_ = std::array<CameraImages, kScatteringOrders>{make(), make(), make()};
+  rowSamples_.assign(static_cast<size_t>(cam.height), 0);
+}
+
+const CameraImages& CameraPathTracer::orderImages(ScatteringOrder order) const {
+  if (!orders_) throw std::logic_error("camera paths: the images are not split by order");
+  return (*orders_)[static_cast<size_t>(order)];
+}
+
+CameraPathStats CameraPathTracer::addPass(uint64_t samples, const ProgressCallback& progress) {
+  if (samples == 0) throw ParameterError("camera paths: samples is 0: expected at least 1");
+  const Camera& cam = camera_.camera();
+  const int w = cam.width, h = cam.height;
+  const size_t nc = channels_.size();
+  for (const uint64_t done : rowSamples_)
+    if (done + samples > (uint64_t{1} << 32))
+      throw ParameterError("camera paths: more than 2^32 samples per pixel");
+  const bool pinhole = cam.projection == Camera::Projection::Pinhole;
+  const glm::dvec3 forward = glm::normalize(cam.look_at - cam.position);
+  const double planeArea = camera_.pixelSize() * camera_.pixelSize();
+  const bool cone = options_.cone_half_angle > 0.0;
+  const double theta = options_.cone_half_angle * kPi / 180.0;
+  const double cosCone = std::cos(theta), sin2Cone = std::sin(theta) * std::sin(theta);
+  const double coneSolidAngle = 2.0 * kPi * (1.0 - cosCone);
+  const uint64_t seedKey = mix64(options_.seed ^ 0x63616D6572617061ull);  // "camerapa"
+  std::vector<ChannelPaths> paths;
+  for (size_t c = 0; c < nc; ++c)
+    paths.emplace_back(body_, lights_, volume_ ? nullptr : &channels_[c], volume_ ? &*volume_ : nullptr,
+                       static_cast<int>(c), options_.long_path_roulette);
+  const int images = options_.exitance ? 3 : 1;
+
+  // One block per row: per pixel, channel, image and order the sums of the samples and squares.
+  struct Row {
+    std::vector<double> s, s2;  // [(x * nc + c) * 12 + image * 4 + k], k = order or 3 = total
+    Counters k;
+  };
+  auto slot = [&](int x, size_t c, int image, size_t k) {
+    return ((static_cast<size_t>(x) * nc + c) * 3 + static_cast<size_t>(image)) * 4 + k;
+  };
+  auto make = [] { return Row{}; };
+  auto work = [&](uint64_t j, Row& row, const std::atomic<bool>& stop) {
+    const size_t n = static_cast<size_t>(w) * nc * 12;
+    row.s.assign(n, 0.0);
+    row.s2.assign(n, 0.0);
+    const uint64_t first = rowSamples_[j];
+    for (int i = 0; i < w; ++i) {
+      if (stop.load(std::memory_order_relaxed)) return false;
+      const uint64_t pixel = j * static_cast<uint64_t>(w) + static_cast<uint64_t>(i);
+      const double measure = camera_.pixelMeasure(i, static_cast<int>(j));
+      Rng shiftRng(seedKey, (uint64_t{1} << 63) | pixel);
+      const uint32_t sx = shiftRng.next(), sy = shiftRng.next();
+      for (size_t c = 0; c < nc; ++c) {
+        for (uint64_t s = first; s < first + samples; ++s) {
+          Rng rng(seedKey, ((pixel * nc + c) << 32) + s);
+          const uint32_t si = static_cast<uint32_t>(s);
+          glm::dvec3 o, d;
+          camera_.ray(i + shifted(vanDerCorput(si), sx),
+                      static_cast<double>(j) + shifted(sobolSecond(si), sy), o, d);
+          // The box filter over the pixel's solid angle (pinhole) or area (orthographic).
+          double wPix = 1.0;
+          if (pinhole) {
+            const double cosT = glm::dot(d, forward);
+            wPix = cosT * cosT * cosT * planeArea / measure;
+          }
+          Scores sc{};
+          SurfaceHit hit;
+          if (body_.intersect(o, d, 0.0, kInf, hit)) {
+            const glm::dvec3 x = o + hit.t * d;
+            const glm::dvec3 nrm = glm::dot(hit.normal, d) < 0.0 ? hit.normal : -hit.normal;
+            double L[2] = {0.0, 0.0};
+            if (!cone) {
+              paths[c].radiance(x, d, rng, row.k, L);
+              for (size_t k = 0; k < 2; ++k) sc[0][k + 1] = wPix * L[k];
+            } else {
+              // ω uniform in the cone about v = -d; weight (n·ω) Ω_c / (π sin²θc (n·v)).
+              const glm::dvec3 v = -d;
+              const double cosA = 1.0 - uniform01(rng) * (1.0 - cosCone);
+              const double sinA = std::sqrt(std::max(0.0, 1.0 - cosA * cosA));
+              const double phi = 2.0 * kPi * uniform01(rng);
+              glm::dvec3 t1, t2;
+              tangentFrame(v, t1, t2);
+              const glm::dvec3 om =
+                  glm::normalize(sinA * std::cos(phi) * t1 + sinA * std::sin(phi) * t2 + cosA * v);
+              const double nOm = glm::dot(nrm, om), nV = glm::dot(nrm, v);
+              if (nOm > 0.0 && nV > 0.0) {
+                paths[c].radiance(x, -om, rng, row.k, L);
+                const double f = wPix * nOm * coneSolidAngle / (kPi * sin2Cone * nV);
+                for (size_t k = 0; k < 2; ++k) sc[0][k + 1] = f * L[k];
+              }
+            }
+            if (options_.exitance) {
+              // A cosine-distributed direction about n (Malley): B = π E[L(x, ω')].
+              double px, py;
+              detail::sampleDisc(rng, 1.0, px, py);
+              const double pz = std::sqrt(std::max(0.0, 1.0 - px * px - py * py));
+              glm::dvec3 t1, t2;
+              tangentFrame(nrm, t1, t2);
+              const glm::dvec3 om = glm::normalize(px * t1 + py * t2 + pz * nrm);
+              double Lb[2] = {0.0, 0.0};
+              if (pz > 0.0) paths[c].radiance(x, -om, rng, row.k, Lb);
+              for (size_t k = 0; k < 2; ++k) {
+                sc[1][k + 1] = wPix * kPi * Lb[k];
+                sc[2][k + 1] = wPix * Lb[k];  // Ft B / π with Ft = 1 (η = 1)
+              }
+            }
+          }
+          for (int im = 0; im < images; ++im) {
+            const auto& v = sc[static_cast<size_t>(im)];
+            const double total = v[0] + v[1] + v[2];
+            for (size_t k = 0; k < 4; ++k) {
+              const double val = k < 3 ? v[k] : total;
+              row.s[slot(i, c, im, k)] += val;
+              row.s2[slot(i, c, im, k)] += val * val;
+            }
+          }
+        }
+      }
+    }
+    return true;
+  };
+  CameraPathStats pass;
+  auto merge = [&](uint64_t j, Row& row) {
+    for (int i = 0; i < w; ++i) {
+      const size_t pix = static_cast<size_t>(j) * static_cast<size_t>(w) + static_cast<size_t>(i);
+      for (int im = 0; im < images; ++im) {
+        auto image = [&](CameraImages& set) -> McImage& {
+          return im == 0 ? set.cone_radiance : (im == 1 ? set.exitance : set.radiance);
+        };
+        for (size_t c = 0; c < nc; ++c) {
+          const size_t idx = images_.exitance.index(i, static_cast<int>(j), static_cast<int>(c));
+          image(images_).addSums(idx, row.s[slot(i, c, im, 3)], row.s2[slot(i, c, im, 3)]);
+          if (orders_)
+            for (size_t k = 0; k < kScatteringOrders; ++k)
+              image((*orders_)[k]).addSums(idx, row.s[slot(i, c, im, k)], row.s2[slot(i, c, im, k)]);
+        }
+        image(images_).addPixelCount(pix, samples);
+        if (orders_)
+          for (size_t k = 0; k < kScatteringOrders; ++k) image((*orders_)[k]).addPixelCount(pix, samples);
+      }
+    }
+    rowSamples_[j] += samples;
+    pass.paths += row.k.paths;
+    pass.scattering_events += row.k.events;
+    pass.shadow_rays += row.k.shadowRays;
+  };
+  const uint64_t perRow = static_cast<uint64_t>(w) * samples * nc;
+  const uint64_t total = perRow * static_cast<uint64_t>(h);
+  std::function<bool(uint64_t, double)> tick;
+  if (progress)
+    tick = [&](uint64_t rows, double seconds) {
+      return progress(TraceProgress{rows * perRow, total, seconds});
+    };
+  const detail::BlockRun run =
+      detail::runBlocks<Row>(0, static_cast<uint64_t>(h), options_.threads, make, work, merge, tick);
+  if (progress) progress(TraceProgress{run.blocks_done * perRow, total, run.seconds});
+  pass.samples = samples;
+  pass.seconds = run.seconds;
+  pass.threads = run.threads;
+  pass.partial = run.stopped;
+  stats_.samples = *std::min_element(rowSamples_.begin(), rowSamples_.end());
+  stats_.paths += pass.paths;
+  stats_.scattering_events += pass.scattering_events;
+  stats_.shadow_rays += pass.shadow_rays;
+  stats_.seconds += run.seconds;
+  stats_.threads = run.threads;
+  stats_.partial = stats_.partial || run.stopped;
+  return pass;
+}
+
+}  // namespace translucent::reference

@@ -1,0 +1,160 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The mesh reference from the camera: per pixel, camera rays traced into the closed mesh and
+// through its medium backwards (a volumetric path tracer with next-event estimation), instead
+// of photons from the lights splatted through a cone at the camera (mesh_tracer.h, the "light
+// method"). Both estimate the same pixel averages (camera.h); the camera method spends its
+// samples where the pixels are, so every pixel gets its own independent samples and the error
+// per pixel falls as 1/sqrt(samples per pixel) whatever the pixel's share of the exiting flux.
+//
+// What is traced, per pixel, sample and colour channel (the radiative transfer equation in path
+// integral form; Pharr, Jakob & Humphreys, PBRT 3rd ed., sections 15.2-15.3 and 16.3):
+//   - the camera ray through a point of the pixel (image-plane position from a 2D Sobol (0,2)
+//     sequence indexed by the sample, with a random toroidal shift per pixel, Cranley-Patterson
+//     1976: stratified for every power-of-two count and a function of the sample index only);
+//     pinhole pixels average over the pixel's solid angle (the ray weighted by cos³θ a_p / Ω_p,
+//     dΩ = cos³θ dA on the plane at distance 1), orthographic ones over the pixel's area, the
+//     box filter of camera.h, so the images equal the light method's in expectation;
+//   - at its first hit x (the visible surface point), the index-matched boundary (η = 1) lets it
+//     straight in. Free flights: homogeneous, distance s with density σt e^{-σt s}; a field, delta
+//     tracking through the majorant grid (majorant_grid.h, Novák et al. 2018 section 4.1). A
+//     flight that meets the boundary leaves the body, flies on in air and re-enters where its
+//     line meets the body again with the rest of its free path (memoryless flights, transport.h);
+//     a path that escapes ends (delta lights cannot be hit);
+//   - at every real collision the throughput β is multiplied by the local albedo σs/σt (the
+//     free-flight pdf σt T cancels T σs of the in-scattering integral), and next-event estimation
+//     adds β p(ω_l · d) L_l T(x, light) for every light (directional: irradiance E from ω_l; point:
+//     I / r²; a beam of radius > 0: its irradiance P / (π r²) inside its cylinder, downstream of its
+//     origin), with p the Henyey-Greenstein phase function per steradian (phase.h / 2π) and T the
+//     transmittance along the straight shadow ray through every part of the body it crosses
+//     (η = 1: the boundary is invisible, so the mesh shadows itself by the medium it puts in the
+//     way): e^{-σt ℓ} for ℓ the length inside the body, or ratio tracking through the majorant
+//     grid for a field (Novák et al. 2018 section 5.2; a roulette at T < 0.01 keeps it short);
+//   - then the direction is sampled from the phase function (its pdf cancels it), with a
+//     throughput roulette (β < 1/4: survive with probability 4β at weight 1/4) and the long-path
+//     roulette of transport.h after `long_path_roulette` events.
+// The contribution of the NEE at the first collision is single scattering (slab.h:
+// ScatteringOrder::Single), the rest multiple; with delta lights nothing unscattered reaches the
+// camera through the body, so the unscattered images are 0 (the light method's too, up to the
+// light that crosses the body without scattering and leaves towards the camera, which a camera
+// behind the body along a light's direction can see: not handled, the method assumes none).
+//
+// Images (CameraImages of camera.h, per-pixel statistics, McImage::Statistics::PerPixel):
+//   cone_radiance  the radiance towards the camera L(x, -d): for cone_half_angle = 0 the true
+//                  radiance (the θc -> 0 limit of the light method's cone average); for θc > 0
+//                  the light method's own cosine-weighted cone average (camera.h), a direction ω
+//                  drawn uniformly in the cone about v = -d and weighted (n·ω) Ω_c / (π sin²θc
+//                  (n·v)), 0 below the horizon: the same estimand, for checking one against the
+//                  other;
+//   exitance       (with `exitance`) B(x) = ∫ L(x, ω) (n·ω) dω by one cosine-distributed
+//                  direction per sample (B ≈ π L(x, ω'));
+//   radiance       (with `exitance`) Ft B / π = B / π at η = 1.
+// Every sample is one path per image (independent paths for cone_radiance and exitance), so
+// a pixel's standard error is that of the mean of its samples. The Sobol positions make the
+// samples of a pixel slightly dependent (stratified): the per-sample variance then overestimates
+// the error a little, never underestimates it in practice for a smooth integrand.
+//
+// Not handled, refused with a ParameterError that names the light method as the alternative:
+//   - η ≠ 1 (a refractive boundary): a straight shadow ray cannot pass a smooth refractive
+//     boundary towards a delta light (a directional, point or beam light has no area to hit by a
+//     refracted ray), so next-event estimation needs a specular-manifold walk (manifold NEE,
+//     Hanika, Droske & Fascione 2015), not implemented;
+//   - environment lights and pencil beams (radius 0).
+//
+// Determinism: channel c, pixel p and sample s draw from Rng(seed', ((p · channels + c) << 32) +
+// s) (rng.h), the pixel's shift from a stream of its own; rows are traced as blocks and their
+// sums merged exactly (exact_sum.h). Images depend on (scene, options, seed) and the number of
+// samples per pixel only: not on the thread count, nor on how the samples were split into passes.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "translucent/geometry/mesh.h"
+#include "translucent/material/material.h"
+#include "translucent/reference/camera.h"
+#include "translucent/reference/majorant_grid.h"
+#include "translucent/reference/mesh_tracer.h"
+#include "translucent/reference/transport.h"
+
+namespace translucent::reference {
+
+struct CameraPathOptions {
+  uint64_t seed = 1;
+  int threads = 0;  // 0: all hardware threads
+  // As TracerOptions (transport.h): after this many scattering events continue with probability
+  // 1/10 at weight x10 (0: off).
+  uint64_t long_path_roulette = TransportOptions{}.long_path_roulette;
+  bool split_orders = false;     // also the images per scattering order
+  bool exitance = true;          // also the exitance and diffusion-radiance images
+  double cone_half_angle = 0.0;  // degrees, in [0, 90): 0 = the true radiance (see above)
+
+  void validate() const;  // ParameterError naming the bad field
+};
+
+struct CameraPathStats {
+  uint64_t samples = 0;            // per pixel and channel, all passes (min over rows if stopped)
+  uint64_t paths = 0;              // paths traced (all pixels, channels and images)
+  uint64_t scattering_events = 0;  // real collisions along them
+  uint64_t shadow_rays = 0;        // next-event estimates
+  double seconds = 0.0;
+  int threads = 0;
+  bool partial = false;  // a pass was stopped: some rows hold fewer samples than others
+};
+
+class CameraPathTracer {
+ public:
+  // Three channels of a medium (coefficients per scene unit) or one (grey images).
+  CameraPathTracer(const geometry::TriangleMesh& mesh, const Medium& medium,
+                   std::vector<Light> lights, const Camera& camera,
+                   const CameraPathOptions& options);
+  CameraPathTracer(const geometry::TriangleMesh& mesh, const ScalarMedium& medium,
+                   std::vector<Light> lights, const Camera& camera,
+                   const CameraPathOptions& options);
+  // A built material (the scene's): homogeneous, or a 3D field through a majorant grid over the
+  // mesh's bounds (as MeshPathTracer); a surface-map material is refused.
+  CameraPathTracer(const geometry::TriangleMesh& mesh, const material::Material& material,
+                   std::vector<Light> lights, const Camera& camera,
+                   const CameraPathOptions& options, glm::ivec3 majorant_cells = {0, 0, 0});
+  ~CameraPathTracer();
+  CameraPathTracer(const CameraPathTracer&) = delete;
+  CameraPathTracer& operator=(const CameraPathTracer&) = delete;
+
+  // `samples` more samples per pixel and channel (each row continues its own sample sequence).
+  // A stop from `progress` (counting samples over all pixels and channels) keeps the rows
+  // already done and sets partial.
+  CameraPathStats addPass(uint64_t samples, const ProgressCallback& progress = {});
+
+  const CameraImages& images() const { return images_; }
+  bool splitsOrders() const { return orders_.has_value(); }
+  const CameraImages& orderImages(ScatteringOrder order) const;
+  const CameraPathStats& stats() const { return stats_; }
+  const MeshBody& body() const { return body_; }
+  const CameraModel& camera() const { return camera_; }
+  const CameraPathOptions& options() const { return options_; }
+  size_t channels() const { return channels_.size(); }
+  const VolumeMedium* volume() const { return volume_ ? &*volume_ : nullptr; }
+  uint64_t majorantViolations() const { return volume_ ? volume_->majorantViolations() : 0; }
+
+  // Why the camera method cannot render this scene ("" when it can): η ≠ 1, an environment light
+  // or a pencil beam (see the header comment). The constructors throw it as a ParameterError.
+  static std::string refusal(double eta, std::span<const Light> lights);
+
+ private:
+  void init();
+  std::vector<ScalarMedium> channels_;
+  std::optional<VolumeMedium> volume_;
+  std::vector<Light> lights_;
+  CameraPathOptions options_;
+  MeshBody body_;
+  CameraModel camera_;
+  CameraImages images_;
+  std::optional<std::array<CameraImages, kScatteringOrders>> orders_;
+  std::vector<uint64_t> rowSamples_;  // samples traced so far in each row
+  CameraPathStats stats_;
+};
+
+}  // namespace translucent::reference
