@@ -41,6 +41,7 @@
 #include "options.h"
 #include "progress.h"
 #include "translucent/scene/mesh_scene.h"
+#include "translucent/reference/camera_paths.h"
 #include "translucent/reference/mesh_tracer.h"
 #include "translucent/reference/model_reference.h"
 #include "translucent/reference/gpu/device.h"
@@ -83,6 +84,9 @@ struct RunArgs {
   double exposure = 0.0, gamma = 2.2;
   ShardArgs shard;  // the path tracers' --shard I/N --partial FILE (shard.h)
   bool split_orders = false;  // the path tracers' --split-orders
+  // `pathtrace mesh --method light|camera` and the camera method's --samples (camera_paths.h).
+  std::string method = "light";
+  std::string samples = "16";
 
   // The path tracers' flag: images by scattering order as further EXR layers.
   void addSplitOrders(CLI::App& cmd) {
@@ -489,6 +493,79 @@ void runIntegrateSphere(const SphereArgs& s, const RunArgs& a, const std::string
   run(integrator, "cpu");
 }
 
+// `pathtrace mesh --method camera` (reference/camera_paths.h): paths from the camera with
+// next-event estimation, every pixel its own samples. The images and JSON as the light method's,
+// but for the statistics (per pixel: "samples_per_pixel") and the cone: its cone_radiance layer
+// is the true radiance towards the camera (cone half-angle 0).
+void runPathtraceMeshCamera(const reference::MeshScene& scene, const std::string& sceneFile,
+                            const RunArgs& a, const std::string& device) {
+  if (a.shard.active())
+    throw ParameterError("--shard: not available with --method camera (more samples per pixel "
+                         "come from --samples and --passes)");
+  if (device == "gpu")
+    throw ParameterError("--device gpu: the camera method runs on the CPU (--device cpu or auto, "
+                         "or --method light for the GPU)");
+  if (a.count != RunArgs{}.count)
+    throw ParameterError("--photons: the camera method traces camera paths per pixel (--samples), "
+                         "not photons");
+  const uint64_t samples = parseCount(a.samples, "--samples");
+  if (!beginWork()) return;
+  if (mergedRun())
+    throw ParameterError("merge: the camera method has no shards to merge");
+  const geometry::TriangleMesh mesh = scene::loadSceneMesh(scene);  // normalised and placed
+  scene::requireOutsideMesh(scene, mesh);
+  reference::CameraPathOptions o;
+  o.seed = a.seed;
+  o.threads = a.threads;
+  o.split_orders = a.split_orders;
+  o.exitance = a.quantity != "cone-radiance";  // the cosine-distributed paths only when asked for
+  reference::CameraPathTracer tracer(mesh, scene::sceneMaterial(scene, mesh),
+                                     scene::referenceLights(scene), scene.camera, o);
+  auto pass = [&](const reference::ProgressCallback& cb) {
+    return tracer.addPass(samples, cb).partial;
+  };
+  auto write = [&](bool partial) {
+    OutputFiles out;  // the images and the JSON of this pass, all or nothing
+    std::vector<std::pair<std::string, const McImage*>> all;
+    auto add = [&](const reference::CameraImages& im, const std::string& suffix) {
+      all.emplace_back("cone_radiance" + suffix, &im.cone_radiance);
+      if (!o.exitance) return;
+      all.emplace_back("exitance" + suffix, &im.exitance);
+      all.emplace_back("radiance" + suffix, &im.radiance);
+    };
+    add(tracer.images(), "");
+    if (tracer.splitsOrders())
+      for (reference::ScatteringOrder k : reference::kAllScatteringOrders)
+        add(tracer.orderImages(k), std::string("_") + reference::toString(k));
+    const auto& st = tracer.stats();
+    const McImage& chosen = pick(tracer.images(), a.quantity);
+    writeImage(out, a, chosen, all,
+               fmt::format("translucent pathtrace mesh --method camera --scene {} (cone "
+                           "half-angle 0: the true radiance)", sceneFile),
+               partial, fmt::format("{} camera paths per pixel and channel", st.samples));
+    nlohmann::json j = {{"command", "pathtrace mesh"}, {"method", "camera"},
+                        {"scene_file", sceneFile},
+                        {"scene", nlohmann::json::parse(reference::toJson(scene))},
+                        {"triangles", tracer.body().triangleCount()},
+                        {"samples_per_pixel", st.samples}, {"paths", st.paths},
+                        {"seconds", st.seconds}, {"scattering_events", st.scattering_events},
+                        {"shadow_rays", st.shadow_rays}, {"cone_angle", 0.0},
+                        {"median_relative_stderr", medianRelativeError(chosen)},
+                        {"majorant_violations", tracer.majorantViolations()},
+                        {"split_orders", tracer.splitsOrders()}, {"threads", st.threads},
+                        {"device", "cpu"}, {"partial", partial}};
+    writeJson(out, a, j);
+    out.commit();
+  };
+  runPasses(a, "pathtrace mesh", "samples", pass, write);
+  const auto& st = tracer.stats();
+  printStderr("pathtrace mesh: {}{} camera paths per pixel and channel in {:.2f} s ({} threads, "
+              "{} triangles, camera method); wrote {}{}\n",
+              st.partial ? "stopped early, partial result: " : "", st.samples, st.seconds,
+              st.threads, tracer.body().triangleCount(), a.exr,
+              a.png.empty() ? "" : " and " + a.png);
+}
+
 // ---------------------------------------------------------------------------------------------
 
 // The scene file with --time (the deformations' time, scene.h "time") applied when given.
@@ -508,6 +585,7 @@ void runPathtraceMesh(const std::string& sceneFile, std::optional<double> time, 
   OutputSet inputs;
   inputs.sceneInputs(sceneFile, scene);
   a.validate(inputs);
+  if (a.method == "camera") return runPathtraceMeshCamera(scene, sceneFile, a, device);
   const uint64_t photons = parseCount(a.count, "--photons");
   device = a.shard.device(device);
   if (!beginWork()) return;
@@ -694,6 +772,16 @@ void addRenderReferenceCommands(CLI::App& app) {
     a->add(*cmd, "--photons", "Photons per channel per pass (e.g. 1e6)", tracerQuantities);
     a->addSplitOrders(*cmd);
     auto device = std::make_shared<std::string>("auto");
+    cmd->add_option("--method", a->method,
+                    "light: photons from the lights, splatted through a cone at the camera; "
+                    "camera: paths from the camera with next-event estimation to every light "
+                    "(per-pixel samples, --samples; eta 1 only, CPU, no --shard; its "
+                    "cone-radiance is the true radiance, cone half-angle 0)")
+        ->check(CLI::IsMember({"light", "camera"}))
+        ->capture_default_str();
+    cmd->add_option("--samples", a->samples,
+                    "--method camera: camera paths per pixel and channel per pass (e.g. 64)")
+        ->capture_default_str();
     cmd->add_option("--device", *device,
                     "cpu: the CPU tracer (Embree); gpu: the GL compute-shader walk against a BVH "
                     "of the mesh (homogeneous media and 3D fields, deformed or not; Philox streams: "
