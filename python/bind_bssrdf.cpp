@@ -3,6 +3,8 @@
 #include <fmt/format.h>
 #include <pybind11/stl.h>
 
+#include <cmath>
+#include <limits>
 #include <memory>
 
 #include <pybind11/stl/filesystem.h>
@@ -24,18 +26,32 @@ namespace translucent::python {
 
 namespace {
 
+// Radii [scene units] from any array-like (converted once when it is not already float64):
+// finite and >= 0, TypeError or ValueError naming the argument `r` otherwise.
+py::array_t<double, py::array::c_style | py::array::forcecast> radii(const py::object& r) {
+  return checkedArray(r, "r", 0.0, std::numeric_limits<double>::infinity());
+}
+
 // apps/cli/bssrdf_models.cpp isBssrdfFile: a name ending in .bssrdf or an existing file.
 bool isBssrdfFile(const std::string& entry) { return bssrdf::isPluginFile(entry); }
 
-// A .bssrdf plug-in model (seed appendix A.2), evaluated on the GPU through the module's context.
+// A .bssrdf plug-in model, evaluated on the GPU through the module's context.
 class BssrdfModel {
  public:
-  BssrdfModel(const std::string& path, const py::kwargs& params) : path_(path) {
-    if (!std::filesystem::is_regular_file(path))
-      throw ParameterError(fmt::format("--model {}: no such .bssrdf file", path));
+  BssrdfModel(const py::object& path, const py::kwargs& params)
+      : path_(pathArgument(path, "path").string()) {
+    if (!std::filesystem::is_regular_file(path_))
+      throw ParameterError(fmt::format("path={}: no such .bssrdf file", reprOf(path)));
     GlLock lock;
-    evaluator_ = gpu::openBssrdf(path);
-    set(params);
+    evaluator_ = gpu::openBssrdf(path_);
+    try {
+      set(params);
+    } catch (...) {
+      // The evaluator deletes its GL programs: while the context is current (the lock's
+      // destructor runs before the members' would).
+      evaluator_.reset();
+      throw;
+    }
   }
   ~BssrdfModel() {
     GlLock lock;  // the evaluator deletes its GL programs
@@ -44,20 +60,36 @@ class BssrdfModel {
   BssrdfModel(const BssrdfModel&) = delete;
   BssrdfModel& operator=(const BssrdfModel&) = delete;
   // Each parameter by its declared type: float, bool, or color (r, g, b).
+  // Every value is checked before any is set: a bad one changes nothing.
   void set(const py::kwargs& params) {
+    std::vector<std::pair<std::string, gpu::ParameterValue>> values;
     for (const auto& [k, v] : params) {
       const std::string name = k.cast<std::string>();
       const bssrdf::BssrdfParameter* decl = evaluator_->file().findParameter(name);
       if (decl == nullptr)
-        throw ParameterError(fmt::format("--param {}: {} declares no parameter '{}'", name,
-                                         path_, name));
-      if (std::holds_alternative<bssrdf::BoolParameter>(decl->spec))
-        evaluator_->setParameter(name, v.cast<bool>());
-      else if (std::holds_alternative<bssrdf::FloatParameter>(decl->spec))
-        evaluator_->setParameter(name, v.cast<double>());
-      else
-        evaluator_->setParameter(name, toRgb(v, "--param " + name));
+        throw ParameterError(
+            fmt::format("{}={}: {} declares no parameter '{}'", name, reprOf(v), path_, name));
+      if (std::holds_alternative<bssrdf::BoolParameter>(decl->spec)) {
+        if (!py::isinstance<py::bool_>(v) &&
+            !py::isinstance(v, py::module_::import("numpy").attr("bool_")))
+          throw py::type_error(
+              fmt::format("{}={}: expected True or False (a bool parameter)", name, reprOf(v)));
+        values.emplace_back(name, v.cast<bool>());
+      } else if (std::holds_alternative<bssrdf::FloatParameter>(decl->spec)) {
+        double x = 0.0;
+        if (py::isinstance<py::bool_>(v) || py::isinstance<py::str>(v) || v.is_none())
+          throw py::type_error(fmt::format("{}={}: expected a number", name, reprOf(v)));
+        try {
+          x = v.cast<double>();
+        } catch (const py::cast_error&) {
+          throw py::type_error(fmt::format("{}={}: expected a number", name, reprOf(v)));
+        }
+        values.emplace_back(name, finiteArgument(x, name.c_str()));
+      } else {
+        values.emplace_back(name, finiteRgb(v, name));
+      }
     }
+    for (const auto& [name, value] : values) evaluator_->setParameter(name, value);
   }
   // The evaluator, for a caller that holds a GlLock.
   gpu::BssrdfEvaluator& evaluator() { return *evaluator_; }
@@ -72,8 +104,7 @@ class BssrdfModel {
   }
   // R(r) per channel: gpu::bssrdfCurves, what `translucent profile --model F.bssrdf` writes.
   py::array_t<double> profile(const Medium& medium, const py::object& r) {
-    auto in = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(r);
-    if (!in) throw py::error_already_set();
+    const auto in = radii(r);
     medium.validate();
     std::vector<py::ssize_t> shape(in.shape(), in.shape() + in.ndim());
     shape.push_back(3);
@@ -107,23 +138,17 @@ std::shared_ptr<Profiles> makeProfiles(const bssrdf::Model& model, const Medium&
   return std::make_shared<Profiles>(Profiles{&model, medium, bssrdf::profiles(model, medium)});
 }
 
-// A 1-D float64 view of any array-like (converted once when it is not already float64).
-py::array_t<double, py::array::c_style | py::array::forcecast> radii(const py::object& r) {
-  return py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(r);
-}
-
 // out[i, c] = f(c, in[i]) for the N values of `in` (any shape, flattened): shape in.shape + (3,).
 template <class F>
-py::array_t<double> perChannel(const py::object& values, F&& f) {
-  auto in = radii(values);
-  if (!in) throw py::error_already_set();
+py::array_t<double> perChannel(
+    const py::array_t<double, py::array::c_style | py::array::forcecast>& in, F&& f) {
   std::vector<py::ssize_t> shape(in.shape(), in.shape() + in.ndim());
   shape.push_back(3);
   const size_t n = static_cast<size_t>(in.size());
   std::vector<double> out(3 * n);
   const double* x = in.data();
   {
-    py::gil_scoped_release release;  // `in` stays alive (held by this frame)
+    py::gil_scoped_release release;  // `in` stays alive (the caller holds it)
     for (size_t i = 0; i < n; ++i)
       for (int c = 0; c < 3; ++c) out[3 * i + static_cast<size_t>(c)] = f(c, x[i]);
   }
@@ -140,8 +165,18 @@ Models are stateless; model.profiles(medium) makes the per-channel radial profil
       .def_property_readonly("name", [](const bssrdf::Model& x) { return std::string(x.name()); })
       .def_property_readonly("description",
                              [](const bssrdf::Model& x) { return std::string(x.description()); })
-      .def("total_reflectance", &bssrdf::Model::totalReflectance, py::arg("alpha_prime"),
-           py::arg("eta"),
+      .def(
+          "total_reflectance",
+          [](const bssrdf::Model& x, double alpha_prime, double eta) {
+            if (!(alpha_prime >= 0.0 && alpha_prime <= 1.0))
+              throw ParameterError(fmt::format(
+                  "alpha_prime is {}: expected a reduced albedo in [0, 1]", alpha_prime));
+            if (!std::isfinite(eta) || eta <= 0.0)
+              throw ParameterError(
+                  fmt::format("eta is {}: expected a positive index of refraction", eta));
+            return x.totalReflectance(alpha_prime, eta);
+          },
+          py::arg("alpha_prime"), py::arg("eta"),
            "Total diffuse reflectance Rd as a function of the reduced albedo α' in [0, 1] and η")
       .def(
           "profiles",
@@ -175,7 +210,7 @@ float64, the last axis red, green, blue.
       .def(
           "R",
           [](const Profiles& p, const py::object& r) {
-            return perChannel(r, [&](int c, double x) {
+            return perChannel(radii(r), [&](int c, double x) {
               return p.rgb[static_cast<size_t>(c)]->R(x);
             });
           },
@@ -191,10 +226,11 @@ float64, the last axis red, green, blue.
       .def(
           "sample",
           [](const Profiles& p, const py::object& u) {
-            auto r = perChannel(u, [&](int c, double x) {
+            const auto in = checkedArray(u, "u", 0.0, 1.0, true);
+            auto r = perChannel(in, [&](int c, double x) {
               return p.rgb[static_cast<size_t>(c)]->sample(x).r;
             });
-            auto pdf = perChannel(u, [&](int c, double x) {
+            auto pdf = perChannel(in, [&](int c, double x) {
               return p.rgb[static_cast<size_t>(c)]->sample(x).pdf;
             });
             return py::make_tuple(r, pdf);
@@ -205,7 +241,7 @@ float64, the last axis red, green, blue.
       .def(
           "pdf",
           [](const Profiles& p, const py::object& r) {
-            return perChannel(r, [&](int c, double x) {
+            return perChannel(radii(r), [&](int c, double x) {
               return p.rgb[static_cast<size_t>(c)]->pdf(x);
             });
           },
@@ -225,18 +261,19 @@ float64, the last axis red, green, blue.
           "the effective scattering range)");
 
   py::class_<BssrdfModel>(m, "BssrdfModel", R"doc(
-A .bssrdf plug-in model (seed appendix A.2), compiled and evaluated on the GPU (the module's
+A .bssrdf plug-in model, compiled and evaluated on the GPU (the module's
 headless OpenGL context, made on first use): BssrdfModel(path, **parameters).
 
 parameters: the file's declared parameters by name (float, bool, or color r, g, b); the others
   keep the file's defaults. .set(**parameters) changes them, .parameters lists them.
 .profile(medium, r): R(r) [1/unit²] per channel, shape r.shape + (3,), float64: what
   `translucent profile --model FILE` writes (the GPU computes in float32).
-.energy(medium, fraction=0.95): {"Rd": (3,), "radius": (3,)} from GPU values of R.
+.energy(medium, fraction=0.95): a ProfileEnergy, .Rd and .radius (each (3,)), from GPU values
+  of R.
 .invert(rd, ld, eta=1.3): the medium through the file's diffuseReflectance section.
 Radial sampling is not bound for .bssrdf models (the CPU models have it: Profiles.sample).
 )doc")
-      .def(py::init<const std::string&, const py::kwargs&>(), py::arg("path"))
+      .def(py::init<const py::object&, const py::kwargs&>(), py::arg("path"))
       .def_property_readonly("path", &BssrdfModel::path)
       .def_property_readonly("name", &BssrdfModel::stem)
       .def_property_readonly("parameters", &BssrdfModel::parameters)
@@ -253,7 +290,7 @@ Radial sampling is not bound for .bssrdf models (the CPU models have it: Profile
             py::dict d;
             d["Rd"] = rgbArray(e.rd);
             d["radius"] = rgbArray(e.radius);
-            return d;
+            return result("ProfileEnergy", d);
           },
           py::arg("medium"), py::arg("fraction") = 0.95)
       .def(
@@ -262,7 +299,7 @@ Radial sampling is not bound for .bssrdf models (the CPU models have it: Profile
             if (!std::isfinite(eta) || eta <= 0.0)
               throw ParameterError(
                   fmt::format("--eta is {}: expected a positive index of refraction", eta));
-            const Rgb rdv = toRgb(rd, "--rd"), ldv = toRgb(ld, "--ld");
+            const Rgb rdv = finiteRgb(rd, "rd"), ldv = finiteRgb(ld, "ld");
             GlLock lock;
             return gpu::invertBssrdfMedium(b.evaluator(), rdv, ldv, eta);
           },
@@ -273,22 +310,25 @@ Radial sampling is not bound for .bssrdf models (the CPU models have it: Profile
       [](const std::string& model, const py::object& r, const std::optional<std::string>& preset,
          const py::object& sigma_a, const py::object& sigma_s, std::optional<double> g,
          std::optional<double> eta, double scale, const std::optional<Medium>& medium) {
-        // g and eta default to 0 and 1.3 (the signature the issue fixes): with medium= only
+        // g and eta default to 0 and 1.3 (the documented signature): with medium= only
         // those defaults are accepted, as for scale.
         if (medium && (preset || !sigma_a.is_none() || !sigma_s.is_none() || g.value_or(0.0) != 0.0 ||
                        eta.value_or(1.3) != 1.3 || scale != 1.0))
           throw ParameterError("medium= excludes preset, sigma_a, sigma_s, g, eta and scale");
+        const auto in = radii(r);
         const Medium med = medium ? *medium : mediumFromArgs(preset, sigma_a, sigma_s, g, eta, scale);
         if (isBssrdfFile(model)) {
-          BssrdfModel file(model, py::kwargs());
+          if (!std::filesystem::is_regular_file(model))
+            throw ParameterError(fmt::format("--model {}: no such .bssrdf file", model));
+          BssrdfModel file{py::str(model), py::kwargs()};
           if (!file.evaluator().file().attributes.radial)
             throw ParameterError(fmt::format(
                 "--model {}: not a radial BSSRDF (line 1 lacks `radial`): profile plots R(r)",
                 model));
-          return file.profile(med, r);
+          return file.profile(med, in);
         }
         const auto p = makeProfiles(bssrdf::model(model), med);
-        return perChannel(r, [&](int c, double x) { return p->rgb[static_cast<size_t>(c)]->R(x); });
+        return perChannel(in, [&](int c, double x) { return p->rgb[static_cast<size_t>(c)]->R(x); });
       },
       py::arg("model"), py::arg("r"), py::arg("preset") = py::none(),
       py::arg("sigma_a") = py::none(), py::arg("sigma_s") = py::none(), py::arg("g") = 0.0,

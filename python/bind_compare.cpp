@@ -23,6 +23,7 @@
 #include "common.h"
 #include "translucent/geometry/mesh.h"
 #include "translucent/gpu/context.h"
+#include "translucent/io/json.h"
 #include "gl_lock.h"
 #include "json_py.h"
 #include "translucent/scene/scene.h"
@@ -243,9 +244,7 @@ py::dict compareScene(scene::Scene s, const std::string& sceneFile, const Compar
     if (stop.interrupted()) report.partial = true;
     (void)analysis::writeReport(out, report);
   }
-  std::ifstream f(out / "report.json");
-  if (!f) throw std::runtime_error(fmt::format("cannot read '{}'", (out / "report.json").string()));
-  py::dict d = toPython(nlohmann::json::parse(f));
+  py::dict d = toPython(io::readJsonFile(out / "report.json"));
   return d;
 }
 
@@ -274,7 +273,7 @@ cache: the reference cache folder (None: the CLI's default, ~/.cache/translucent
   False: no cache). out: the report folder to write (index.html, report.json, EXRs, PNGs);
   None: a temporary folder, removed after reading its report.json. force: replace a previous
   report in `out`.
-Returns report.json as a dict: "metrics" (test, reference, quantity, convention, mask and the
+Returns report.json as a CompareReport: "metrics" (test, reference, quantity, convention, mask and the
 metrics: rel_rmse, bias, ssim, flip, ...), "techniques" (frame_ms, passes, parameters, notes,
 status), "references", "sweep", "notes", "partial", "scene", "settings". The GIL is released;
 Ctrl-C stops the references and the techniques, and the report (then marked "partial") is still
@@ -293,25 +292,32 @@ void bindCompare(py::module_& m) {
          bool sweep, const py::object& cache, const std::optional<fs::path>& out, bool force,
          const std::string& reference_device, const py::object& reference_from) {
         CompareArgs a;
-        if (py::isinstance<py::str>(reference_from) || py::isinstance(reference_from, py::module_::import("os").attr("PathLike")))
-          a.reference_from.push_back(reference_from.cast<fs::path>());
-        else if (!reference_from.is_none())
-          a.reference_from = reference_from.cast<std::vector<fs::path>>();
+        const py::object pathLike = py::module_::import("os").attr("PathLike");
+        if (py::isinstance<py::str>(reference_from) || py::isinstance(reference_from, pathLike)) {
+          a.reference_from.push_back(pathArgument(reference_from, "reference_from"));
+        } else if (!reference_from.is_none()) {
+          if (!py::isinstance<py::sequence>(reference_from))
+            throw py::type_error(fmt::format(
+                "reference_from={}: expected a file name, a list of file names or None",
+                reprOf(reference_from)));
+          for (const auto& f : reference_from)
+            a.reference_from.push_back(pathArgument(f, "reference_from"));
+        }
         if (reference_device != "cpu" && reference_device != "gpu")
           throw ParameterError(
               fmt::format("--reference-device '{}': expected cpu or gpu", reference_device));
         a.reference_device = reference_device;
         a.names = names ? *names : techniques::names();
         if (a.names.empty())
-          throw ParameterError("--techniques '': expected a list of techniques or all");
+          throw ParameterError("techniques=[]: expected technique names, or None for all");
         for (const auto& n : a.names) (void)makeTechniqueSpec(n, nullptr);  // names and settings exist
         for (const auto& k : references) {
-          const auto kind = analysis::parseReferenceKind(k, "--reference");
+          const auto kind = analysis::parseReferenceKind(k, "references");
           if (std::find(a.kinds.begin(), a.kinds.end(), kind) == a.kinds.end())
             a.kinds.push_back(kind);
         }
         if (a.kinds.empty())
-          throw ParameterError("--reference '': expected physical, model or both");
+          throw ParameterError("references=[]: expected \"physical\", \"model\" or both");
         a.photons = photonCount(photons, "--photons");
         a.samples = photonCount(samples, "--samples");
         if (subpixels < 1 || subpixels > 16)
@@ -332,8 +338,12 @@ void bindCompare(py::module_& m) {
           a.cacheDir = analysis::defaultReferenceCacheDirectory();
         else if (py::isinstance<py::bool_>(cache) && !cache.cast<bool>())
           a.cacheDir.clear();
+        else if (py::isinstance<py::str>(cache) || py::isinstance(cache, pathLike))
+          a.cacheDir = fs::absolute(pathArgument(cache, "cache"));
         else
-          a.cacheDir = fs::absolute(cache.cast<fs::path>());
+          throw py::type_error(fmt::format(
+              "cache={}: expected a folder name, None (the default cache) or False (none)",
+              reprOf(cache)));
         scene::Scene s;
         std::string sceneFile;
         if (sceneArg.is_none()) {
@@ -341,7 +351,11 @@ void bindCompare(py::module_& m) {
         } else if (py::isinstance<scene::Scene>(sceneArg)) {
           s = sceneArg.cast<scene::Scene>();
         } else {
-          sceneFile = sceneArg.cast<fs::path>().string();
+          if (!py::isinstance<py::str>(sceneArg) && !py::isinstance(sceneArg, pathLike))
+            throw py::type_error(fmt::format(
+                "scene={}: expected a translucent.Scene, a scene file name or None",
+                reprOf(sceneArg)));
+          sceneFile = pathArgument(sceneArg, "scene").string();
           s = scene::loadScene(sceneFile);
         }
         if (width) s.camera.width = *width;
@@ -360,8 +374,9 @@ void bindCompare(py::module_& m) {
         Interruptible stop;
         py::dict d = compareScene(std::move(s), sceneFile, a, dir, stop);
         if (out) d["out"] = dir;
-        stop.rethrow(d);
-        return d;
+        py::object report = result("CompareReport", d);
+        stop.rethrow(report);
+        return report;
       },
       py::arg("scene") = py::none(), py::kw_only(), py::arg("techniques") = py::none(),
       py::arg("references") = std::vector<std::string>{"physical", "model"},

@@ -9,6 +9,8 @@
 #include "translucent/optics/inversion.h"
 #include "translucent/optics/presets.h"
 
+#include <cmath>
+
 namespace translucent::python {
 
 void bindOptics(py::module_& m) {
@@ -38,7 +40,17 @@ The constructor validates (ValueError naming the parameter and channel).
            }),
            py::arg("sigma_a") = py::none(), py::arg("sigma_s") = py::none(), py::arg("g") = 0.0,
            py::arg("eta") = 1.3, py::arg("scale") = 1.0)
-      .def_static("from_reduced", &Medium::fromReduced, py::arg("sigma_a"),
+      .def_static(
+          "from_reduced",
+          [](const py::object& sigma_a, const py::object& sigma_s_prime, double g, double eta,
+             double scale) {
+            Medium med = Medium::fromReduced(toRgb(sigma_a, "sigma_a"),
+                                             toRgb(sigma_s_prime, "sigma_s_prime"), g, eta,
+                                             scale);
+            med.validate();
+            return med;
+          },
+          py::arg("sigma_a"),
                   py::arg("sigma_s_prime"), py::arg("g") = 0.0, py::arg("eta") = 1.3,
                   py::arg("scale") = 1.0,
                   "Medium from reduced scattering σs' = (1 - g) σs [1/mm], as Jensen 2001 "
@@ -81,11 +93,11 @@ The constructor validates (ValueError naming the parameter and channel).
             d["reduced_albedo"] = s.reducedAlbedo();
             d["diffuse_mean_free_path"] = s.diffuseMeanFreePath();
             d["reduced_mean_free_path"] = s.reducedMeanFreePath();
-            return d;
+            return result("ChannelProperties", d);
           },
           py::arg("c"),
-          "One channel (0 red, 1 green, 2 blue) with coefficients per scene unit (σ · scale) "
-          "and the derived quantities: σtr [1/unit], albedo α, reduced albedo α', diffuse "
+          "One channel (0 red, 1 green, 2 blue) as a ChannelProperties: coefficients per scene "
+          "unit (σ · scale) and the derived quantities: σtr [1/unit], albedo α, reduced albedo α', diffuse "
           "mean free path ℓd = 1/σtr and reduced mean free path ℓ' [scene units]")
       .def("__eq__",
            [](const Medium& a, const Medium& b) {
@@ -108,7 +120,14 @@ The constructor validates (ValueError naming the parameter and channel).
       .def_property_readonly("sigma_a", [](const Preset& p) { return rgbArray(p.sigma_a); })
       .def_readonly("g", &Preset::g)
       .def_readonly("eta", &Preset::eta)
-      .def("medium", &Preset::medium, py::arg("scale") = 1.0,
+      .def(
+          "medium",
+          [](const Preset& p, double scale) {
+            const Medium med = p.medium(scale);
+            med.validate();
+            return med;
+          },
+          py::arg("scale") = 1.0,
            "The preset as a Medium (σs = σs' / (1 - g)), `scale` mm per scene unit")
       .def("__repr__", [](const Preset& p) { return fmt::format("<Preset {}>", p.name); });
 
@@ -120,9 +139,17 @@ The constructor validates (ValueError naming the parameter and channel).
   m.def(
       "preset", [](const std::string& name) { return preset(name); }, py::arg("name"),
       "The preset of this name (case-insensitive); ValueError listing the names otherwise.");
-  m.def("fdr", &fdrRational, py::arg("eta"),
+  m.def(
+      "fdr",
+      [](double eta) {
+        if (!std::isfinite(eta) || eta <= 0.0)
+          throw ParameterError(
+              fmt::format("eta is {}: expected a positive index of refraction", eta));
+        return fdrRational(eta);
+      },
+      py::arg("eta"),
         "Average diffuse Fresnel reflectance Fdr(η), the rational fit of Egan & Hilgeman "
-        "(seed Eq. 2.30).");
+        "(Egan & Hilgeman 1979).");
 
   m.def(
       "invert",
@@ -131,14 +158,14 @@ The constructor validates (ValueError naming the parameter and channel).
         if (!std::isfinite(eta) || eta <= 0.0)
           throw ParameterError(
               fmt::format("--eta is {}: expected a positive index of refraction", eta));
-        const Rgb rdv = toRgb(rd, "--rd"), ldv = toRgb(ld, "--ld");
+        const Rgb rdv = finiteRgb(rd, "rd"), ldv = finiteRgb(ld, "ld");
         const auto& mod = bssrdf::model(model);
         return invertMedium([&](double a) { return mod.totalReflectance(a, eta); }, rdv, ldv,
                             eta);
       },
       py::arg("model"), py::arg("rd"), py::arg("ld"), py::arg("eta") = 1.3, R"doc(
 The medium whose total diffuse reflectance is `rd` and diffuse mean free path `ld` per channel
-(Jensen & Buhler 2002; seed 3.4), for a registered model: `translucent invert`.
+(Jensen & Buhler 2002), for a registered model: `translucent invert`.
 
 model: a registered model name (translucent.model_names()).
 rd: total diffuse reflectance Rd per channel (a number or r, g, b), in (0, Rd(α' = 1)).

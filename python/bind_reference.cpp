@@ -77,18 +77,27 @@ py::dict slabDict(const reference::SlabRun& run, SlabResult&& r) {
   return d;
 }
 
-py::dict pathtraceSlab(const reference::SlabRequest& request, const py::object& layersArg,
+py::object pathtraceSlab(const reference::SlabRequest& request, const py::object& layersArg,
                        std::optional<double> time_limit) {
   // Layers: a file name (what --layers takes), or the list itself (the file's JSON array).
   std::optional<std::vector<reference::SlabLayer>> layers;
   std::string what = "layers";
   if (!layersArg.is_none()) {
-    if (py::isinstance<py::str>(layersArg)) {
-      what = layersArg.cast<std::string>();
+    if (py::isinstance<py::str>(layersArg) ||
+        py::isinstance(layersArg, py::module_::import("os").attr("PathLike"))) {
+      what = pathArgument(layersArg, "layers").string();
       layers = reference::loadSlabLayers(what);
     } else {
-      const std::string text =
-          py::module_::import("json").attr("dumps")(layersArg).cast<std::string>();
+      if (!py::isinstance<py::list>(layersArg) && !py::isinstance<py::tuple>(layersArg))
+        throw py::type_error(fmt::format(
+            "layers={}: expected a list of dicts (one per layer, top first) or a file name",
+            reprOf(layersArg)));
+      std::string text;
+      try {
+        text = fromPython(layersArg).dump();
+      } catch (const py::error_already_set& e) {
+        throw py::type_error(fmt::format("layers: {}", e.what()));
+      }
       layers = reference::parseSlabLayers(text, "layers");
     }
   }
@@ -105,18 +114,19 @@ py::dict pathtraceSlab(const reference::SlabRequest& request, const py::object& 
   stop.finish();
   py::dict d = slabDict(run, std::move(r));
   if (run.layered) d["layers_file"] = py::isinstance<py::str>(layersArg) ? what : std::string();
-  stop.rethrow(d);
-  return d;
+  py::object out = result("SlabResult", d);
+  stop.rethrow(out);
+  return out;
 }
 
 // apps/cli/cmd_render_reference.cpp parseVec3, for a sequence of three numbers.
 glm::dvec3 toVec3(const py::handle& value, const char* option) {
   std::vector<double> v;
-  try {
-    v = py::cast<std::vector<double>>(value);
-  } catch (const py::cast_error&) {
-  }
-  const std::string text = py::str(py::repr(value)).cast<std::string>();
+  const std::string text = reprOf(value);
+  auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(value);
+  if (value.is_none() || py::isinstance<py::str>(value) || !a || a.ndim() != 1)
+    throw py::type_error(fmt::format("{}={}: expected three numbers x, y, z", option, text));
+  v.assign(a.data(), a.data() + a.size());
   if (v.size() != 3)
     throw ParameterError(fmt::format("{} {}: expected three numbers x, y, z", option, text));
   for (double x : v)
@@ -182,8 +192,8 @@ static reference::SphereScene sphereScene(double radius, const py::object& light
                                           double cone_angle) {
   reference::SphereScene scene;
   scene.radius = radius;
-  scene.light_direction = toVec3(light_dir, "--light-dir");
-  scene.view_direction = toVec3(view_dir, "--view-dir");
+  scene.light_direction = toVec3(light_dir, "light_dir");
+  scene.view_direction = toVec3(view_dir, "view_dir");
   scene.width = width;
   scene.height = height;
   scene.cone_half_angle = cone_angle;
@@ -207,6 +217,24 @@ void bindReference(py::module_& m) {
          int angle_bins, uint64_t long_path_roulette, const std::string& absorption,
          const std::string& kernel, const std::string& device, const py::object& layers,
          std::optional<double> time_limit) {
+        // What the CLI's option parser says in its own words, in the arguments' names.
+        if (layers.is_none() && !preset && !sigma_a && !sigma_s)
+          throw ParameterError(
+              "give the medium: sigma_a=, sigma_s= and eta=; or preset= and channel= ('r', 'g' "
+              "or 'b'); or layers=");
+        if (preset && !channel && !sigma_a && !sigma_s && layers.is_none())
+          throw ParameterError(
+              "channel=None: expected 'r', 'g' or 'b' with preset= (the slab traces one channel)");
+        finiteArgument(phi, "phi");
+        if (radial_max && !(std::isfinite(*radial_max) && *radial_max > 0.0))
+          throw ParameterError(fmt::format("radial_max is {}: expected a positive length", *radial_max));
+        if (angle_bins < 0)
+          throw ParameterError(fmt::format("angle_bins is {}: expected >= 0", angle_bins));
+        for (const auto& [v, name] : {std::pair{eta_above, "eta_above"}, {eta_below, "eta_below"}})
+          if (!(std::isfinite(v) && v > 0.0))
+            throw ParameterError(
+                fmt::format("{} is {}: expected a positive index of refraction", name, v));
+        validatePasses(1, threads);
         reference::SlabRequest a;
         a.sigma_a = sigma_a;
         a.sigma_s = sigma_s;
@@ -241,7 +269,7 @@ void bindReference(py::module_& m) {
       py::arg("kernel") = "lanes", py::arg("device") = "auto", py::arg("layers") = py::none(),
       py::arg("time_limit") = py::none(), R"doc(
 The reference: Monte Carlo photon transport in a slab lit by a pencil beam (MCML's one-layer
-setting, seed Algorithm 1): `translucent pathtrace slab`. Keyword arguments only.
+setting; Wang, Jacques & Zheng 1995): `translucent pathtrace slab`. Keyword arguments only.
 
 Medium: sigma_a, sigma_s [1/length], g, eta (required with sigma_a), or preset (Jensen 2001, in
 mm) with channel "r", "g" or "b". thickness [length]: None for a semi-infinite medium.
@@ -258,15 +286,15 @@ agrees with the CPU within the standard errors, not bit for bit) or "auto" (the 
 hardware GPU, else the CPU); "device" in the result names what traced.
 time_limit [s]: stop then and return what was traced, "partial": True.
 
-Returns a dict with the keys of the CLI's --json output: specular_reflectance,
+Returns a SlabResult with the fields of the CLI's --json output: specular_reflectance,
 diffuse_reflectance, transmittance, diffuse_transmittance, unscattered_transmittance, absorbed
 (per incident photon), each with <key>_stderr (its standard error); "radial" with "r", "rd",
 "rd_stderr" as float64 arrays (Rd(r) per unit area per incident photon); "scattering_orders"
 with "unscattered", "single" and "multiple", each holding diffuse_reflectance, transmittance
-and "radial" (and "angular") of that light alone (seed Eq. 2.13; they add up to the totals);
+and "radial" (and "angular") of that light alone (they add up to the totals);
 photons, seconds, photons_per_second, threads, seed, partial, medium, ... The GIL is released
 while tracing;
-Ctrl-C raises KeyboardInterrupt with the partial dict as its `partial_result`.
+Ctrl-C raises KeyboardInterrupt with the partial result as its `partial_result`.
 )doc");
 
   m.def(
@@ -290,6 +318,9 @@ Ctrl-C raises KeyboardInterrupt with the partial dict as its `partial_result`.
         reference::IntegrationOptions o;
         o.sampling = sampling == "uniform" ? reference::SurfaceSampling::Uniform
                                            : reference::SurfaceSampling::Importance;
+        if (!(defensive >= 0.0 && defensive <= 1.0))
+          throw ParameterError(
+              fmt::format("defensive is {}: expected a fraction in [0, 1]", defensive));
         o.defensive = defensive;
         o.seed = seed;
         o.threads = threads;
@@ -353,8 +384,9 @@ Ctrl-C raises KeyboardInterrupt with the partial dict as its `partial_result`.
         d["partial"] = st.partial || stop.interrupted() || stop.timedOut();
         d["seed"] = seed;
         d["medium"] = medium;
-        stop.rethrow(d);
-        return d;
+        py::object out = result("SphereIntegration", d);
+        stop.rethrow(out);
+        return out;
       },
       py::arg("model") = "dipole", py::kw_only(), py::arg("preset") = py::none(),
       py::arg("sigma_a") = py::none(), py::arg("sigma_s") = py::none(), py::arg("g") = py::none(),
@@ -365,7 +397,7 @@ Ctrl-C raises KeyboardInterrupt with the partial dict as its `partial_result`.
       py::arg("sampling") = "importance", py::arg("defensive") = 0.1, py::arg("seed") = 1,
       py::arg("threads") = 0, py::arg("time_limit") = py::none(), R"doc(
 A BSSRDF model integrated over the lit sphere, B(x_o) = ∫ R(|x_o − x_i|) Ft(η, θi) cos θi dA by
-Monte Carlo over the surface (seed 3.5): `translucent integrate sphere`, the same scene and
+Monte Carlo over the surface: `translucent integrate sphere`, the same scene and
 pixels as pathtrace_sphere (whose arguments it takes, without cone_angle).
 
 model: a registered model name, a tabulated profile FILE.csv, or a .bssrdf file (radial: its GPU
@@ -375,7 +407,7 @@ model: a registered model name, a tabulated profile FILE.csv, or a .bssrdf file 
 samples per pixel and channel per pass, passes.
 sampling: "importance" (probe rays from the model's radial sampler along three axes, with a
   fraction `defensive` of uniform samples) or "uniform" (points uniform on the lit hemisphere).
-Returns a dict: "exitance" B [W/unit²] and "radiance" Ft(η, ω_o) B / π [W/(unit² sr)], each an
+Returns a SphereIntegration: "exitance" B [W/unit²] and "radiance" Ft(η, ω_o) B / π [W/(unit² sr)], each an
 (height, width, 3) float32 array with "<name>_stderr"; samples_per_pixel, seconds, threads,
 partial, seed, medium. GIL released; Ctrl-C: KeyboardInterrupt with `partial_result`.
 )doc");
@@ -420,8 +452,9 @@ partial, seed, medium. GIL released; Ctrl-C: KeyboardInterrupt with `partial_res
         d["partial"] = st.partial || stop.interrupted() || stop.timedOut();
         d["seed"] = seed;
         d["medium"] = medium;
-        stop.rethrow(d);
-        return d;
+        py::object out = result("SphereTrace", d);
+        stop.rethrow(out);
+        return out;
       },
       py::kw_only(), py::arg("preset") = py::none(), py::arg("sigma_a") = py::none(),
       py::arg("sigma_s") = py::none(), py::arg("g") = py::none(), py::arg("eta") = py::none(),
@@ -447,16 +480,16 @@ device: "cpu", "gpu" (the GL compute-shader walk, any GL 4.5 context; Philox str
 agrees with the CPU within the standard errors, not bit for bit) or "auto" (the GPU on a
 hardware GPU, else the CPU); "device" in the result names what traced.
 
-Returns a dict: "exitance" (radiant exitance B [W/unit²], pixel averages), "radiance" (the
+Returns a SphereTrace: "exitance" (radiant exitance B [W/unit²], pixel averages), "radiance" (the
 diffusion models' radiance Ft(η, ω_o) B / π [W/(unit² sr)]), "cone_radiance" (true radiance
 towards the camera, cone-averaged), each an (height, width, 3) float32 array, rows from the
 top, with "<name>_stderr" its per-pixel standard error (the layers of the CLI's EXR); with
 split_orders, the same per scattering order ("exitance_unscattered", "exitance_single",
-"exitance_multiple", ..., each with "_stderr"; they add up to "exitance", seed Eq. 2.13); and
+"exitance_multiple", ..., each with "_stderr"; they add up to "exitance"); and
 photons_per_channel, passes, seconds, photons_per_second, threads, flux_per_channel (emitted,
 entered, exited, escaped per channel with standard errors, and exited_by_order), partial, seed,
 medium.
-The GIL is released while tracing; Ctrl-C raises KeyboardInterrupt with the partial dict as its
+The GIL is released while tracing; Ctrl-C raises KeyboardInterrupt with the partial result as its
 `partial_result`.
 )doc");
 }

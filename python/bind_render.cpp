@@ -7,6 +7,7 @@
 #include <pybind11/stl/filesystem.h>
 
 #include <algorithm>
+#include <limits>
 #include <memory>
 #include <mutex>
 
@@ -54,6 +55,8 @@ GlLock::~GlLock() {
 
 namespace {
 
+// The CLI's option of a technique parameter (its messages name it; pythonMessage turns it back
+// into the keyword argument's name).
 std::string optionName(const std::string& parameter) {
   std::string s = parameter;
   std::replace(s.begin(), s.end(), '_', '-');
@@ -63,11 +66,16 @@ std::string optionName(const std::string& parameter) {
 // A Python value as a technique parameter: bool, int, float or str (as the CLI's text).
 techniques::ParameterValue toValue(const std::string& name, const py::handle& v) {
   if (py::isinstance<py::bool_>(v)) return v.cast<bool>();
-  if (py::isinstance<py::int_>(v)) return v.cast<int>();
+  if (py::isinstance<py::int_>(v)) {
+    const auto x = v.cast<long long>();  // OverflowError beyond 64 bits
+    if (x < std::numeric_limits<int>::min() || x > std::numeric_limits<int>::max())
+      throw ParameterError(fmt::format("{}={}: out of the range of an int parameter", name, x));
+    return static_cast<int>(x);
+  }
   if (py::isinstance<py::float_>(v)) return v.cast<double>();
   if (py::isinstance<py::str>(v)) return v.cast<std::string>();
-  throw ParameterError(fmt::format("{}: {} is not a bool, int, float or str", optionName(name),
-                                   py::str(py::repr(v)).cast<std::string>()));
+  throw py::type_error(
+      fmt::format("{}={}: expected a bool, int, float or str", name, reprOf(v)));
 }
 
 py::object valueToPython(const techniques::ParameterValue& v) {
@@ -79,7 +87,10 @@ const char* typeName(techniques::ParameterType t) { return techniques::toString(
 scene::Scene sceneOf(const py::object& s) {
   if (s.is_none()) return scene::defaultScene();
   if (py::isinstance<scene::Scene>(s)) return s.cast<scene::Scene>();
-  return scene::loadScene(s.cast<std::filesystem::path>());
+  if (!py::isinstance<py::str>(s) && !py::isinstance(s, py::module_::import("os").attr("PathLike")))
+    throw py::type_error(fmt::format(
+        "scene={}: expected a translucent.Scene, a scene file name or None", reprOf(s)));
+  return scene::loadScene(pathArgument(s, "scene"));
 }
 
 // A technique prepared for a scene, rendered frame after frame (parameters may change between
@@ -146,7 +157,7 @@ class Renderer {
 
   // One frame rendered until converged (FrameRequest::converge, as the CLI), Ctrl-C checked
   // between the renders of a progressive technique.
-  py::dict render() {
+  py::object render() {
     GlLock lock;
     techniques::Frame f;
     {
@@ -172,14 +183,14 @@ class Renderer {
       pd["name"] = p.name;
       pd["ms"] = p.ms;
       pd["depth"] = p.depth;
-      passes.append(pd);
+      passes.append(result("RenderPass", pd));
     }
     d["passes"] = passes;
     d["total_ms"] = f.totalMs();
     d["converged"] = f.converged;
     d["notes"] = f.notes;
     d["technique"] = std::string(technique_->name());
-    return d;
+    return result("Frame", d);
   }
 
   py::dict parameters() const {
@@ -200,9 +211,9 @@ constexpr const char* kRenderDoc = R"doc(
 Renders a scene with a real-time technique on the GPU: `translucent render`.
 
     out = translucent.render("data/scenes/cube.json", "pointcloud", points=20000)
-    out["image"]        # (height, width, 3) float32, linear radiance [W/(unit² sr)], rows from top
-    out["layers"]       # {"exitance": (height, width, 3) float32, ...} (the EXR's layers)
-    out["passes"]       # [{"name", "ms", "depth"}]: GPU time of every pass; out["total_ms"]
+    out.image        # (height, width, 3) float32, linear radiance [W/(unit² sr)], rows from top
+    out.layers       # {"exitance": (height, width, 3) float32, ...} (the EXR's layers)
+    out.passes       # [RenderPass(name, ms, depth)]: GPU time of every pass; out.total_ms
 
 scene: a translucent.Scene, a scene file name, or None (the built-in bunny).
 technique: a name of translucent.techniques() (default: the scene's; another one starts from its
@@ -213,7 +224,8 @@ width, height [pixels], model (a registered name or .bssrdf file), time (of the 
   points=20000, epsilon=0.1; bool, int, float or str (as typed on the command line).
 The headless OpenGL 4.5 context (EGL; Mesa llvmpipe without a GPU) is made on the first call.
 Progressive techniques render until converged. The GIL is released while preparing and rendering.
-Errors raise ValueError with the CLI's message (a setting's names its option, --points ...).
+Returns a Frame. A bad argument or setting raises ValueError naming it (TypeError for a wrong
+type).
 )doc";
 
 }  // namespace
@@ -246,7 +258,7 @@ void bindRender(py::module_& m) {
           d["unit"] = p.unit;
           d["help"] = p.help;
           d["sweep"] = p.sweep;
-          out.append(d);
+          out.append(result("TechniqueParameter", d));
         }
         return out;
       },
@@ -264,7 +276,7 @@ void bindRender(py::module_& m) {
         d["vendor"] = i.vendor;
         d["platform"] = i.platform;
         d["software"] = i.software;
-        return d;
+        return result("GlInfo", d);
       },
       "The module's OpenGL context (made on first use): renderer, version, vendor, platform, "
       "software (True for Mesa's llvmpipe).");
@@ -273,7 +285,7 @@ void bindRender(py::module_& m) {
 A technique prepared for a scene, for frame after frame (a parameter sweep re-renders without
 preparing again): Renderer(scene=None, technique=None, *, width=None, height=None, model=None,
 time=None, **settings) takes render()'s arguments; .set(**settings) changes parameters,
-.render() returns render()'s dict, .parameters the current values.
+.render() returns render()'s Frame, .parameters the current values.
 )doc")
       .def(py::init<const py::object&, const std::optional<std::string>&, std::optional<int>,
                     std::optional<int>, const std::optional<std::string>&,

@@ -140,7 +140,7 @@ search path ($TRANSLUCENT_DATA).
         Interruptible stop(time_limit);
         scene::Scene scene = py::isinstance<scene::Scene>(sceneArg)
                                  ? sceneArg.cast<scene::Scene>()
-                                 : scene::loadScene(sceneArg.cast<std::filesystem::path>());
+                                 : scene::loadScene(pathArgument(sceneArg, "scene"));
         if (time) {
           if (!std::isfinite(*time))
             throw ParameterError(fmt::format("--time {}: expected a finite time", *time));
@@ -195,8 +195,9 @@ search path ($TRANSLUCENT_DATA).
         req.seed = seed;
         req.device = tracer->device() == "cpu" ? "cpu" : "gpu";  // as pathtrace mesh keys it
         d["reference_key"] = analysis::referenceKey(scene, req);
-        stop.rethrow(d);
-        return d;
+        py::object out = result("MeshTrace", d);
+        stop.rethrow(out);
+        return out;
       },
       py::arg("scene"), py::kw_only(), py::arg("photons") = 1e6, py::arg("passes") = 1,
       py::arg("seed") = 1, py::arg("threads") = 0, py::arg("time") = py::none(),
@@ -213,16 +214,16 @@ materials and 3D fields, deformed or not: others are a ValueError naming why) or
 GPU on a hardware GPU where the walk can trace the scene, else the CPU), as `pathtrace mesh
 --device`; "device" in the result names what traced.
 
-Returns a dict: "exitance" (radiant exitance B [W/unit²]), "radiance" (Ft(η, ω_o) B / π),
+Returns a MeshTrace: "exitance" (radiant exitance B [W/unit²]), "radiance" (Ft(η, ω_o) B / π),
 "cone_radiance" (true radiance towards the camera, cone-averaged [W/(unit² sr)]), each a
 (height, width, 3) float32 array, rows from the top, with "<name>_stderr"; with split_orders,
 the same per scattering order ("exitance_unscattered", "exitance_single", "exitance_multiple",
-..., each with "_stderr"; they add up to "exitance", seed Eq. 2.13); and the keys of the
+..., each with "_stderr"; they add up to "exitance"); and the keys of the
 CLI's --json: scene, triangles, photons_per_channel, seconds, photons_per_second,
 scattering_events, photons_in_several_pixels, median_relative_stderr, majorant_violations,
 threads, flux_per_channel, partial, seed, reference_key (what compare's --reference-from checks).
 The GIL is released while loading and tracing; Ctrl-C raises KeyboardInterrupt with the partial
-dict as its `partial_result`.
+result as its `partial_result`.
 )doc");
 }
 

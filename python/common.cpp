@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 #include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
 
 #include <cmath>
 
@@ -14,18 +15,119 @@ py::array_t<double> rgbArray(const Rgb& v) {
   return ownedArray<double>(std::vector<double>(v.begin(), v.end()), {3});
 }
 
+namespace {
+bool optionChar(char c) { return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '-'; }
+bool wordChar(char c) {
+  return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' ||
+         c == '-';
+}
+}  // namespace
+
+std::string pythonMessage(std::string_view m) {
+  std::string out;
+  out.reserve(m.size());
+  size_t i = 0;
+  while (i < m.size()) {
+    const bool option = m.compare(i, 2, "--") == 0 && (i == 0 || !wordChar(m[i - 1])) &&
+                        i + 2 < m.size() && m[i + 2] >= 'a' && m[i + 2] <= 'z';
+    if (!option) {
+      out += m[i++];
+      continue;
+    }
+    size_t j = i + 2;
+    while (j < m.size() && optionChar(m[j])) ++j;
+    while (m[j - 1] == '-') --j;  // "--sigma-a-" is "--sigma-a" and a dash
+    for (size_t k = i + 2; k < j; ++k) out += m[k] == '-' ? '_' : m[k];
+    if (m.compare(j, 2, " '") == 0) {  // "--channel 'x'" -> "channel='x'"
+      out += '=';
+      ++j;
+    }
+    i = j;
+  }
+  return out;
+}
+
+py::object result(const char* type, py::dict fields) {
+  return py::module_::import("translucent._results").attr(type)(std::move(fields));
+}
+
+std::string reprOf(const py::handle& value) { return py::str(py::repr(value)).cast<std::string>(); }
+
 Rgb toRgb(const py::handle& value, const std::string& what) {
-  if (py::isinstance<py::float_>(value) || py::isinstance<py::int_>(value)) {
-    const double v = value.cast<double>();
-    return {v, v, v};
+  const auto typeError = [&] {
+    return py::type_error(fmt::format("{}={}: expected a number or three numbers r, g, b", what,
+                                      reprOf(value)));
+  };
+  if (py::isinstance<py::bool_>(value) || value.is_none() || py::isinstance<py::str>(value) ||
+      py::isinstance<py::bytes>(value))
+    throw typeError();
+  // A number (Python's or NumPy's scalars): grey.
+  if (py::isinstance<py::float_>(value) || py::isinstance<py::int_>(value) ||
+      (PyNumber_Check(value.ptr()) != 0 && !py::hasattr(value, "__len__"))) {
+    try {
+      const double v = value.cast<double>();
+      return {v, v, v};
+    } catch (const py::cast_error&) {
+      throw typeError();
+    }
   }
-  try {
-    const auto seq = py::cast<std::vector<double>>(value);
-    if (seq.size() == 3) return {seq[0], seq[1], seq[2]};
-  } catch (const py::cast_error&) {
+  // A sequence or an array of numbers (a 0-d array: grey).
+  auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(value);
+  if (!a || a.ndim() > 1) throw typeError();
+  if (a.ndim() == 0) return {a.data()[0], a.data()[0], a.data()[0]};
+  if (a.size() != 3)
+    throw ParameterError(fmt::format("{} {}: expected one value or three values r, g, b", what,
+                                     reprOf(value)));
+  return {a.data()[0], a.data()[1], a.data()[2]};
+}
+
+Rgb finiteRgb(const py::handle& value, const std::string& what) {
+  const Rgb v = toRgb(value, what);
+  static const char* const names[] = {"red", "green", "blue"};
+  for (size_t c = 0; c < 3; ++c)
+    if (!std::isfinite(v[c]))
+      throw ParameterError(fmt::format("{} ({} channel) is {}: expected a finite value", what,
+                                       names[c], v[c]));
+  return v;
+}
+
+py::array_t<double, py::array::c_style | py::array::forcecast> checkedArray(
+    const py::object& values, const char* what, double lo, double hi, bool open_hi) {
+  using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
+  const auto typeError = [&] {
+    return py::type_error(fmt::format("{}={}: expected a number or an array-like of numbers", what,
+                                      reprOf(values)));
+  };
+  if (values.is_none() || py::isinstance<py::str>(values) || py::isinstance<py::bytes>(values))
+    throw typeError();
+  Array a = Array::ensure(values);  // clears NumPy's error when it cannot convert
+  if (!a) throw typeError();
+  const double* x = a.data();
+  for (py::ssize_t i = 0; i < a.size(); ++i) {
+    const double v = x[i];
+    if (std::isfinite(v) && v >= lo && (open_hi ? v < hi : v <= hi)) continue;
+    const std::string range =
+        std::isinf(hi) ? fmt::format("a finite value >= {}", lo)
+                       : fmt::format("a value in [{}, {}{}", lo, hi, open_hi ? ")" : "]");
+    if (a.ndim() == 0)
+      throw ParameterError(fmt::format("{} is {}: expected {}", what, v, range));
+    throw ParameterError(fmt::format("{}.flat[{}] is {}: expected {}", what, i, v, range));
   }
-  throw ParameterError(fmt::format("{} {}: expected one value or three values r, g, b", what,
-                                   py::str(py::repr(value)).cast<std::string>()));
+  return a;
+}
+
+std::filesystem::path pathArgument(const py::handle& value, const char* what) {
+  if (py::isinstance<py::str>(value) ||
+      py::isinstance(value, py::module_::import("os").attr("PathLike")))
+    return value.cast<std::filesystem::path>();
+  throw py::type_error(
+      fmt::format("{}={}: expected a file name (str or os.PathLike)", what, reprOf(value)));
+}
+
+double finiteArgument(double value, const char* what) {
+  if (!std::isfinite(value))
+    throw ParameterError(fmt::format("{} is {}: expected a finite number", what, value));
+  return value;
 }
 
 Medium mediumFromArgs(const std::optional<std::string>& preset, const py::object& sigma_a,
@@ -40,8 +142,8 @@ Medium mediumFromArgs(const std::optional<std::string>& preset, const py::object
     if (preset) throw ParameterError("--preset excludes --sigma-a and --sigma-s");
     if (sigma_a.is_none()) throw ParameterError("--sigma-s requires --sigma-a");
     if (sigma_s.is_none()) throw ParameterError("--sigma-a requires --sigma-s");
-    m.sigma_a = toRgb(sigma_a, "--sigma-a");
-    m.sigma_s = toRgb(sigma_s, "--sigma-s");
+    m.sigma_a = toRgb(sigma_a, "sigma_a");
+    m.sigma_s = toRgb(sigma_s, "sigma_s");
     m.g = g.value_or(0.0);
     m.eta = eta.value_or(1.3);
   } else {

@@ -8,9 +8,11 @@
 #include <pybind11/pybind11.h>
 
 #include <chrono>
+#include <filesystem>
 #include <functional>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "translucent/optics/medium.h"
@@ -34,9 +36,38 @@ py::array_t<T> ownedArray(std::vector<T>&& data, std::vector<py::ssize_t> shape)
 // A float64 array of three values (an RGB triple).
 py::array_t<double> rgbArray(const Rgb& v);
 
-// An RGB triple from a number (grey) or a sequence of three numbers; ParameterError naming
-// `what` otherwise.
+// The message of a ParameterError (the library's, worded for the command line) for Python: every
+// option name becomes the Python argument's, "--sigma-a" -> "sigma_a", and an option followed by
+// its quoted value an assignment, "--channel 'x'" -> "channel='x'". The module's exception
+// translator applies it to every ValueError it raises.
+std::string pythonMessage(std::string_view message);
+
+// `fields` as an instance of the result type `type` of translucent._results (a Result: its fields
+// as attributes, and a mapping with the dict's keys).
+py::object result(const char* type, py::dict fields);
+
+// repr(value), for messages.
+std::string reprOf(const py::handle& value);
+
+// An RGB triple from a number (grey) or a sequence of three numbers: TypeError naming the
+// argument `what` for anything else (None, text), ValueError for another count of numbers.
 Rgb toRgb(const py::handle& value, const std::string& what);
+
+// An RGB triple of finite values (toRgb, then ValueError naming `what` and the channel).
+Rgb finiteRgb(const py::handle& value, const std::string& what);
+
+// An array of radii or other sample positions: any array-like of numbers (converted to a
+// C-contiguous float64 array), each value finite and in [lo, hi] (hi excluded when
+// `open_hi`). TypeError naming the argument `what` for None, text or what NumPy cannot convert;
+// ValueError naming the first value out of range and its index otherwise.
+py::array_t<double, py::array::c_style | py::array::forcecast> checkedArray(
+    const py::object& values, const char* what, double lo, double hi, bool open_hi = false);
+
+// A file name argument: str or os.PathLike; TypeError naming the argument otherwise.
+std::filesystem::path pathArgument(const py::handle& value, const char* what);
+
+// A finite number; ValueError naming the argument otherwise.
+double finiteArgument(double value, const char* what);
 
 // The medium as the CLI's --preset/--sigma-a/--sigma-s/--g/--eta/--scale make it
 // (apps/cli/options.cpp MediumOptions::medium): explicit coefficients (g default 0, η 1.3), or a

@@ -1,34 +1,28 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// The Python module `translucent` (issue 18): the library's media, models, path tracers, scenes,
+// The extension module `translucent._translucent`, which the package `translucent`
+// (python/translucent/__init__.py) re-exports: the library's media, models, path tracers, scenes,
 // techniques and compare, with NumPy arrays in and out. See README.md, "Python".
 #include <pybind11/pybind11.h>
+#include <pybind11/stl/filesystem.h>
 
 #include "bind.h"
+#include "common.h"
+#include "translucent/io/resources.h"
 #include "translucent/optics/medium.h"
 
 namespace py = pybind11;
 
-PYBIND11_MODULE(translucent, m) {
-  m.doc() = R"doc(Translucent: rendering, comparing and validating translucent materials.
-
-Media and presets (Medium, presets(), preset()), BSSRDF models by name (model(), model_names(),
-profile(); .bssrdf files: BssrdfModel), the (Rd, ℓd) inversion (invert()), the reference path
-tracers (pathtrace_slab(), pathtrace_sphere(), pathtrace_mesh()), the model integrated over the
-lit sphere (integrate_sphere()), scenes (Scene), the real-time
-techniques on a headless GL context (render(), Renderer, techniques(), technique_parameters()) and
-compare(). Lengths are in scene units (mm unless a medium's scale says otherwise), coefficients
-in 1/mm, images (height, width, 3) float32 arrays, rows from the top. Bad parameters raise
-ValueError with the command line's message; other failures RuntimeError. Long calls release the
-GIL; Ctrl-C stops the path tracers and compare with KeyboardInterrupt, whose `partial_result`
-attribute holds what was computed so far. See README.md, "Python".)doc";
-  // ParameterError (bad parameters, named as the CLI names them) -> ValueError, with the message.
-  // (pybind11 maps the other std::invalid_argument, e.g. an unknown model name, to ValueError and
-  // every other std::exception to RuntimeError.)
+PYBIND11_MODULE(_translucent, m) {
+  m.doc() = R"doc(The compiled part of the package `translucent`: import `translucent`, which
+re-exports it with the result types and the type stubs.)doc";
+  // ParameterError and the other std::invalid_argument (bad parameters, an unknown model name)
+  // -> ValueError, their command-line option names turned into the Python arguments' names
+  // (common.h pythonMessage). pybind11 maps every other std::exception to RuntimeError.
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);
-    } catch (const translucent::ParameterError& e) {
-      PyErr_SetString(PyExc_ValueError, e.what());
+    } catch (const std::invalid_argument& e) {
+      PyErr_SetString(PyExc_ValueError, translucent::python::pythonMessage(e.what()).c_str());
     }
   });
   translucent::python::bindOptics(m);
@@ -37,5 +31,11 @@ attribute holds what was computed so far. See README.md, "Python".)doc";
   translucent::python::bindScene(m);
   translucent::python::bindRender(m);
   translucent::python::bindCompare(m);
+  m.def(
+      "share_directory", [] { return translucent::io::shareDirectory(); },
+      R"doc(The folder holding the shaders/ and data/ the module reads (a pathlib.Path): the
+package's own share/translucent in an installed package; $TRANSLUCENT_SHARE_DIR when set; the
+source tree in a build-tree run. RuntimeError listing the places looked in when none holds
+them.)doc");
   m.attr("__version__") = TRANSLUCENT_VERSION;
 }

@@ -8,6 +8,7 @@ command line's output files.
 import json
 import os
 import pathlib
+import re
 import subprocess
 
 import pytest
@@ -48,6 +49,21 @@ def cli_error(cli):
         assert line.startswith(prefix), line
         return line[len(prefix):]
     return run
+
+
+def python_message(message):
+    """A CLI error message as the module words it: option names become the Python arguments'
+    names ("--sigma-a" -> "sigma_a") and an option with its quoted value an assignment
+    ("--channel 'x'" -> "channel='x'")."""
+    def name(m):
+        return m.group(1).replace("-", "_") + ("=" if m.group(2) else "")
+    return re.sub(r"(?<![\w-])--([a-z][a-z0-9-]*[a-z0-9]|[a-z])( (?='))?", name, message)
+
+
+@pytest.fixture(scope="session")
+def as_python():
+    """python_message as a fixture."""
+    return python_message
 
 
 def read_json(path):

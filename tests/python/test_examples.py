@@ -12,8 +12,8 @@ import translucent
 
 
 def run_example(source_dir, tmp_path, name, *args):
-    # The module this test imported (by absolute path: the example runs in tmp_path).
-    env = dict(os.environ, PYTHONPATH=str(pathlib.Path(translucent.__file__).parent))
+    # The package this test imported (by absolute path: the example runs in tmp_path).
+    env = dict(os.environ, PYTHONPATH=str(pathlib.Path(translucent.__file__).parent.parent))
     p = subprocess.run([sys.executable, str(source_dir / "examples" / name), *map(str, args)],
                        capture_output=True, text=True, cwd=tmp_path, timeout=600, env=env)
     assert p.returncode == 0, p.stderr
