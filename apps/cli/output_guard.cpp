@@ -17,23 +17,6 @@
 namespace translucent::cli {
 namespace fs = std::filesystem;
 
-namespace {
-
-// A key that two names of one file share: the device and inode of an existing file (so hard
-// links and links to it too), else the absolute path with "./", "a/../" and the links of its
-// existing parents resolved (weakly_canonical; absolute first, since it leaves a relative path
-// whose first part does not exist relative: "x.json" and "./x.json" would differ). One key per
-// path keeps the checks of a run with many outputs (the frames of an animation) linear.
-std::string fileKey(const fs::path& path) {
-  struct stat st {};
-  if (::stat(path.c_str(), &st) == 0) return fmt::format("inode {}:{}", st.st_dev, st.st_ino);
-  std::error_code ec;
-  const fs::path c = fs::weakly_canonical(fs::absolute(path, ec), ec);
-  return "path " + (ec ? path.lexically_normal().string() : c.string());
-}
-
-}  // namespace
-
 CLI::Option* outputOption(CLI::Option* option) {
   return option->check(CLI::Validator(
       [](std::string& value) -> std::string {
@@ -53,48 +36,19 @@ void OutputSet::input(std::string what, const fs::path& path) {
 
 void OutputSet::sceneInputs(const fs::path& scene_file, const scene::Scene& s) {
   if (!scene_file.empty()) input("the scene", scene_file);
-  input("the scene's mesh", s.mesh_file);
-  input("the scene's BSSRDF model", s.model);
-  for (const scene::Light& l : s.lights) {
-    if (const auto* f = std::get_if<scene::FilteredDirectionalLight>(&l.emitter))
-      input("a light's filter texture", f->texture);
-    if (const auto* e = std::get_if<scene::EnvironmentLight>(&l.emitter))
-      input("the environment map", e->file);
-  }
+  for (const auto& [what, path] : scene::inputFiles(s)) input(what, path);  // material files too
 }
 
 void OutputSet::check() const {
-  std::unordered_map<std::string, size_t> inputKeys, outputKeys;  // key -> first index
-  for (size_t k = 0; k < inputs_.size(); ++k) inputKeys.emplace(fileKey(inputs_[k].second), k);
-  for (size_t i = 0; i < outputs_.size(); ++i) {
-    const auto& [option, path] = outputs_[i];
-    std::error_code ec;
-    if (fs::is_directory(path, ec))
-      throw ParameterError(fmt::format("{} '{}': is a folder: expected a file name", option, path));
-    const fs::path dir = fs::path(path).parent_path().empty() ? fs::path(".")
-                                                                : fs::path(path).parent_path();
-    if (!fs::is_directory(dir, ec))
-      throw ParameterError(fmt::format("{} '{}': cannot write: folder '{}' does not exist",
-                                       option, path, dir.string()));
-    // The temporary file is created in the folder, so the folder must be writable even when the
-    // target itself is (a device is written directly and needs only its own permission).
-    const bool special = fs::exists(path, ec) && !fs::is_regular_file(path, ec);
-    if (special ? ::access(path.c_str(), W_OK) != 0 : ::access(dir.c_str(), W_OK) != 0)
-      throw ParameterError(fmt::format("{} '{}': cannot write: {} is not writable", option, path,
-                                       special ? "the file" : fmt::format("folder '{}'", dir.string())));
-    const std::string key = fileKey(path);
-    if (const auto in = inputKeys.find(key); in != inputKeys.end()) {
-      const auto& [what, file] = inputs_[in->second];
-      throw ParameterError(fmt::format("{} '{}': is {} of this run ('{}'): refusing to "
-                                       "overwrite an input; choose another output file",
-                                       option, path, what, file.string()));
-    }
-    const auto [first, added] = outputKeys.emplace(key, i);
-    if (!added && !special)
-      throw ParameterError(fmt::format("{} '{}' and {} '{}' are the same file: each output "
-                                       "needs its own file",
-                                       outputs_[first->second].first, outputs_[first->second].second,
-                                       option, path));
+  // The library's check (translucent/io/output_guard.h: folders, permissions, inputs by device
+  // and inode, the process's run inputs such as merge's parts, outputs that are one file).
+  io::OutputSet files;
+  for (const auto& [what, path] : inputs_) files.input(what, path);
+  for (const auto& [option, path] : outputs_) files.output(option, path);
+  try {
+    files.check();
+  } catch (const io::OutputError& e) {
+    throw ParameterError(e.what());
   }
 }
 

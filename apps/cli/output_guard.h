@@ -20,6 +20,8 @@
 #include <utility>
 #include <vector>
 
+#include "translucent/io/output_guard.h"
+
 namespace translucent::scene {
 struct Scene;
 }

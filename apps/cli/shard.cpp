@@ -14,6 +14,8 @@
 
 #include "commands.h"
 #include "translucent/geometry/atomic_file.h"
+#include "translucent/io/json.h"
+#include "translucent/io/output_guard.h"
 #include "translucent/optics/medium.h"  // ParameterError
 #include "output_guard.h"
 #include "safe_print.h"
@@ -192,7 +194,7 @@ Part readPart(const std::string& file) {
   const std::string bytes = readBytes(file, "merge: part");
   try {
     reference::DecodedRunState d = reference::decodeRunState(bytes);
-    p.header = nlohmann::json::parse(d.header_json);
+    p.header = io::parseJson(d.header_json, "its header");
     p.state = std::move(d.state);
     const nlohmann::json& h = p.header;
     auto has = [&](const char* key, bool ok) {
@@ -295,6 +297,11 @@ void runMerge(const MergeArgs& a) {
   CLI::App app{"translucent (merge)"};
   addAllCommands(app);
   std::vector<std::string> reversed(args.rbegin(), args.rend());  // CLI11 parses a reversed vector
+  // The parts are inputs of this run: no output of the recorded command may replace one (also
+  // through a hard or symbolic link), whichever of its output options names it.
+  std::vector<std::pair<std::string, std::filesystem::path>> partFiles;
+  for (const Part& p : parts) partFiles.emplace_back("a partial file", p.file);
+  const io::ScopedRunInputs partsAreInputs(std::move(partFiles));
   gMerged = &merged;
   try {
     app.parse(reversed);

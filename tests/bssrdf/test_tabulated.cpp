@@ -158,5 +158,37 @@ TEST(Tabulated, BadFilesNameFileAndLine) {
   }
 }
 
+// Values no renderer can use (R = 1e300 gave non-finite pixels; R = 1e-320 or radii up to 5e300
+// an all-zero image) are refused with the file and line; a NUL byte in a cell is shown, not the
+// end of the message.
+TEST(Tabulated, RefusesValuesOutOfRangeAndShowsControlBytes) {
+  struct Case {
+    std::string text;
+    const char* expected;
+  };
+  const Case cases[] = {
+      {"# units: mm\nr,R_r,R_g,R_b\n0.1,1,1,1\n0.2,1e300,1,1\n",
+       ":4: R (red channel) 1e+300 (1e+300 per mm²): expected 0 or a value in [1e-30, 1e+30] per mm²"},
+      {"# units: mm\nr,R_r,R_g,R_b\n0.1,1,1e-320,1\n0.2,1,1,1\n",
+       ":3: R "},  // (green channel) 1e-320, or '1e-320' where from_chars reports the underflow
+      {"# units: mm\nr,R_r,R_g,R_b\n0.1,1,1,1\n5e300,1,1,1\n",
+       ":4: r 5e+300 (5e+300 mm): expected at most 1000000 mm"},
+      {"# units: m\nr,R_r,R_g,R_b\n0.1,1,1,1\n2000,1,1,1\n", ":4: r 2000 (2000000 mm)"},
+      {std::string("# units: mm\nr,R_r,R_g,R_b\n0.1,1,1,1\n0.2,1,x\0y,1\n", 48),
+       ":4: R 'x\\x00y': expected a finite number"},
+  };
+  const std::string path = tempPath("range.csv");
+  for (const auto& c : cases) {
+    writeText(path, c.text);
+    const std::string msg = messageOf(path);
+    EXPECT_NE(msg.find(path), std::string::npos) << msg;
+    EXPECT_NE(msg.find(c.expected), std::string::npos) << "expected '" << c.expected << "' in: " << msg;
+    EXPECT_NE(msg, "(no error)");
+  }
+  writeText(path, cases[1].text);
+  EXPECT_NE(messageOf(path).find("1e-320"), std::string::npos) << messageOf(path);
+  std::filesystem::remove(path);
+}
+
 }  // namespace
 }  // namespace translucent::bssrdf

@@ -4,12 +4,17 @@
 // model reference share.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <cmath>
+#include <filesystem>
+#include <string>
 #include <numbers>
 #include <vector>
 
 #include <glm/geometric.hpp>
 
+#include "translucent/io/image_io.h"
 #include "translucent/lights/environment_map.h"
 #include "translucent/optics/fresnel.h"
 #include "translucent/optics/medium.h"
@@ -148,6 +153,34 @@ TEST(Environment, SamplesFollowTheMapChiSquare) {
     chi2 += (count[b] - expected[b]) * (count[b] - expected[b]) / expected[b];
   }
   EXPECT_LT(chi2, 103.4);
+}
+
+// A map that is black everywhere (0, or negative values clamped to 0) lights nothing: every
+// renderer drew black with exit 0 (the tracer refused some of these, the renderers not). Refused
+// at load, for all of them, naming the file.
+TEST(Environment, RefusesABlackMap) {
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("translucent-env-black-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string black = (dir / "black.exr").string();
+  const std::string negative = (dir / "negative.exr").string();
+  analysis::writeExr(black, 4, 2, std::vector<float>(4 * 2 * 3, 0.0f));
+  analysis::writeExr(negative, 4, 2, std::vector<float>(4 * 2 * 3, -1e-5f));
+  for (const std::string& file : {black, negative}) {
+    try {
+      (void)EnvironmentMap::load(file);
+      ADD_FAILURE() << file << " accepted";
+    } catch (const ParameterError& e) {
+      EXPECT_NE(std::string(e.what()).find("environment map '" + file + "': every pixel is 0"),
+                std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("it emits no light"), std::string::npos) << e.what();
+    }
+  }
+  std::vector<float> one(4 * 2 * 3, 0.0f);
+  one[7] = 0.5f;
+  analysis::writeExr(black, 4, 2, one);
+  EXPECT_NO_THROW((void)EnvironmentMap::load(black));
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

@@ -356,6 +356,53 @@ TEST(VoxelsField, ErrorsNameTheFileAndGrid) {
   EXPECT_NE(both.find("not both"), std::string::npos) << both;
 }
 
+// Coefficient grids where σa + σs' is 0 (outside the active voxels of grids whose background is
+// 0, or at a voxel where both are 0) are refused as a homogeneous medium that neither absorbs nor
+// scatters is: a photon there flew on forever (a mesh of index > 1 reflects it totally), and
+// `pathtrace mesh` never finished. The message names the scene, the file, the grids and where.
+TEST(VoxelsField, RefusesGridsThatNeitherAbsorbNorScatterSomewhere) {
+  TempDir dir;
+  openvdb::initialize();
+  auto write = [&](const std::string& name, float background, bool hole) {
+    auto sa = openvdb::FloatGrid::create(background);
+    sa->setName("sigma_a");
+    auto ss = openvdb::FloatGrid::create(background);
+    ss->setName("sigma_s");
+    for (int z = 0; z < 2; ++z)
+      for (int y = 0; y < 2; ++y)
+        for (int x = 0; x < 2; ++x) {
+          const bool zero = hole && x == 1 && y == 0 && z == 1;
+          sa->tree().setValue(openvdb::Coord(x, y, z), zero ? 0.0f : 0.1f);
+          ss->tree().setValue(openvdb::Coord(x, y, z), zero ? 0.0f : 1.0f);
+        }
+    const auto path = dir / name;
+    openvdb::io::File f(path.string());
+    f.write({sa, ss});
+    f.close();
+    return path;
+  };
+  auto error = [&](const std::filesystem::path& file) {
+    try {
+      (void)parseVoxels(context("scene.json"), {{"type", "voxels"}, {"file", file.string()},
+                                                {"sigma_a", "sigma_a"}, {"sigma_s", "sigma_s"}},
+                        "material");
+    } catch (const ParameterError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const std::string outside = error(write("zero_background.vdb", 0.0f, false));
+  EXPECT_NE(outside.find("scene.json: material ('"), std::string::npos) << outside;
+  EXPECT_NE(outside.find("zero_background.vdb', grids 'sigma_a' and 'sigma_s'): sigma_a is 0 and "
+                         "sigma_s' is 0 in channel red at the background"),
+            std::string::npos)
+      << outside;
+  const std::string hole = error(write("hole.vdb", 0.5f, true));
+  EXPECT_NE(hole.find("at voxel (1, 0, 1) of grid 'sigma_a'"), std::string::npos) << hole;
+  EXPECT_NE(hole.find("the medium neither absorbs nor scatters there"), std::string::npos) << hole;
+  EXPECT_EQ(error(write("fine.vdb", 0.5f, false)), "no error");
+}
+
 // ---- surface maps -------------------------------------------------------------------------------
 
 TEST(SurfaceMaps, MapImagesReadBackAtTexelCentresRowZeroAtVZero) {

@@ -41,7 +41,7 @@ expect_error() {  # expect_error PATTERN COMMAND...: fails, and stderr matches P
 }
 
 # ---- slab: 4 shards, one of them traced with 1 thread, merged in a shuffled order -------------
-SLAB=(pathtrace slab --preset Skimmilk --channel g --photons 50000 --radial-bins 30
+SLAB=(pathtrace slab --material Skimmilk --channel g --photons 50000 --radial-bins 30
       --radial-max 4 --angle-bins 5 --thickness 3 --seed 7)
 "$T" "${SLAB[@]}" --device cpu --json one.json --csv one.csv 2>/dev/null
 for i in 0 1 2 3; do
@@ -71,6 +71,19 @@ expect_error "expected I/N" "$T" "${SLAB[@]}" --shard 2 --partial x.tpart
 expect_error "give --partial FILE" "$T" "${SLAB[@]}" --shard 0/2
 expect_error "a shard writes only its --partial file" "$T" "${SLAB[@]}" --shard 0/2 --partial x.tpart --json x.json
 expect_error "--json: required" "$T" "${SLAB[@]}"
+# The parts are inputs of the merge: an output naming one, or a hard or symbolic link to one, is
+# refused before anything is written, and the part is unchanged byte for byte.
+cp slab-0.tpart kept.tpart
+ln -f slab-0.tpart hard-link.tpart
+ln -sf slab-0.tpart soft-link.tpart
+for out in slab-0.tpart hard-link.tpart soft-link.tpart; do
+  for option in --json --csv; do
+    expect_error "$option '$out': is a partial file of this run \('slab-0.tpart'\)" \
+      "$T" merge slab-0.tpart slab-1.tpart slab-2.tpart slab-3.tpart "$option" "$out"
+    cmp slab-0.tpart kept.tpart || fail "merge $option $out changed the part slab-0.tpart"
+  done
+done
+rm -f kept.tpart hard-link.tpart soft-link.tpart
 "$T" "${SLAB[@]/50000/1e12}" --shard 0/2 --partial slow.tpart --time-limit 0.5 2>/dev/null
 expect_error "'slow.tpart' \(shard 0/2\) was stopped before it traced all its blocks" "$T" merge slow.tpart slab-1.tpart --json x.json
 [ ! -e x.json ] || fail "a failed merge wrote x.json"

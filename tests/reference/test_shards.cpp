@@ -33,6 +33,31 @@ TEST(ExactSum, TermsOnTheGridRoundTripExactly) {
   EXPECT_EQ(big.toDouble(big.toFixed(3e12 + 0.25)), 3e12 + 0.25);
 }
 
+// The grid of a light of any legal power: 2^(64 - e) overflowed to inf for e below ~-960 (a
+// light of 1e-300, or 1e-320 in one channel), and the squares' grid 2^(2e) below 2^-1074, so
+// every score "exceeded the accumulator's range" and `pathtrace mesh` aborted.
+TEST(ExactSum, ScoresOfTinyAndHugeLightsFitTheirGrid) {
+  for (const double typical : {1e-300, 1e-320, 4.9e-324, 1e-30, 1e12}) {
+    const FixedScale scale = FixedScale::around(typical);
+    MomentSum m(scale);
+    const double w = typical * 0.75;
+    for (int i = 0; i < 1000; ++i) EXPECT_NO_THROW(m.add(w, w * w)) << typical;
+    EXPECT_TRUE(std::isfinite(m.s()) && std::isfinite(m.s2())) << typical;
+    EXPECT_NEAR(m.s(), 1000.0 * w, 1e-9 * 1000.0 * w + 1e-323) << typical;
+    const Estimate e = m.estimate(1000);
+    EXPECT_TRUE(std::isfinite(e.value) && std::isfinite(e.std_error)) << typical;
+    EXPECT_NEAR(e.value, w, 1e-9 * w + 1e-323) << typical;
+    // Sums of one grid merge as before.
+    MomentSum other(scale);
+    other.add(w, w * w);
+    EXPECT_NO_THROW(m.merge(other));
+  }
+  // A scale far below the doubles' range round-trips its terms exactly, as the unit scale does.
+  const FixedScale tiny = FixedScale::around(1e-300);
+  EXPECT_EQ(tiny.toDouble(tiny.toFixed(1e-300)), 1e-300);
+  EXPECT_EQ(tiny.squared().exponent(), FixedScale::kMinSquaredExponent);
+}
+
 TEST(ExactSum, AnyOrderGivesTheSameSumCloseToTheExactOne) {
   // 20000 terms over twelve orders of magnitude, of both signs: three orders of addition (and a
   // split into uneven groups summed separately, as shards are) give one bit pattern, within

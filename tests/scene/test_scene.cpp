@@ -15,6 +15,7 @@
 #include <glm/geometric.hpp>
 
 #include "translucent/io/image_io.h"
+#include "translucent/io/json.h"
 #include "translucent/scene/data_path.h"
 #include "translucent/geometry/icosphere.h"
 #include "translucent/geometry/ray_scene.h"
@@ -792,6 +793,57 @@ TEST(Scene, TabulatedModelsAreRelativeToTheSceneAndHomogeneousOnly) {
     EXPECT_NE(std::string(e.what()).find("material.model"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("tabulated profile"), std::string::npos) << e.what();
   }
+}
+
+// A document nested a few hundred thousand levels deep (the stack overflowed while the tree was
+// walked) is refused by the one JSON reader (io/json.h) with the line and column; 512 levels
+// are fine, brackets inside strings do not count.
+TEST(Scene, RefusesJsonNestedTooDeeplyInsteadOfCrashing) {
+  const std::string base = R"({"mesh": {"file": "m.obj"}, "lights": [{"type": "directional",
+      "direction": [0, 0, 1]}], "camera": {"position": [0, 0, 5]}, "material": )";
+  const size_t depth = 300000;
+  const std::string deep = base + std::string(depth, '[') + std::string(depth, ']') + "}";
+  const std::string e = parseError(deep);
+  EXPECT_NE(e.find("scene: not valid JSON: arrays and objects nest deeper than 512 levels (at "
+                   "line 2, column "),
+            std::string::npos)
+      << e;
+  // The same through loadScene: the message names the file.
+  TempDir dir;
+  dir.write("m.obj", "");
+  const auto file = dir.write("deep.json", deep);
+  try {
+    (void)loadScene(file);
+    ADD_FAILURE() << "accepted";
+  } catch (const ParameterError& err) {
+    EXPECT_NE(std::string(err.what()).find("deep.json"), std::string::npos) << err.what();
+    EXPECT_NE(std::string(err.what()).find("nest deeper than 512"), std::string::npos) << err.what();
+  }
+  // The library reader itself: 512 levels parse, 513 do not; strings are skipped.
+  EXPECT_NO_THROW((void)io::parseJson(std::string(512, '[') + std::string(512, ']'), "x"));
+  EXPECT_THROW((void)io::parseJson(std::string(513, '[') + std::string(513, ']'), "x"),
+               io::JsonError);
+  EXPECT_NO_THROW((void)io::parseJson("[\"" + std::string(5000, '[') + "\\\"\"]", "x"));
+}
+
+// A light must emit something in a channel it lights, and not so little that the image is black
+// (or, before, that the tracer's exact sums aborted): refused with the light and the value.
+TEST(Scene, RefusesBlackAndTooFaintLights) {
+  const std::string head = R"({"mesh": {"file": "m.obj"}, "material": {"preset": "Marble"},
+      "camera": {"position": [0, 0, 5]}, "lights": )";
+  auto with = [&](const std::string& lights) { return parseError(head + lights + "}"); };
+  const std::string tiny = with(R"([{"type": "directional", "direction": [0, 0, 1], "irradiance": 1e-300}])");
+  EXPECT_NE(tiny.find("lights[0]: irradiance 1e-300 times red 1 is 1e-300: expected at least 1e-30"),
+            std::string::npos)
+      << tiny;
+  const std::string channel = with(R"([{"type": "point", "position": [0, 0, 3], "color": [1, 1, 1e-320]}])");
+  EXPECT_NE(channel.find("lights[0]: intensity 1 times blue 1e-320"), std::string::npos) << channel;
+  const std::string black = with(R"([{"type": "point", "position": [0, 0, 3]},
+      {"type": "beam", "origin": [0, 0, 3], "direction": [0, 0, -1], "color": [0, 0, 0]}])");
+  EXPECT_NE(black.find("lights[1].color: is [0, 0, 0]: the light emits nothing"), std::string::npos)
+      << black;
+  // A channel of colour 0 in a light that lights the others is fine.
+  EXPECT_EQ(with(R"([{"type": "point", "position": [0, 0, 3], "color": [1, 0, 0]}])"), "no error");
 }
 
 }  // namespace

@@ -16,11 +16,15 @@
 #include <QtCore/QCommandLineParser>
 #include <QtCore/QElapsedTimer>
 #include <QtCore/QTimer>
+#include <QtGui/QImage>
 #include <QtGui/QSurfaceFormat>
 #include <QtWidgets/QApplication>
 
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
+#include <cstring>
+#include <string>
 #include <variant>
 #include <memory>
 #include <vector>
@@ -30,6 +34,9 @@
 #include "app/viewport_dock.h"
 #include "core/explorer_state.h"
 #include "core/message_repeats.h"
+#include "translucent/io/image_io.h"
+#include "translucent/io/output_guard.h"
+#include "translucent/scene/scene.h"
 
 using namespace translucent;
 using namespace translucent::explorer;
@@ -256,13 +263,48 @@ int main(int argc, char** argv) {
   }
   if (parser.isSet(shot)) {
     const QString path = parser.value(shot);
+    // The screenshot must not replace what the run reads (the scene, its mesh, maps, grids; a
+    // hard or symbolic link to one too), and is checked before any rendering.
+    translucent::io::OutputSet outputs;
+    outputs.output("--screenshot", path.toStdString());
+    if (!parser.positionalArguments().isEmpty())
+      outputs.input("the scene", parser.positionalArguments().first().toStdString());
+    for (const auto& [what, file] : translucent::scene::inputFiles(state.scene()))
+      outputs.input(what, file);
+    try {
+      outputs.check();
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "translucent-explorer: error: %s\n", e.what());
+      return 1;
+    }
     const int wait = parser.value(delay).toInt();
     auto taken = std::make_shared<bool>(false);
     auto take = [&app, &window, path, taken] {
       if (*taken) return;
       *taken = true;
-      const bool ok = window.grab().save(path);
-      std::fprintf(ok ? stdout : stderr, "%s %s\n", ok ? "wrote" : "cannot write", qPrintable(path));
+      // Written to a temporary file renamed over the target (io/image_io.h): a failed write
+      // leaves an existing file as it was instead of truncating it (QImage::save opens the
+      // target first), and a symbolic link is replaced, never written through.
+      const QImage shot = window.grab().toImage().convertToFormat(QImage::Format_RGB888);
+      std::vector<uint8_t> rgb(static_cast<size_t>(shot.width()) * shot.height() * 3);
+      for (int y = 0; y < shot.height(); ++y)
+        std::memcpy(rgb.data() + static_cast<size_t>(y) * shot.width() * 3, shot.constScanLine(y),
+                    static_cast<size_t>(shot.width()) * 3);
+      bool ok = !shot.isNull();
+      std::string why = "the window could not be captured";
+      if (ok) {
+        try {
+          translucent::analysis::writePng8(path.toStdString(), shot.width(), shot.height(), rgb);
+        } catch (const std::exception& e) {
+          ok = false;
+          why = e.what();
+        }
+      }
+      if (ok)
+        std::printf("wrote %s\n", qPrintable(path));
+      else
+        std::fprintf(stderr, "translucent-explorer: error: cannot write %s: %s\n",
+                     qPrintable(path), why.c_str());
       app.exit(ok ? 0 : 1);
     };
     QObject::connect(window.viewport(), &ViewportDock::frameShown, &window,

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "translucent/bssrdf/registry.h"
+#include "translucent/io/json.h"
 
 namespace translucent::explorer {
 
@@ -78,9 +79,9 @@ std::string ExplorerState::materialJson() const {
 void ExplorerState::setMaterialJson(const std::string& material) {
   nlohmann::json mat;
   try {
-    mat = nlohmann::json::parse(material);
-  } catch (const nlohmann::json::exception& e) {
-    throw ParameterError(std::string("material: not JSON: ") + e.what());
+    mat = io::parseJson(material, "material");
+  } catch (const io::JsonError& e) {
+    throw ParameterError(e.what());
   }
   nlohmann::json doc = nlohmann::json::parse(scene::toJson(scene_));
   doc["material"] = std::move(mat);

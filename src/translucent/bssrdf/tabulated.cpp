@@ -30,6 +30,10 @@ std::string trim(std::string_view s) {
   return std::string(s.substr(a, b - a));
 }
 
+// The ranges a table's samples must lie in (readProfileSamples).
+constexpr double kMaxRadiusMm = 1e6;  // 1 km
+constexpr double kMinValuePerMm2 = 1e-30, kMaxValuePerMm2 = 1e30;
+
 std::vector<std::string> splitCsv(const std::string& line) {
   std::vector<std::string> out;
   std::string cell;
@@ -39,13 +43,25 @@ std::vector<std::string> splitCsv(const std::string& line) {
   return out;
 }
 
+// Text of the file as shown in a message: control bytes (a NUL would end the message where it is
+// printed as a C string) as \xHH, and at most 60 bytes of it.
+std::string shown(std::string_view text) {
+  std::string out;
+  for (size_t i = 0; i < text.size() && i < 60; ++i) {
+    const auto ch = static_cast<unsigned char>(text[i]);
+    out += ch < 0x20 || ch == 0x7f ? fmt::format("\\x{:02x}", ch) : std::string(1, text[i]);
+  }
+  if (text.size() > 60) out += "...";
+  return out;
+}
+
 // Millimetres per unit of r.
 double unitFactor(const std::string& unit, const std::string& where) {
   if (unit == "mm") return 1.0;
   if (unit == "cm") return 10.0;
   if (unit == "m") return 1000.0;
   if (unit == "um" || unit == "µm" || unit == "micron") return 0.001;
-  throw ParameterError(fmt::format("{}: units '{}': expected mm, cm, m or um", where, unit));
+  throw ParameterError(fmt::format("{}: units '{}': expected mm, cm, m or um", where, shown(unit)));
 }
 
 double number(const std::string& cell, const std::string& where, const char* what) {
@@ -53,7 +69,8 @@ double number(const std::string& cell, const std::string& where, const char* wha
   const char* end = cell.data() + cell.size();
   const auto [p, ec] = std::from_chars(cell.data(), end, v);
   if (cell.empty() || ec != std::errc() || p != end || !std::isfinite(v))
-    throw ParameterError(fmt::format("{}: {} '{}': expected a finite number", where, what, cell));
+    throw ParameterError(fmt::format("{}: {} '{}': expected a finite number", where, what,
+                                     shown(cell)));
   return v;
 }
 
@@ -93,7 +110,8 @@ ProfileSamples readProfileSamples(const std::string& path) {
         unit = lower(value);
       } else if (key == "eta") {
         t.eta = number(value, where, "eta");
-        if (!(t.eta > 0.0)) throw ParameterError(fmt::format("{}: eta {}: expected > 0", where, value));
+        if (!(t.eta > 0.0))
+          throw ParameterError(fmt::format("{}: eta {}: expected > 0", where, shown(value)));
       }
       continue;
     }
@@ -110,7 +128,7 @@ ProfileSamples readProfileSamples(const std::string& path) {
         throw ParameterError(fmt::format(
             "{}: header '{}': expected 'r,R_r,R_g,R_b' (with a '# units: mm' line above it) or "
             "the 'model,channel,r,value' CSV of translucent profile",
-            where, s));
+            where, shown(s)));
       }
       continue;
     }
@@ -187,10 +205,22 @@ ProfileSamples readProfileSamples(const std::string& path) {
     if (i > 0 && !(t.r_mm[i] > t.r_mm[i - 1]))
       throw ParameterError(fmt::format("{}: r {} after {}: expected increasing radii", where,
                                        t.r_mm[i], t.r_mm[i - 1]));
-    for (int c = 0; c < 3; ++c)
-      if (t.R_mm[size_t(c)][i] < 0.0)
+    // Radii and values a renderer can use: beyond these the quadrature of Rd overflows to
+    // non-finite pixels, or the profile lands at ~0 everywhere a pixel looks (an all-black image).
+    if (!(t.r_mm[i] * f <= kMaxRadiusMm))
+      throw ParameterError(fmt::format("{}: r {} ({} mm): expected at most {} mm", where, t.r_mm[i],
+                                       t.r_mm[i] * f, kMaxRadiusMm));
+    for (int c = 0; c < 3; ++c) {
+      const double v = t.R_mm[size_t(c)][i];
+      if (v < 0.0)
         throw ParameterError(fmt::format("{}: R ({} channel) {}: expected >= 0", where,
-                                         kChannelNames[c], t.R_mm[size_t(c)][i]));
+                                         kChannelNames[c], v));
+      const double perMm2 = v / (f * f);
+      if (v > 0.0 && !(perMm2 >= kMinValuePerMm2 && perMm2 <= kMaxValuePerMm2))
+        throw ParameterError(fmt::format("{}: R ({} channel) {} ({} per mm²): expected 0 or a "
+                                         "value in [{}, {}] per mm²", where, kChannelNames[c], v,
+                                         perMm2, kMinValuePerMm2, kMaxValuePerMm2));
+    }
   }
   for (int c = 0; c < 3; ++c)
     if (std::none_of(t.R_mm[size_t(c)].begin(), t.R_mm[size_t(c)].end(),

@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "translucent/io/image_io.h"
+#include "translucent/io/json.h"
 #include "translucent/bssrdf/bssrdf_file.h"
 #include "translucent/bssrdf/registry.h"
 #include "translucent/geometry/atomic_file.h"  // contentHash
@@ -252,8 +253,7 @@ std::optional<Reference> ReferenceCache::load(ReferenceKind kind, const std::str
     return std::nullopt;
   };
   try {
-    std::ifstream f(meta);
-    const json j = json::parse(f);
+    const json j = io::readJsonFile(meta);
     if (j.at("key").get<std::string>() != key || j.at("kind").get<std::string>() != toString(kind))
       return fail("does not match its name");
     // The .exr's size and content hash, stored in the .json when it was written: a tampered or
@@ -431,16 +431,12 @@ namespace {
 
 // The run of `json_file` as this scene's reference, or std::nullopt with *mismatch saying what
 // differs when it was traced for another scene; every other problem is a ParameterError.
-std::optional<Reference> readPathtracedReference(const fs::path& json_file,
-                                                 const scene::Scene& scene, std::string* mismatch) {
-  const std::string what = fmt::format("--reference-from '{}'", json_file.string());
-  json j;
-  try {
-    j = json::parse(readFileBytes(json_file, "--reference-from"));
-  } catch (const json::exception& e) {
-    throw ParameterError(fmt::format("{}: not a JSON file ({})", what, e.what()));
-  }
-  if (j.value("command", "") != "pathtrace mesh" || !j.contains("reference_key") ||
+std::optional<Reference> readPathtracedReferenceFrom(const json& j, const std::string& what,
+                                                     const fs::path& json_file,
+                                                     const scene::Scene& scene,
+                                                     std::string* mismatch) {
+  if (!j.is_object() || !j.contains("command") || !j["command"].is_string() ||
+      j["command"].get<std::string>() != "pathtrace mesh" || !j.contains("reference_key") ||
       !j.contains("exr"))
     throw ParameterError(fmt::format("{}: not the --json of `translucent pathtrace mesh` (or of "
                                      "`translucent merge` of its shards)", what));
@@ -497,6 +493,23 @@ std::optional<Reference> readPathtracedReference(const fs::path& json_file,
   r.radiance = image("radiance");
   r.cone_radiance = image("cone_radiance");
   return r;
+}
+
+std::optional<Reference> readPathtracedReference(const fs::path& json_file,
+                                                 const scene::Scene& scene, std::string* mismatch) {
+  const std::string what = fmt::format("--reference-from '{}'", json_file.string());
+  json j;
+  try {
+    j = io::readJsonFile(json_file, what);
+  } catch (const io::JsonError& e) {
+    throw ParameterError(e.what());
+  }
+  try {
+    return readPathtracedReferenceFrom(j, what, json_file, scene, mismatch);
+  } catch (const json::exception& e) {  // a key of the wrong type (another tool's JSON)
+    throw ParameterError(fmt::format("{}: not the --json of `translucent pathtrace mesh`: {}", what,
+                                     io::jsonErrorText(e)));
+  }
 }
 
 }  // namespace

@@ -15,6 +15,7 @@
 #include "translucent/compare/report.h"
 #include "translucent/compare/report_text.h"
 #include "translucent/geometry/atomic_file.h"
+#include "translucent/io/json.h"
 #include "translucent/optics/medium.h"  // ParameterError
 
 namespace translucent::analysis {
@@ -85,10 +86,9 @@ std::vector<Row> sceneRows(const fs::path& dir, const SuiteScene& s) {
     return {r};
   }
   const fs::path file = dir / s.name / "report.json";
-  std::ifstream f(file);
   json report;
   try {
-    report = json::parse(f);
+    report = io::readJsonFile(file);
   } catch (const std::exception& e) {
     Row r;
     r.scene = s.name;
@@ -227,8 +227,7 @@ void prepareSuiteDirectory(const fs::path& dir, bool force, const fs::path& igno
   const fs::path previous = dir / "leaderboard.json";
   if (fs::exists(previous, ec)) {
     try {
-      std::ifstream f(previous);
-      const json j = json::parse(f);
+      const json j = io::readJsonFile(previous);
       // Not j.value(...): GCC 12 sees a possible null dereference inlined there (-Werror).
       const auto g = j.find("generator");
       if (g != j.end() && *g == kSuiteGenerator) {

@@ -14,6 +14,7 @@
 #include "translucent/io/image_io.h"
 #include "translucent/compare/report_text.h"
 #include "translucent/geometry/atomic_file.h"
+#include "translucent/io/json.h"
 
 namespace translucent::analysis {
 namespace fs = std::filesystem;
@@ -197,8 +198,7 @@ void prepareReportDirectory(const fs::path& dir, bool force, const fs::path& ign
   const fs::path previous = dir / "report.json";
   if (fs::exists(previous, ec)) {
     try {
-      std::ifstream f(previous);
-      const json j = json::parse(f);
+      const json j = io::readJsonFile(previous);
       if (j.value("generator", "") == kGenerator) {
         ours.insert("report.json");
         for (const auto& name : j.at("files")) ours.insert(name.get<std::string>());

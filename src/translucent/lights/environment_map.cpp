@@ -51,6 +51,7 @@ EnvironmentMap EnvironmentMap::load(const std::filesystem::path& file) {
   // slightly negative texels (Blender's studio lights, e.g. -1e-5 next to radiance ~1), which
   // no light can emit; how many were clamped is kept. Non-finite values are an error.
   size_t clamped = 0;
+  bool emits = false;
   for (size_t i = 0; i < img.rgb.size(); ++i) {
     if (!std::isfinite(img.rgb[i]))
       throw ParameterError(fmt::format("environment map '{}': pixel {} holds {}: expected finite "
@@ -59,7 +60,13 @@ EnvironmentMap EnvironmentMap::load(const std::filesystem::path& file) {
       img.rgb[i] = 0.0f;
       ++clamped;
     }
+    emits = emits || img.rgb[i] > 0.0f;
   }
+  // A black map lights nothing: every renderer and tracer would give a black image.
+  if (!emits)
+    throw ParameterError(fmt::format("environment map '{}': every pixel is 0 (black){}: it emits "
+                                     "no light; expected some radiance > 0", file.string(),
+                                     clamped ? " once negative values are clamped to 0" : ""));
   EnvironmentMap m;
   m.width = img.width;
   m.height = img.height;

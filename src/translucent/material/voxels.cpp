@@ -207,6 +207,47 @@ DenseGrid readVdbGrid(const std::filesystem::path& file, const std::string& name
   return d;
 }
 
+namespace {
+
+// σa + σs' (σs' = (1 - g) σs) must be > 0 wherever the grids are sampled, as for a homogeneous
+// medium (ScalarMedium::validate): where both are 0 a photon neither scatters nor is absorbed
+// and, inside a mesh of index > 1, may be reflected totally at its surface forever. Checked at
+// every voxel of each grid (the other one interpolated there) and for the backgrounds, which
+// hold wherever the mesh reaches beyond the grids' active voxels.
+void requireExtinction(const DenseGrid& a, const DenseGrid& s, double g, const std::string& where) {
+  const double sp = 1.0 - g;
+  auto fail = [&](const std::string& at, size_t c, double va, double vs) {
+    throw ParameterError(fmt::format(
+        "{}: sigma_a is {} and sigma_s' is {} in channel {} at {}: the medium neither absorbs nor "
+        "scatters there (need sigma_a + sigma_s' > 0 everywhere, the background outside the "
+        "active voxels included)", where, va, vs * sp, kChannelNames[c], at));
+  };
+  for (size_t c = 0; c < 3; ++c)
+    if (!(a.background[c] + sp * s.background[c] > 0.0))
+      fail("the background (outside the active voxels)", c, a.background[c], s.background[c]);
+  auto sweep = [&](const DenseGrid& own, const DenseGrid& other, bool ownIsA, const char* name) {
+    for (int z = own.origin.z; z < own.origin.z + own.dims.z; ++z)
+      for (int y = own.origin.y; y < own.origin.y + own.dims.y; ++y)
+        for (int x = own.origin.x; x < own.origin.x + own.dims.x; ++x) {
+          const Rgb v = own.voxel(x, y, z);
+          if (v[0] > 0.0 && v[1] > 0.0 && v[2] > 0.0 && (ownIsA || sp > 0.0)) continue;
+          const glm::dvec3 q = own.index_to_world * glm::dvec3(x, y, z) + own.translation;
+          const Rgb w = other.trilinear(q);
+          for (size_t c = 0; c < 3; ++c) {
+            const double va = ownIsA ? v[c] : w[c], vs = ownIsA ? w[c] : v[c];
+            if (!(va + sp * vs > 0.0))
+              fail(fmt::format("voxel ({}, {}, {}) of grid '{}' (position ({}, {}, {}))", x, y, z,
+                               name, q.x, q.y, q.z),
+                   c, va, vs);
+          }
+        }
+  };
+  sweep(a, s, true, "sigma_a");
+  sweep(s, a, false, "sigma_s");
+}
+
+}  // namespace
+
 LocalMedium VoxelsDesc::representative() const {
   if (mode == Mode::Density) return media.at(0).medium;
   LocalMedium m;
@@ -246,6 +287,9 @@ VoxelsDesc parseVoxels(const ParseContext& c, const json& mat, const std::string
           readVdbGrid(d.file, d.sigma_a, true, true, r.what + ": " + key + ".sigma_a"));
       d.sigma_s_grid = std::make_shared<const DenseGrid>(
           readVdbGrid(d.file, d.sigma_s, true, true, r.what + ": " + key + ".sigma_s"));
+      requireExtinction(*d.sigma_a_grid, *d.sigma_s_grid, d.g,
+                        fmt::format("{}: {} ('{}', grids '{}' and '{}')", r.what, key,
+                                    d.file.string(), d.sigma_a, d.sigma_s));
     }
   } catch (const std::bad_alloc&) {
     r.fail(key + ".file", fmt::format("'{}': not enough memory for its grids", d.file.string()));

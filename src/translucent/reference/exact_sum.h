@@ -35,19 +35,28 @@ __extension__ typedef unsigned __int128 UFixed;
 class FixedScale {
  public:
   FixedScale() : FixedScale(0) {}
+  // Any exponent a double's scale gives (down to the subnormals' 2^-1074, and the squares of
+  // those): where 2^(64 - e) or 2^(e - 64) is not a normal double (|e| beyond ~950: the scale of
+  // a light of power 1e-300, or of its squared scores) the terms are scaled by ldexp, which is
+  // exact over the whole range, instead of by one multiplication that would overflow to inf or
+  // flush to 0.
   explicit FixedScale(int exponent)
       : exponent_(exponent), up_(std::ldexp(1.0, 64 - exponent)),
-        down_(std::ldexp(1.0, exponent - 64)) {}
+        down_(std::ldexp(1.0, exponent - 64)),
+        wide_(!(std::isnormal(up_) && std::isnormal(down_))) {}
   // The scale for terms of about `typical` (> 0, finite; otherwise the unit scale).
   static FixedScale around(double typical) {
     return FixedScale(std::isfinite(typical) && typical > 0.0 ? std::ilogb(typical) : 0);
   }
-  // The scale of the squares of terms on this grid (for sums of squared scores).
-  FixedScale squared() const { return FixedScale(2 * exponent_); }
+  // The scale of the squares of terms on this grid (for sums of squared scores). Not below the
+  // smallest subnormal's exponent: the squares of terms of ~1e-300 underflow in double, and a
+  // grid finer than 2^-1074 would put every representable square beyond its range.
+  FixedScale squared() const { return FixedScale(std::max(2 * exponent_, kMinSquaredExponent)); }
+  static constexpr int kMinSquaredExponent = -1074;
   int exponent() const { return exponent_; }
 
   Fixed toFixed(double v) const {
-    const double x = v * up_;  // a power of two: exact
+    const double x = wide_ ? std::ldexp(v, 64 - exponent_) : v * up_;  // a power of two: exact
     // |x| < 2^120 leaves 2^7 headroom for sums of such terms before int128 overflows; a NaN
     // fails the comparison too.
     if (!(std::fabs(x) < 0x1p120))
@@ -57,11 +66,15 @@ class FixedScale {
     return static_cast<Fixed>(std::rint(x));  // rint, not nearbyint: no save and restore of the FP environment per term
   }
   // Deterministic: one integer gives one double (the conversion rounds to nearest).
-  double toDouble(Fixed q) const { return static_cast<double>(q) * down_; }
+  double toDouble(Fixed q) const {
+    return wide_ ? std::ldexp(static_cast<double>(q), exponent_ - 64)
+                 : static_cast<double>(q) * down_;
+  }
 
  private:
   int exponent_ = 0;
   double up_ = 1.0, down_ = 1.0;
+  bool wide_ = false;  // scale by ldexp (see the constructor)
 };
 
 // q += v with a check for overflow (sums of ~2^63 typical terms).

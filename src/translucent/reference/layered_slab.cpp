@@ -13,6 +13,7 @@
 #include <numbers>
 #include <sstream>
 
+#include "translucent/io/json.h"
 #include "translucent/reference/block_driver.h"
 #include "translucent/reference/walk.h"
 
@@ -262,9 +263,9 @@ SlabResult layeredSlabResult(const LayeredSlabSetup& setup, const TraceOptions& 
 std::vector<SlabLayer> parseSlabLayers(const std::string& text, const std::string& what) {
   nlohmann::json j;
   try {
-    j = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw ParameterError(fmt::format("{}: not valid JSON: {}", what, e.what()));
+    j = io::parseJson(text, what);
+  } catch (const io::JsonError& e) {
+    throw ParameterError(e.what());
   }
   if (!j.is_array() || j.empty())
     throw ParameterError(fmt::format(
@@ -320,6 +321,9 @@ std::vector<SlabLayer> parseSlabLayers(const std::string& text, const std::strin
 }
 
 std::vector<SlabLayer> loadSlabLayers(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw ParameterError(fmt::format("{}: is a folder: expected a layers file (JSON)", path));
   std::ifstream in(path, std::ios::binary);
   if (!in) throw ParameterError(fmt::format("{}: cannot open the layers file", path));
   std::ostringstream text;

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "translucent/geometry/atomic_file.h"
+#include "translucent/io/json.h"
 
 namespace translucent::reference {
 namespace {
@@ -77,9 +78,9 @@ DecodedRunState decodeRunState(std::string_view bytes) {
   if (eol == std::string_view::npos) throw std::runtime_error("truncated: no header line");
   nlohmann::json header;
   try {
-    header = nlohmann::json::parse(bytes.substr(kMagic.size(), eol - kMagic.size()));
-  } catch (const nlohmann::json::exception& e) {
-    throw std::runtime_error(fmt::format("the header is not valid JSON ({})", e.what()));
+    header = io::parseJson(bytes.substr(kMagic.size(), eol - kMagic.size()), "the header");
+  } catch (const io::JsonError& e) {
+    throw std::runtime_error(e.what());
   }
   const std::string_view payload = bytes.substr(eol + 1);
   DecodedRunState out;

@@ -319,11 +319,15 @@ void tracePhoton(const BodyT& body, const BoundingSphere& bounds, std::span<cons
 // out through an edge (mesh_tracer.h) flies on in "medium" (the field there, with the grid's
 // largest bound beyond its box) until it crosses the mesh; one whose ray meets neither a
 // collision nor the mesh is dropped (it would fly forever).
+// A photon may still take very long (a region of a thin medium inside a mesh that reflects it
+// totally, again and again): the walk looks at `stop` every kStopCheckSteps steps and returns
+// false, the photon abandoned, once it is set (a time limit, Ctrl-C); true otherwise.
+inline constexpr uint64_t kStopCheckSteps = 4096;
 template <class BodyT>
-void traceVolumePhoton(const BodyT& body, const BoundingSphere& bounds,
+bool traceVolumePhoton(const BodyT& body, const BoundingSphere& bounds,
                        std::span<const Light> lights, const ChannelWalk& W,
                        const VolumeMedium& V, int c, uint64_t longPath, Rng& rng,
-                       BlockCounters& k, ExitTally::Block& tally) {
+                       BlockCounters& k, ExitTally::Block& tally, const std::atomic<bool>& stop) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
   const size_t ci = static_cast<size_t>(c);
   const double eps = body.epsilon();
@@ -331,7 +335,7 @@ void traceVolumePhoton(const BodyT& body, const BoundingSphere& bounds,
   const MajorantGrid& grid = *V.grid;
   double w = 0.0;
   glm::dvec3 x, d;
-  if (!launch(body, bounds, lights, W, c, rng, k, tally, w, x, d)) return;
+  if (!launch(body, bounds, lights, W, c, rng, k, tally, w, x, d)) return true;
   SurfaceHit hit;
   bool onSurface = true;
   uint64_t scatters = 0;
@@ -340,7 +344,8 @@ void traceVolumePhoton(const BodyT& body, const BoundingSphere& bounds,
   material::LocalMedium local;  // the medium at the last tentative collision
   double localSigmaT = 0.0;     // its σt in channel c [1/scene unit]
 
-  for (;;) {
+  for (uint64_t step = 1;; ++step) {
+    if (step % kStopCheckSteps == 0 && stop.load(std::memory_order_relaxed)) return false;
     // The first real collision along the ray, ignoring the boundary, then the boundary up to
     // there: the collisions the tracking finds before the boundary have exactly the density they
     // would have if it stopped there (what lies beyond does not change them), and the ray query
@@ -381,6 +386,7 @@ void traceVolumePhoton(const BodyT& body, const BoundingSphere& bounds,
   k.addExitedByOrder(ci, exitedByOrder);
   k.events += scatters;
   tally.endPhoton();
+  return true;
 }
 
 std::vector<Light> validatedLights(std::span<const Light> lights);
@@ -414,10 +420,11 @@ TransportStats traceBlocks(const BodyT& body, std::span<const ScalarMedium> chan
       Rng rng(O.seed, b * nc + c);
       for (uint64_t p = 0; p < kBlockPhotons; ++p) {
         if ((p & 63u) == 0 && stop.load(std::memory_order_relaxed)) return false;
-        if (volume)
-          traceVolumePhoton(body, bounds, lights, walks[c], *volume, static_cast<int>(c),
-                            O.long_path_roulette, rng, r.counters, *r.tally);
-        else
+        if (volume) {
+          if (!traceVolumePhoton(body, bounds, lights, walks[c], *volume, static_cast<int>(c),
+                                 O.long_path_roulette, rng, r.counters, *r.tally, stop))
+            return false;  // stopped within a photon: the block is dropped whole
+        } else
           tracePhoton(body, bounds, lights, walks[c], static_cast<int>(c), O.long_path_roulette,
                       rng, r.counters, *r.tally);
       }

@@ -13,6 +13,8 @@
 #include <numbers>
 #include <set>
 #include <sstream>
+#include <type_traits>
+#include <utility>
 
 #include <glm/geometric.hpp>
 #include <glm/vector_relational.hpp>
@@ -21,6 +23,7 @@
 #include "translucent/geometry/point_cloud.h"  // defaultCacheDirectory
 #include "translucent/bssrdf/tabulated.h"
 #include "translucent/geometry/ray_scene.h"
+#include "translucent/io/json.h"
 #include "translucent/material/json_reader.h"
 #include "translucent/material/material_desc.h"
 #include "translucent/material/parse_context.h"
@@ -178,6 +181,37 @@ Light parseLight(const Reader& r, Scene& s, const json& l, const std::string& ke
     if (light.color[c] < 0.0)
       r.fail(key + ".color", fmt::format("{} is {}: expected a value >= 0", kChannelNames[c],
                                          light.color[c]));
+  // What the light emits per channel: its power (irradiance, intensity...) times its colour. A
+  // black light renders and traces to black; one fainter than kMinLightPower in a channel writes
+  // zeros to 32-bit images (floats flush below ~1e-38 once scattered) and used to leave the
+  // tracer's fixed-point sums no range: both are refused here, before any work, for every
+  // renderer and tracer alike.
+  const auto [powerName, power] = std::visit(
+      [](const auto& e) -> std::pair<const char*, double> {
+        using E = std::decay_t<decltype(e)>;
+        if constexpr (std::is_same_v<E, DirectionalLight> ||
+                      std::is_same_v<E, FilteredDirectionalLight>)
+          return {"irradiance", e.irradiance};
+        else if constexpr (std::is_same_v<E, PointLight>)
+          return {"intensity", e.intensity};
+        else if constexpr (std::is_same_v<E, BeamLight>)
+          return {"power", e.power};
+        else
+          return {"intensity", e.intensity};
+      },
+      light.emitter);
+  if (!(light.color[0] > 0.0 || light.color[1] > 0.0 || light.color[2] > 0.0))
+    r.fail(key + ".color", fmt::format("is [{}, {}, {}]: the light emits nothing: expected a "
+                                       "channel > 0 (or remove the light)", light.color[0],
+                                       light.color[1], light.color[2]));
+  for (size_t c = 0; c < 3; ++c) {
+    const double emitted = power * light.color[c];
+    if (light.color[c] > 0.0 && !(emitted >= kMinLightPower))
+      r.fail(key, fmt::format("{} {} times {} {} is {}: expected at least {} (a fainter light "
+                              "renders black); give a colour of 0 to a channel without light",
+                              powerName, power, kChannelNames[c], light.color[c], emitted,
+                              kMinLightPower));
+  }
   return light;
 }
 
@@ -222,9 +256,9 @@ Scene parseScene(const std::string& text, const std::filesystem::path& base_dir,
   const Reader r{what};
   json doc;
   try {
-    doc = json::parse(text);
-  } catch (const json::exception& e) {  // syntax errors, numbers out of range
-    throw ParameterError(fmt::format("{}: not valid JSON: {}", what, e.what()));
+    doc = io::parseJson(text, what);  // the depth limit, then syntax errors, numbers out of range
+  } catch (const io::JsonError& e) {
+    throw ParameterError(e.what());
   }
   r.onlyKeys(doc, "", {"mesh", "material", "lights", "camera", "technique", "display", "cone_angle",
                        "time"});
@@ -429,6 +463,26 @@ Scene parseScene(const std::string& text, const std::filesystem::path& base_dir,
   if (!(s.cone_angle > 0.0 && s.cone_angle <= 90.0))
     r.fail("cone_angle", fmt::format("is {}: expected degrees in (0, 90]", s.cone_angle));
   return s;
+}
+
+std::vector<std::pair<std::string, std::filesystem::path>> inputFiles(const Scene& s) {
+  std::vector<std::pair<std::string, std::filesystem::path>> files;
+  files.emplace_back("the scene's mesh", s.mesh_file);
+  files.emplace_back("the scene's BSSRDF model", s.model);
+  for (const Light& l : s.lights) {
+    if (const auto* f = std::get_if<FilteredDirectionalLight>(&l.emitter))
+      files.emplace_back("a light's filter texture", f->texture);
+    if (const auto* e = std::get_if<EnvironmentLight>(&l.emitter))
+      files.emplace_back("the environment map", e->file);
+  }
+  if (!s.material.homogeneous()) {
+    json ignored;
+    material::writeMaterialDesc(s.material, ignored, [&](const std::filesystem::path& p) {
+      files.emplace_back("a file of the scene's material", p);
+      return p.string();
+    });
+  }
+  return files;
 }
 
 Scene loadScene(const std::filesystem::path& path) {

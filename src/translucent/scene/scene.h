@@ -89,6 +89,7 @@
 #include <map>
 #include <string>
 #include <variant>
+#include <utility>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -124,6 +125,11 @@ struct EnvironmentLight {
   double rotate = 0.0;         // degrees about +y
   bool occlusion = false;      // self-occlusion by shadow-mapped samples (seed 3.3.2)
 };
+
+// The least a light may emit in a channel it lights (its irradiance, intensity or power times
+// that channel's colour; a channel of colour 0 emits nothing and is fine): a fainter light
+// renders black in 32-bit images. parseScene refuses such a light, and a light of colour 0.
+inline constexpr double kMinLightPower = 1e-30;
 
 struct Light {
   std::variant<reference::DirectionalLight, reference::PointLight, reference::BeamLight,
@@ -187,6 +193,11 @@ Scene parseScene(const std::string& text, const std::filesystem::path& base_dir,
                  const std::string& what);
 // The scene as JSON text (paths as stored). parseScene(toJson(s)) == s.
 std::string toJson(const Scene& scene);
+// Every file the scene reads besides its own, with what it is (for messages): the mesh, the
+// .bssrdf model, the lights' filter textures and environment maps, the material's maps and
+// grids. Names that are not files ("checker", a registered model) are included as given; the
+// writers' output check (io/output_guard.h) skips those that do not exist.
+std::vector<std::pair<std::string, std::filesystem::path>> inputFiles(const Scene& scene);
 // Writes toJson(scene) to `path` (ParameterError naming the file when it cannot).
 void saveScene(const Scene& scene, const std::filesystem::path& path);
 
