@@ -1,36 +1,27 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Pencil plots (bssrdf-explorer seed 3.6.3): radial reflectance profiles R(r) of several models on a
-// semi-infinite slab lit by a pencil beam, drawn with Qt Charts.
+// Pencil plots: radial reflectance profiles R(r) of several models on a semi-infinite slab lit by
+// a pencil beam, written as PNG, SVG or PDF files; and generic x-y plots (`translucent compare
+// --sweep`). Drawn with cairo (one drawing code for its image, SVG and PDF surfaces), so the
+// command line needs no GUI toolkit. The explorer's interactive widget draws the same curves with
+// Qt Charts (plot/profile_chart.h, target translucent::plot_qt) in the same styles
+// (plot/plot_style.h).
 //
-// One code path serves two front ends: makeProfileChart() builds a QChart that the explorer's
-// pencil-plot widget shows in a QChartView, and writeProfilePlot() renders the same chart offscreen
-// into a PNG (raster, QImage) or SVG (vector, QSvgGenerator) for the command line.
-//
-// Y scales (seed 3.6.3): linear; logarithmic (accurate far from the source, where values are small);
-// square root (compresses the peak less than log, so errors near the source, which dominate light
-// transport, stay visible). Qt Charts has no square-root axis, so the chart plots sqrt(y) on a
-// linear axis and labels its ticks in the original units.
+// Y scales: linear; logarithmic (accurate far from the source, where values are small); square
+// root (compresses the peak less than log, so errors near the source, which dominate light
+// transport, stay visible), with ticks labelled in the original units.
 //
 // Values that a scale cannot show (non-finite; <= 0 on log; < 0 on sqrt) are dropped and the curve
 // is broken there rather than joined across the gap. Curves with a non-empty `stderr_` (a Monte
-// Carlo reference) are drawn as points with a shaded ±1 standard error band.
+// Carlo reference) are drawn as markers with ±1 standard-error bars, above the model curves.
 //
 // Units: r in `length_unit` (scene units; with scale 1 the presets are in mm), R(r) per area
 // [length_unit⁻²], r·R(r) [length_unit⁻¹].
 #pragma once
 
-#include <QtCore/qglobal.h>
-
-#include <memory>
 #include <string>
 #include <vector>
 
 #include "translucent/bssrdf/profile_curves.h"
-
-QT_BEGIN_NAMESPACE
-class QApplication;
-class QChart;
-QT_END_NAMESPACE
 
 namespace translucent::plot {
 
@@ -48,18 +39,17 @@ struct PlotOptions {
   int height = 1000;
 };
 
-// The chart for `curves` (ownership passes to the caller; QChartView::setChart takes it over).
-// Needs a QApplication (see GuiSession). Never throws for bad values; they are dropped.
-std::unique_ptr<QChart> makeProfileChart(const std::vector<analysis::Curve>& curves,
-                                         const PlotOptions& options);
-
-// Writes the chart to `path`: PNG or SVG chosen by the extension (case-insensitive). Throws
-// ParameterError for another extension or a size outside [64, 16384] pixels, std::runtime_error
-// naming the file when it cannot be written. Creates an offscreen QApplication when none exists.
+// Writes the plot to `path`: PNG, SVG or PDF chosen by the extension (case-insensitive). PNG and
+// SVG are width x height pixels. The layout is made for 800 x 500 units and scaled up by
+// s = max(1, min(width / 800, height / 500)), so text and lines keep their proportions at any
+// resolution; a PDF page is that layout in points, width/s x height/s (800 x 500 pt for the
+// default 1600 x 1000). Throws ParameterError for another extension or a size outside
+// [64, 16384] pixels, std::runtime_error naming the file when it cannot be written. Never throws
+// for bad values; they are dropped.
 void writeProfilePlot(const std::string& path, const std::vector<analysis::Curve>& curves,
                       const PlotOptions& options);
 
-// Generic x-y charts (e.g. `translucent compare --sweep`: error against GPU time): one line with
+// Generic x-y plots (e.g. `translucent compare --sweep`: error against GPU time): one line with
 // point markers per series, optionally logarithmic axes (points a log axis cannot show are
 // dropped). Same files and sizes as writeProfilePlot.
 struct XySeries {
@@ -71,23 +61,14 @@ struct XyPlotOptions {
   bool log_x = false, log_y = false;
   int width = 1600, height = 1000;
 };
-std::unique_ptr<QChart> makeXyChart(const std::vector<XySeries>& series, const XyPlotOptions& options);
 void writeXyPlot(const std::string& path, const std::vector<XySeries>& series,
                  const XyPlotOptions& options);
 
-// Ensures a QApplication exists while it lives. When none does, it creates one on the offscreen
-// platform (file output never needs a window, and batch runs have no display); an existing
-// QApplication (the explorer's) is used as is. Throws std::runtime_error when a non-widget
-// QCoreApplication/QGuiApplication already exists, since charts need widgets.
-class GuiSession {
- public:
-  GuiSession();
-  ~GuiSession();
-  GuiSession(const GuiSession&) = delete;
-  GuiSession& operator=(const GuiSession&) = delete;
-
- private:
-  std::unique_ptr<QApplication> owned_;
-};
-
 }  // namespace translucent::plot
+
+// The explorer's sources include this header for the Qt Charts functions too: targets that link
+// translucent::plot_qt get them here (that target defines TRANSLUCENT_PLOT_QT); nothing else sees
+// a Qt type.
+#ifdef TRANSLUCENT_PLOT_QT
+#include "plot/profile_chart.h"  // IWYU pragma: export
+#endif

@@ -285,16 +285,16 @@ int main(int argc, char** argv) {
       // Written to a temporary file renamed over the target (io/image_io.h): a failed write
       // leaves an existing file as it was instead of truncating it (QImage::save opens the
       // target first), and a symbolic link is replaced, never written through.
-      const QImage shot = window.grab().toImage().convertToFormat(QImage::Format_RGB888);
-      std::vector<uint8_t> rgb(static_cast<size_t>(shot.width()) * shot.height() * 3);
-      for (int y = 0; y < shot.height(); ++y)
-        std::memcpy(rgb.data() + static_cast<size_t>(y) * shot.width() * 3, shot.constScanLine(y),
-                    static_cast<size_t>(shot.width()) * 3);
-      bool ok = !shot.isNull();
+      const QImage image = window.grab().toImage().convertToFormat(QImage::Format_RGB888);
+      std::vector<uint8_t> rgb(static_cast<size_t>(image.width()) * image.height() * 3);
+      for (int y = 0; y < image.height(); ++y)
+        std::memcpy(rgb.data() + static_cast<size_t>(y) * image.width() * 3, image.constScanLine(y),
+                    static_cast<size_t>(image.width()) * 3);
+      bool ok = !image.isNull();
       std::string why = "the window could not be captured";
       if (ok) {
         try {
-          translucent::analysis::writePng8(path.toStdString(), shot.width(), shot.height(), rgb);
+          translucent::analysis::writePng8(path.toStdString(), image.width(), image.height(), rgb);
         } catch (const std::exception& e) {
           ok = false;
           why = e.what();
