@@ -114,7 +114,13 @@ void run(const AtlasArgs& a) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   };
   std::optional<ProgressBar> bar;
+  // SIGINT/SIGTERM: an atlas is whole or nothing (charts alone are no parameterisation), so a
+  // signal abandons the build (an exception out of the progress callback; TBB passes it on) and
+  // the command ends with nothing written and the status of the signal (progress.h).
+  struct Stopped {};
+  InterruptGuard guard;
   const geometry::AtlasProgress progress = [&](uint64_t done, uint64_t total) {
+    if (InterruptGuard::interrupted()) throw Stopped{};
     const double s = seconds();
     if (s < 1.0) return;
     if (!bar) bar.emplace("atlas", "charts");
@@ -130,6 +136,11 @@ void run(const AtlasArgs& a) {
   } catch (const geometry::AtlasError& e) {
     if (bar) bar->end();
     throw ParameterError(fmt::format("mesh file '{}': {}", a.mesh, e.what()));
+  } catch (const Stopped&) {
+    if (bar) bar->end();
+    printStderr("atlas: stopped by {} before the atlas was complete: nothing written\n",
+                stopSignalName());
+    return;
   }
   if (bar) bar->end();
   const double buildSeconds = seconds();

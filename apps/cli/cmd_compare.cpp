@@ -43,6 +43,7 @@ using analysis::PairMetrics;
 
 struct CompareArgs {
   std::string scene;
+  MediumOptions material;  // over every scene's material (options.h)
   std::string suite;  // --suite DIR: every *.json in it
   std::string techniques = "all";
   std::string references = "physical,model";
@@ -159,6 +160,7 @@ SceneOutcome compareScene(const CompareArgs& a, const Parsed& parsed, const std:
   const uint64_t photons = parsed.photons, samples = parsed.samples;
   const fs::path& cacheDir = parsed.cacheDir;
   scene::Scene s = sceneFile.empty() ? scene::defaultScene() : scene::loadScene(sceneFile);
+  a.material.apply(s);
   if (a.width) s.camera.width = *a.width;
   if (a.height) s.camera.height = *a.height;
   // The references and the techniques all see the mesh deformed at this time (loadSceneMesh,
@@ -176,7 +178,7 @@ SceneOutcome compareScene(const CompareArgs& a, const Parsed& parsed, const std:
   analysis::CompareReport report;
   report.scene_file = sceneFile;
   report.scene = s;
-  report.version = "translucent 0.1.0";
+  report.version = "translucent " TRANSLUCENT_VERSION;
   report.created = utcNow();
   report.cache_dir = cacheDir;
   std::string cmd = "translucent compare";
@@ -187,6 +189,7 @@ SceneOutcome compareScene(const CompareArgs& a, const Parsed& parsed, const std:
                      a.seed, s.camera.width, s.camera.height, a.frames, a.warmup,
                      a.sweep ? " --sweep" : "", quoted(out.string()));
   if (a.time) cmd += fmt::format(" --time {}", *a.time);
+  cmd += a.material.commandLine();
   for (const std::string& f : a.reference_from) cmd += " --reference-from " + quoted(f);
   if (a.reference_device != "cpu") cmd += " --reference-device " + a.reference_device;
   if (a.no_cache) cmd += " --no-cache";
@@ -455,7 +458,7 @@ void runSuite(const CompareArgs& a, const Parsed& o) {
   analysis::prepareSuiteDirectory(out, a.force, o.cacheDir, stems, "--out");
 
   analysis::SuiteInfo info;
-  info.version = "translucent 0.1.0";
+  info.version = "translucent " TRANSLUCENT_VERSION;
   info.created = utcNow();
   info.suite_dir = suiteDir;
   std::string cmd = fmt::format(
@@ -466,6 +469,7 @@ void runSuite(const CompareArgs& a, const Parsed& o) {
       a.height ? fmt::format(" --height {}", *a.height) : "", a.frames, a.warmup,
       a.sweep ? " --sweep" : "", quoted(out.string()));
   if (a.time) cmd += fmt::format(" --time {}", *a.time);
+  cmd += a.material.commandLine();
   for (const std::string& f : a.reference_from) cmd += " --reference-from " + quoted(f);
   if (a.reference_device != "cpu") cmd += " --reference-device " + a.reference_device;
   if (a.no_cache) cmd += " --no-cache";
@@ -569,6 +573,7 @@ void addCompareCommand(CLI::App& app) {
                   "References: physical (volumetric path tracing), model (the scene's BSSRDF "
                   "integrated over the surface), or both, comma-separated")
       ->capture_default_str();
+  a->material.addOverrides(*cmd);
   cmd->add_option("--photons", a->photons, "Physical reference: photons per channel (e.g. 1e6)")
       ->capture_default_str();
   cmd->add_option("--reference-from", a->reference_from,

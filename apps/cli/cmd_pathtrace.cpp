@@ -4,12 +4,13 @@
 // as CSV). See src/reference/slab.h for what is traced and tallied.
 //
 // Medium: --sigma-a A --sigma-s S [--g G] --eta N (one channel, coefficients per length unit),
-// or --preset NAME --channel r|g|b (Jensen et al. 2001, 1/mm, σs = σs'/(1-g) for the given g).
+// or --material NAME --channel r|g|b (Jensen et al. 2001, 1/mm, σs = σs'/(1-g) for the given g).
 // No --thickness: semi-infinite. Layered slab (MCML's multi-layer mode, reference/layered_slab.h):
 // --layers FILE --eta N, the file a JSON array of layers, top first, each {"thickness": t or null,
-// "sigma_a", "sigma_s", "g"} in the units of the other options, every layer at --eta. Ctrl-C (or --time-limit) stops the run; what was traced so far
+// "sigma_a", "sigma_s", "g"} in the units of the other options, every layer at --eta. Ctrl-C, SIGTERM (or --time-limit) stop the run; what was traced so far
 // is written with "partial": true.
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <atomic>
@@ -24,6 +25,7 @@
 
 #include "safe_print.h"
 #include "commands.h"
+#include "options.h"
 #include "output_guard.h"
 #include "shard.h"
 #include "progress.h"
@@ -94,7 +96,6 @@ void runSlab(const PathtraceArgs& a) {
     refuseOutputsWithShard({{"--json", a.json}, {"--csv", a.csv}});
     checkPartialOutput(a.shard, inputs);
   } else {
-    if (a.json.empty()) throw ParameterError("--json: required (the output JSON file)");
     OutputSet outputs = inputs;
     outputs.output("--json", a.json);
     outputs.output("--csv", a.csv);
@@ -147,21 +148,29 @@ void runSlab(const PathtraceArgs& a) {
   nlohmann::json j = reference::slabResultJson(run, r);
   if (run.layered) j["layers_file"] = a.layers;
   OutputFiles out;  // all or nothing
-  out.text("--json", a.json, j.dump(2) + "\n");
+  if (!a.json.empty()) out.text("--json", a.json, j.dump(2) + "\n");
   if (!a.csv.empty()) writeCsv(out, a.csv, r);
   out.commit();
-  printStderr(
+  std::vector<std::string> wrote;
+  for (const std::string& file : {a.json, a.csv})
+    if (!file.empty()) wrote.push_back(isStdoutPath(file) ? "stdout" : file);
+  // The summary is the result when no file is written: then it goes to stdout.
+  const std::string summary = fmt::format(
              "pathtrace: {}{} photons in {:.2f} s ({:.3g} photons/s, {}): Rsp {:.5f}, "
              "Rd {:.5f} ± {:.5f} (single scattering {:.5f}, multiple {:.5f}), T {:.5f} ± {:.5f}, "
-             "A {:.5f} ± {:.5f}; wrote {}{}\n",
-             r.partial ? "stopped early, partial result: " : "", r.photons, r.seconds,
+             "A {:.5f} ± {:.5f}{}\n",
+             stoppedEarly(r.partial), r.photons, r.seconds,
              r.photonsPerSecond(),
              tracedBy(r.device, r.threads), r.specular_reflectance.value,
              r.diffuse_reflectance.value, r.diffuse_reflectance.std_error,
              r.order(reference::ScatteringOrder::Single).diffuse_reflectance.value,
              r.order(reference::ScatteringOrder::Multiple).diffuse_reflectance.value, r.transmittance.value,
-             r.transmittance.std_error, r.absorbed.value, r.absorbed.std_error, a.json,
-             a.csv.empty() ? "" : " and " + a.csv);
+             r.transmittance.std_error, r.absorbed.value, r.absorbed.std_error,
+             wrote.empty() ? "" : fmt::format("; wrote {}", fmt::join(wrote, " and ")));
+  if (wrote.empty())
+    fmt::print("{}", summary);
+  else
+    printStderr("{}", summary);
 }
 
 }  // namespace
@@ -179,8 +188,17 @@ void addPathtraceCommand(CLI::App& app) {
   cmd->add_option("--g", args->request.g, "Henyey-Greenstein mean cosine in (-1, 1) (default 0, or the "
                                   "preset's)");
   cmd->add_option("--eta", args->request.eta, "Refractive index of the slab (required with --sigma-a)");
-  cmd->add_option("--preset", args->request.preset,
-                  "Measured material (Jensen et al. 2001; see `translucent presets`), in mm");
+  auto* material = cmd->add_option(
+      "--material", args->request.preset,
+      "Measured material (Jensen et al. 2001; see `translucent presets`), in mm");
+  cmd->add_option_function<std::string>(
+         "--preset",
+         [args](const std::string& v) {
+           warnDeprecated("pathtrace slab", "--preset", "use --material " + v);
+           args->request.preset = v;
+         },
+         "Deprecated: --material")
+      ->excludes(material);
   cmd->add_option("--channel", args->request.channel, "Colour channel of the preset: r, g or b");
   cmd->add_option("--eta-above", args->request.eta_above, "Refractive index above the slab")
       ->capture_default_str();
@@ -227,7 +245,7 @@ void addPathtraceCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--time-limit", args->time_limit,
                   "Stop after this many seconds and write the partial result");
-  outputOption(cmd->add_option("--json", args->json, "Output JSON file (required but with --shard)"));
+  outputOption(cmd->add_option("--json", args->json, "Output JSON file ('-': stdout); without --json and --csv the summary is printed to stdout"));
   outputOption(cmd->add_option("--csv", args->csv, "Radial profile as CSV: r,rd,rd_stderr, then rd and its stderr of the light scattered 0, 1 and more times (rd_unscattered, rd_single, rd_multiple)"));
   args->shard.add(*cmd);
   cmd->callback([args] { runSlab(*args); });

@@ -242,7 +242,7 @@ void runStudy(const ProfileArgs& a, const std::string& command) {
 }
 
 void runProfile(const ProfileArgs& a) {
-  const std::string ext = extensionOf(a.out);
+  const std::string ext = isStdoutPath(a.out) ? ".csv" : extensionOf(a.out);  // '-': CSV on stdout
   if (!a.save_profile.empty()) {
     if (!a.reference)
       throw ParameterError("--save-profile: needs --reference (it saves the path-traced profile)");
@@ -412,8 +412,8 @@ void addProfileCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_flag("--times-r", args->times_r, "Plot r·R(r) instead of R(r)");
   outputOption(cmd->add_option("--out", args->out,
-                  "Output file: .csv (model,channel,r,value), .png or .svg; with --study a .md "
-                  "report"));
+                  "Output file: .csv (model,channel,r,value; '-': CSV on stdout), .png or .svg; "
+                  "with --study a .md report"));
   outputOption(cmd->add_option(
       "--save-profile", args->save_profile,
       "With --reference: save the path-traced R(r) of the three channels as a tabulated model "

@@ -36,8 +36,10 @@
 
 #include "translucent/io/image_io.h"
 #include "commands.h"
+#include "options.h"
 #include "output_guard.h"
 #include "progress.h"
+#include "safe_print.h"
 #include "translucent/gpu/context.h"
 #include "translucent/scene/scene.h"
 #include "translucent/techniques/registry.h"
@@ -51,7 +53,7 @@ struct RenderArgs {
   std::string scene;
   std::optional<std::string> technique;
   std::optional<int> width, height;
-  std::optional<std::string> model;
+  MediumOptions material;  // over the scene's material (options.h)
   std::string out, exr;
   std::string debug_dir;  // every frame layer as <layer>.exr (linear) and <layer>.png (scaled),
                           // every view as view-<name>.exr/.png
@@ -61,6 +63,7 @@ struct RenderArgs {
   double fps = 24.0;
   std::string video;  // encoded from the PNG frames by ffmpeg
   std::map<std::string, std::string> settings;  // technique parameter -> value as typed
+  std::map<std::string, std::string> spelling;  // technique parameter -> the option that set it
 };
 
 std::string optionName(const std::string& parameter) {
@@ -222,7 +225,7 @@ void runRender(const RenderArgs& a) {
   }
   if (a.width) s.camera.width = *a.width;
   if (a.height) s.camera.height = *a.height;
-  if (a.model) s.model = *a.model;
+  a.material.apply(s);
   if (a.exposure) s.exposure = *a.exposure;
   if (a.gamma) s.gamma = *a.gamma;
   if (a.time) s.time = *a.time;
@@ -251,7 +254,9 @@ void runRender(const RenderArgs& a) {
       try {
         t->setParameter(name, value);
       } catch (const ParameterError& e) {
-        throw ParameterError(fmt::format("{}: {}", optionName(name), e.what()));
+        const auto it = a.spelling.find(name);
+        throw ParameterError(fmt::format(
+            "{}: {}", it != a.spelling.end() ? it->second : optionName(name), e.what()));
       }
     }
     return t;
@@ -338,8 +343,12 @@ void runRender(const RenderArgs& a) {
     // Frame i at time T0 + i/F; the technique is prepared again for each time (GPU techniques
     // deform their rest mesh on the GPU, the others re-prepare: techniques/common/gl_resources.h
     // ClosedMeshState).
+    // SIGINT/SIGTERM stop after the frame under way: the frames rendered so far (and the video
+    // of them) are written, and the exit status says which signal stopped the run (progress.h).
+    InterruptGuard guard;
     ProgressBar bar("render", "frames");
     const auto start = std::chrono::steady_clock::now();
+    int done = a.frames;
     for (int i = 0; i < a.frames; ++i) {
       s.time = frameTime(i);
       if (i > 0 && !s.mesh_deform.empty()) scene::requireOutsideMesh(s, scene::loadSceneMesh(s));
@@ -349,18 +358,19 @@ void runRender(const RenderArgs& a) {
       const double seconds =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       if (!bar.update(uint64_t(i + 1), uint64_t(a.frames), seconds) && i + 1 < a.frames) {
-        bar.end();
-        throw ParameterError(fmt::format("render: interrupted after {} of {} frames", i + 1,
-                                         a.frames));
+        bar.end();  // throws when the run was refused for its projected time
+        done = i + 1;
+        printStderr("render: {}{} of {} frames\n", stoppedEarly(true), done, a.frames);
+        break;
       }
     }
     bar.end();
     if (!a.out.empty())
-      wrote.push_back(fmt::format("wrote {} frames {} .. {}\n", a.frames, outPattern.file(0),
-                                  outPattern.file(a.frames - 1)));
+      wrote.push_back(fmt::format("wrote {} frames {} .. {}\n", done, outPattern.file(0),
+                                  outPattern.file(done - 1)));
     if (!exrPattern.text.empty())
-      wrote.push_back(fmt::format("wrote {} frames {} .. {}\n", a.frames, exrPattern.file(0),
-                                  exrPattern.file(a.frames - 1)));
+      wrote.push_back(fmt::format("wrote {} frames {} .. {}\n", done, exrPattern.file(0),
+                                  exrPattern.file(done - 1)));
     if (!a.video.empty()) {
       out.file("--video", a.video, [&](const std::string& tmp) {
         const std::vector<std::string> argv = {
@@ -373,7 +383,7 @@ void runRender(const RenderArgs& a) {
           throw ParameterError(fmt::format("--video '{}': ffmpeg ({}) failed{}", a.video, ffmpeg,
                                            rc < 0 ? " to start" : fmt::format(" with status {}", rc)));
       });
-      wrote.push_back(fmt::format("wrote {} ({} frames at {} fps, ffmpeg)\n", a.video, a.frames,
+      wrote.push_back(fmt::format("wrote {} ({} frames at {} fps, ffmpeg)\n", a.video, done,
                                   a.fps));
     }
     out.commit();
@@ -489,6 +499,28 @@ void runRender(const RenderArgs& a) {
 
 }  // namespace
 
+void addTechniquesCommand(CLI::App& app) {
+  auto name = std::make_shared<std::string>();
+  auto* cmd = app.add_subcommand(
+      "techniques", "The real-time techniques (`render --technique`), or one technique's "
+                    "parameters (`render --param NAME=VALUE`) with their types, ranges and units");
+  cmd->add_option("name", *name, "Technique: " + fmt::format("{}", fmt::join(techniques::names(), ", ")));
+  cmd->callback([name] {
+    if (name->empty()) {
+      if (!beginWork()) return;
+      for (const std::string& n : techniques::names())
+        fmt::print("{:<12} {}\n", n, techniques::make(n)->description());
+      return;
+    }
+    const auto t = techniques::make(*name);  // ParameterError listing the valid names
+    if (!beginWork()) return;
+    fmt::print("{}: {}\nparameters (render --technique {} --param NAME=VALUE):\n", t->name(),
+               t->description(), t->name());
+    for (const auto& p : t->parameters())
+      fmt::print("  {:<24} {:<5} {}\n", p.name, techniques::toString(p.type), describe(p));
+  });
+}
+
 void addRenderCommand(CLI::App& app) {
   auto a = std::make_shared<RenderArgs>();
   auto* cmd = app.add_subcommand(
@@ -500,7 +532,19 @@ void addRenderCommand(CLI::App& app) {
                               fmt::join(techniques::names(), ", ")));
   cmd->add_option("--width", a->width, "Image width [pixels] (default: the scene camera's)");
   cmd->add_option("--height", a->height, "Image height [pixels] (default: the scene camera's)");
-  cmd->add_option("--model", a->model, "BSSRDF model name, .bssrdf file or tabulated profile .csv (default: the scene's)");
+  a->material.addOverrides(*cmd);
+  cmd->add_option_function<std::vector<std::string>>(
+         "-p,--param",
+         [a](const std::vector<std::string>& values) {
+           for (const std::string& v : values) {
+             const auto [name, value] = parseParam(v, "--param");
+             a->settings[name] = value;
+             a->spelling[name] = fmt::format("--param {}", v);
+           }
+         },
+         "NAME=VALUE: a parameter of the technique (repeatable; `translucent techniques NAME` "
+         "lists them with their types and ranges); overrides the scene's technique settings")
+      ->allow_extra_args(false);
   outputOption(cmd->add_option(
       "--out", a->out,
       "PNG output (tone mapped with --exposure and --gamma); without --out and --exr: "
@@ -522,8 +566,26 @@ void addRenderCommand(CLI::App& app) {
       ->capture_default_str();
   outputOption(cmd->add_option("--video", a->video,
                                "Also encode the frames as a video (ffmpeg on PATH; e.g. out.mp4)"));
-  // One option per technique parameter (the union over the registered techniques).
+  // One option per technique parameter (the union over the registered techniques), but for the
+  // empirical technique's `preset` and `sigma`: as options they read as the material options of
+  // every other command (--material, --sigma-a/--sigma-s), so they are --param preset=… and
+  // --param sigma=… now, and --preset/--sigma work one more release with a warning.
   std::map<std::string, std::string> seen;
+  for (const char* renamed : {"preset", "sigma"}) {
+    const std::string param = renamed;
+    cmd->add_option_function<std::string>(
+        optionName(param),
+        [a, param](const std::string& v) {
+          warnDeprecated("render", optionName(param),
+                         fmt::format("use --param {}={} (the empirical technique's {}; "
+                                     "--material names the material)", param, v,
+                                     param == "preset" ? "survey preset" : "smoothing σ"));
+          a->settings[param] = v;
+          a->spelling[param] = fmt::format("{} {}", optionName(param), v);
+        },
+        "Deprecated: --param " + param + "=VALUE");
+    seen[param] = "empirical";
+  }
   for (const std::string& name : techniques::names()) {
     const auto t = techniques::make(name);
     for (const auto& p : t->parameters()) {

@@ -411,7 +411,7 @@ void runPathtraceSphere(const SphereArgs& s, const RunArgs& a, std::string devic
   const auto& st = tracer.stats();
   printStderr("pathtrace sphere: {}{} photons per channel in {:.2f} s ({:.3g} photons/s, "
                      "{}); wrote {}{}\n",
-             st.partial ? "stopped early, partial result: " : "",
+             stoppedEarly(st.partial),
              st.photons.empty() ? 0 : st.photons[0], st.seconds, st.photonsPerSecond(),
              tracedBy(traced, st.threads), a.exr,
              a.png.empty() ? "" : " and " + a.png);
@@ -480,7 +480,7 @@ void runIntegrateSphere(const SphereArgs& s, const RunArgs& a, const std::string
     const auto& st = integrator.stats();
     printStderr("integrate sphere: {}{} ({} sampling), {} samples per pixel in {:.2f} s "
                 "({}); wrote {}{}\n",
-                st.partial ? "stopped early, partial result: " : "", model, used, st.samples,
+                stoppedEarly(st.partial), model, used, st.samples,
                 st.seconds, where == "cpu" ? fmt::format("{} threads", st.threads) : where, a.exr,
                 a.png.empty() ? "" : " and " + a.png);
   };
@@ -569,8 +569,11 @@ void runPathtraceMeshCamera(const reference::MeshScene& scene, const std::string
 // ---------------------------------------------------------------------------------------------
 
 // The scene file with --time (the deformations' time, scene.h "time") applied when given.
-reference::MeshScene loadTimedScene(const std::string& sceneFile, std::optional<double> time) {
+// The scene file at --time, with the material options over its material (options.h).
+reference::MeshScene loadTimedScene(const std::string& sceneFile, std::optional<double> time,
+                                    const MediumOptions& material) {
   reference::MeshScene scene = reference::loadMeshScene(sceneFile);
+  material.apply(scene);
   if (time) {
     if (!std::isfinite(*time))
       throw ParameterError(fmt::format("--time {}: expected a finite time", *time));
@@ -579,9 +582,9 @@ reference::MeshScene loadTimedScene(const std::string& sceneFile, std::optional<
   return scene;
 }
 
-void runPathtraceMesh(const std::string& sceneFile, std::optional<double> time, const RunArgs& a,
-                      std::string device) {
-  const reference::MeshScene scene = loadTimedScene(sceneFile, time);
+void runPathtraceMesh(const std::string& sceneFile, std::optional<double> time,
+                      const MediumOptions& material, const RunArgs& a, std::string device) {
+  const reference::MeshScene scene = loadTimedScene(sceneFile, time, material);
   OutputSet inputs;
   inputs.sceneInputs(sceneFile, scene);
   a.validate(inputs);
@@ -647,7 +650,7 @@ void runPathtraceMesh(const std::string& sceneFile, std::optional<double> time, 
   const auto& st = tracer.stats();
   printStderr("pathtrace mesh: {}{} photons per channel in {:.2f} s ({:.3g} photons/s, "
                      "{}, {} triangles); wrote {}{}\n",
-             st.partial ? "stopped early, partial result: " : "",
+             stoppedEarly(st.partial),
              st.photons.empty() ? 0 : st.photons[0], st.seconds, st.photonsPerSecond(),
              tracedBy(traced, st.threads), tracer.body().triangleCount(), a.exr, a.png.empty() ? "" : " and " + a.png);
 }
@@ -655,6 +658,7 @@ void runPathtraceMesh(const std::string& sceneFile, std::optional<double> time, 
 // Options of `integrate mesh` beyond RunArgs.
 struct ModelReferenceArgs {
   std::string scene;
+  MediumOptions material;  // over the scene's material
   reference::ModelReferenceOptions options;
   std::string convention = "jensen";
   bool jitter = false;
@@ -665,7 +669,7 @@ void runIntegrateMesh(const ModelReferenceArgs& m, const RunArgs& a) {
   if (a.passes != 1)
     throw ParameterError(fmt::format("--passes is {}: `integrate mesh` renders in one pass (more "
                                      "--samples give less noise)", a.passes));
-  const reference::MeshScene scene = loadTimedScene(m.scene, m.time);
+  const reference::MeshScene scene = loadTimedScene(m.scene, m.time, m.material);
   OutputSet inputs;
   inputs.sceneInputs(m.scene, scene);
   a.validate(inputs);
@@ -721,7 +725,7 @@ void runIntegrateMesh(const ModelReferenceArgs& m, const RunArgs& a) {
   runPasses(a, "integrate mesh", "pixels", pass, write);
   printStderr("integrate mesh: {}{} ({}), {} surface samples ({} lit), {}x{} pixels, {} "
                      "rays per pixel, in {:.2f} s ({} threads); wrote {}{}\n",
-             img.partial ? "stopped early, partial result: " : "", scene.model, m.convention,
+             stoppedEarly(img.partial), scene.model, m.convention,
              img.samples, img.lit_samples, img.width, img.height, o.subpixels * o.subpixels,
              img.seconds, img.threads, a.exr, a.png.empty() ? "" : " and " + a.png);
 }
@@ -769,6 +773,8 @@ void addRenderReferenceCommands(CLI::App& app) {
     cmd->add_option("--scene", *scene, "Scene file (JSON)")->required();
     cmd->add_option("--time", *time,
                     "Time of the mesh's deformations (mesh.deform; default: the scene's \"time\", 0)");
+    auto material = std::make_shared<MediumOptions>();
+    material->addOverrides(*cmd, false);  // the path tracer uses no BSSRDF model
     a->add(*cmd, "--photons", "Photons per channel per pass (e.g. 1e6)", tracerQuantities);
     a->addSplitOrders(*cmd);
     auto device = std::make_shared<std::string>("auto");
@@ -792,7 +798,9 @@ void addRenderReferenceCommands(CLI::App& app) {
         ->check(CLI::IsMember({"cpu", "gpu", "auto"}))
         ->capture_default_str();
     a->shard.add(*cmd);
-    cmd->callback([scene, time, a, device] { runPathtraceMesh(*scene, *time, *a, *device); });
+    cmd->callback([scene, time, material, a, device] {
+      runPathtraceMesh(*scene, *time, *material, *a, *device);
+    });
   }
   auto* in = subcommand(app, "integrate", "Monte Carlo integration of BSSRDF models on geometry");
   {
@@ -833,6 +841,7 @@ void addRenderReferenceCommands(CLI::App& app) {
     cmd->add_option("--scene", m->scene, "Scene file (JSON)")->required();
     cmd->add_option("--time", m->time,
                     "Time of the mesh's deformations (mesh.deform; default: the scene's \"time\", 0)");
+    m->material.addOverrides(*cmd);
     cmd->add_option("--subpixels", m->options.subpixels,
                     "Camera rays per pixel per axis (stratified)")->capture_default_str();
     cmd->add_option("--convention", m->convention,

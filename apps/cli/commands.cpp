@@ -6,13 +6,17 @@ namespace translucent::cli {
 namespace {
 bool gCheckOnly = false;
 uint64_t gChecked = 0;
+
+bool gWorkBegun = false;
 }  // namespace
 
 bool beginWork() {
-  if (!gCheckOnly) return true;
+  if (!gCheckOnly) return gWorkBegun = true;
   ++gChecked;
   return false;
 }
+
+bool workBegun() { return gWorkBegun; }
 
 CheckOnly::CheckOnly() : previous_(gCheckOnly) { gCheckOnly = true; }
 CheckOnly::~CheckOnly() { gCheckOnly = previous_; }
@@ -27,6 +31,7 @@ void addAllCommands(CLI::App& app) {
   addPathtraceCommand(app);
   addRenderReferenceCommands(app);  // after pathtrace: adds to it
   addRenderCommand(app);
+  addTechniquesCommand(app);
   addCompareCommand(app);
   addConventionStudyCommand(app);
   addAtlasCommand(app);

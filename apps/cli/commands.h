@@ -13,6 +13,7 @@ void addProfileCommand(CLI::App& app);
 void addPathtraceCommand(CLI::App& app);
 void addRenderReferenceCommands(CLI::App& app);  // pathtrace sphere|mesh, integrate sphere|mesh
 void addRenderCommand(CLI::App& app);            // render (real-time techniques, GPU)
+void addTechniquesCommand(CLI::App& app);        // techniques [NAME] (and their parameters)
 void addCompareCommand(CLI::App& app);           // compare (techniques vs references, report)
 void addConventionStudyCommand(CLI::App& app);   // convention-study (exit-radiance conventions)
 void addAtlasCommand(CLI::App& app);             // atlas (surface parameterisation, statistics)
@@ -35,6 +36,9 @@ void addAllCommands(CLI::App& app);
 // #15 §7) beginWork() returns false, so a parse runs the real CLI11 parser and every check of the
 // subcommand given, with the same messages, and stops before the work.
 [[nodiscard]] bool beginWork();
+// Whether a command's checks passed and its work began (beginWork() returned true): an error
+// before then is a usage error (exit status 2), after it a runtime error (1).
+bool workBegun();
 
 class CheckOnly {
  public:

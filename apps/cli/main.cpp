@@ -5,9 +5,13 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <exception>
+#include <regex>
+#include <sstream>
+#include <string>
 
 #include "safe_print.h"
 #include "commands.h"
+#include "progress.h"
 
 #include "shard.h"
 
@@ -24,6 +28,73 @@
 
 
 namespace {
+
+// Exit statuses: 0 success, 1 a runtime error (the work failed), 2 a usage error (the command line
+// could not be parsed, or the checks before any work refused it: commands.h), 130/143 after
+// SIGINT/SIGTERM stopped long work whose partial outputs were written (progress.h).
+constexpr int kRuntimeError = 1;
+constexpr int kUsageError = 2;
+
+// The subcommand being parsed when CLI11 stopped ("pathtrace slab"; "" for none) and that App.
+std::pair<std::string, CLI::App*> deepestCommand(CLI::App& app) {
+  std::string path;
+  CLI::App* at = &app;
+  for (;;) {
+    const auto subs = at->get_subcommands();
+    if (subs.empty()) break;
+    at = subs.back();
+    path += (path.empty() ? "" : " ") + at->get_name();
+  }
+  return {path, at};
+}
+
+// What an option's value must be, from CLI11's type name.
+std::string expectedValue(const std::string& type) {
+  if (type == "INT") return "a whole number";
+  if (type == "UINT") return "a whole number >= 0";
+  if (type == "FLOAT") return "a number";
+  if (type == "BOOLEAN") return "true or false";
+  return "a value of type " + type;
+}
+
+// CLI11's parse errors in our own words: "translucent: error: <what> (<command> --help ...)",
+// naming the option and what was expected.
+std::string usageMessage(const CLI::ParseError& e, CLI::App& app) {
+  const auto [command, sub] = deepestCommand(app);
+  std::string what = e.what();
+  std::smatch m;
+  if (std::regex_match(what, m, std::regex("Could not convert: (\\S+) = (.*)"))) {
+    const CLI::Option* opt = sub->get_option_no_throw(m[1].str());
+    what = fmt::format("{} '{}': expected {}", m[1].str(), m[2].str(),
+                       opt ? expectedValue(opt->get_type_name()) : "another value");
+  } else if (std::regex_match(what, m, std::regex("The value (.*) is not an allowed value for (\\S+)"))) {
+    what = fmt::format("{} '{}': not an allowed value", m[2].str(), m[1].str());
+  } else if (std::regex_match(what, m, std::regex("The following arguments? w(?:as|ere) not expected: (.*)"))) {
+    // CLI11 lists them last first ("1 --bogus"): name the option where there is one.
+    std::string extra = m[1].str();
+    std::istringstream words(m[1].str());
+    for (std::string w; words >> w;)
+      if (w.size() > 1 && w[0] == '-') extra = w;
+    what = extra.rfind('-', 0) == 0
+               ? fmt::format("unknown option '{}'{}", extra,
+                             command.empty() ? "" : " for '" + command + "'")
+               : fmt::format("unexpected argument '{}'{}", extra,
+                             command.empty() ? " (expected a command)" : " for '" + command + "'");
+  } else if (std::regex_match(what, m, std::regex("Requires at least 1 subcommands?|A subcommand is required"))) {
+    std::string names;
+    for (const CLI::App* c : sub->get_subcommands([](const CLI::App*) { return true; }))
+      names += (names.empty() ? "" : ", ") + c->get_name();
+    what = fmt::format("expected a command{}: {}", command.empty() ? "" : " after '" + command + "'",
+                       names);
+  } else if (std::regex_match(what, m, std::regex("(\\S+): (\\d+) required (\\S+) missing"))) {
+    what = fmt::format("{}: expected {} after it", m[1].str(), expectedValue(m[3].str()));
+  } else if (!what.empty()) {
+    what[0] = static_cast<char>(std::tolower(static_cast<unsigned char>(what[0])));
+  }
+  return fmt::format("translucent: error: {}\nRun 'translucent{}{} --help' for the options.\n",
+                     what, command.empty() ? "" : " ", command);
+}
+
 int run(int argc, char** argv) {
   CLI::App app{
       "Translucent: render, compare and validate translucent (subsurface-scattering) materials."};
@@ -31,16 +102,22 @@ int run(int argc, char** argv) {
   translucent::cli::setCommandLine(argc, argv);
   try {
     app.parse(argc, argv);
+  } catch (const CLI::Success& e) {
+    return app.exit(e);  // --help, --version
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    std::fflush(stdout);
+    translucent::cli::printStderr("{}", usageMessage(e, app));
+    return kUsageError;
   } catch (const std::exception& e) {
     // What the command printed first: the error is the last line even when stdout (buffered) and
     // stderr go to one file, as a report's summary followed by what failed in it.
     std::fflush(stdout);
     translucent::cli::printStderr("translucent: error: {}\n", e.what());
-    return 1;
+    if (const int stopped = translucent::cli::stopExitStatus()) return stopped;
+    return translucent::cli::workBegun() ? kRuntimeError : kUsageError;
   }
-  return 0;
+  std::fflush(stdout);
+  return translucent::cli::stopExitStatus();  // 0, or 130/143 after a signal stopped the work
 }
 }  // namespace
 

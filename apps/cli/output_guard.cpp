@@ -17,6 +17,10 @@
 namespace translucent::cli {
 namespace fs = std::filesystem;
 
+bool isStdoutPath(const std::string& path) {
+  return path == "-" || path == "/dev/stdout" || path == "/proc/self/fd/1";
+}
+
 CLI::Option* outputOption(CLI::Option* option) {
   return option->check(CLI::Validator(
       [](std::string& value) -> std::string {
@@ -41,10 +45,23 @@ void OutputSet::sceneInputs(const fs::path& scene_file, const scene::Scene& s) {
 
 void OutputSet::check() const {
   // The library's check (translucent/io/output_guard.h: folders, permissions, inputs by device
-  // and inode, the process's run inputs such as merge's parts, outputs that are one file).
+  // and inode, the process's run inputs such as merge's parts, outputs that are one file), for
+  // every output but stdout.
   io::OutputSet files;
   for (const auto& [what, path] : inputs_) files.input(what, path);
-  for (const auto& [option, path] : outputs_) files.output(option, path);
+  const std::pair<std::string, std::string>* toStdout = nullptr;  // the output given as '-'
+  for (size_t i = 0; i < outputs_.size(); ++i) {
+    const auto& [option, path] = outputs_[i];
+    if (isStdoutPath(path)) {
+      if (toStdout)
+        throw ParameterError(fmt::format("{} '{}' and {} '{}' both write to stdout: at most one "
+                                         "output can be '-'", toStdout->first, toStdout->second,
+                                         option, path));
+      toStdout = &outputs_[i];
+      continue;
+    }
+    files.output(option, path);
+  }
   try {
     files.check();
   } catch (const io::OutputError& e) {
@@ -73,6 +90,14 @@ bool readBytes(const std::string& file, std::string& bytes) {
   return ok;
 }
 
+// '-' (and /dev/stdout, which may be a regular file the shell redirected): the bytes on the
+// process's stdout, after what the command printed there so far.
+bool writeStdout(const std::string& bytes) {
+  std::fflush(stdout);
+  const bool ok = std::fwrite(bytes.data(), 1, bytes.size(), stdout) == bytes.size();
+  return std::fflush(stdout) == 0 && ok;
+}
+
 std::string replaceAll(std::string text, const std::string& from, const std::string& to) {
   if (from.empty()) return text;
   for (size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size()))
@@ -99,7 +124,7 @@ void OutputFiles::discard() noexcept {
 }
 
 OutputFiles::Staged OutputFiles::stage(const std::string& option, const std::string& path) {
-  Staged s{option, path, "", isDevice(path), ""};
+  Staged s{option, path, "", isStdoutPath(path) || isDevice(path), ""};
   const fs::path p(path);
   const std::string name = fmt::format("{}.tmp-{}-{}{}", p.filename().string(), ::getpid(),
                                        nextNumber(), p.extension().string());
@@ -166,7 +191,10 @@ void OutputFiles::commit() {
   for (const Staged& s : staged_) {
     if (!s.device) continue;
     std::string bytes;
-    if (!readBytes(s.tmp, bytes) || !analysis::writeBytes(s.path, bytes)) {
+    const bool written =
+        readBytes(s.tmp, bytes) &&
+        (isStdoutPath(s.path) ? writeStdout(bytes) : analysis::writeBytes(s.path, bytes));
+    if (!written) {
       discard();
       throw ParameterError(fmt::format("{} '{}': write failed (device full?)", s.option, s.path));
     }

@@ -28,6 +28,10 @@ struct Scene;
 
 namespace translucent::cli {
 
+// '-' as an output writes to stdout (for CSV and JSON outputs); /dev/stdout is the same (written
+// through the process's stdout, also where the shell redirected it to a regular file).
+bool isStdoutPath(const std::string& path);
+
 // Adds a check to an output option: an empty value (`--out ""`) is an error instead of being
 // taken as "not given" (which used to fall back to a default file name and overwrite it).
 CLI::Option* outputOption(CLI::Option* option);

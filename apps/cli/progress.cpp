@@ -7,24 +7,56 @@
 #include <algorithm>
 #include <cmath>
 #include <csignal>
+#include <signal.h>
 
 #include "safe_print.h"
 
 namespace translucent::cli {
 namespace {
-volatile std::sig_atomic_t gInterrupted = 0;
-extern "C" void translucentCliOnSigint(int) {
-  gInterrupted = 1;
-  std::signal(SIGINT, SIG_DFL);  // a second Ctrl-C ends the program at once
+volatile std::sig_atomic_t gStopSignal = 0;  // the first SIGINT/SIGTERM (0: none)
+volatile std::sig_atomic_t gGuards = 0;      // InterruptGuards alive
+
+extern "C" void translucentCliOnStopSignal(int signo) {
+  // Only async-signal-safe calls here: signal() and raise().
+  if (gGuards == 0 || gStopSignal != 0) {
+    // Nothing to keep (no long work under way), or the second signal: end at once, as without
+    // a handler (the shell sees 128 + signo).
+    std::signal(signo, SIG_DFL);
+    std::raise(signo);
+    return;
+  }
+  gStopSignal = signo;
 }
 }  // namespace
 
-InterruptGuard::InterruptGuard() {
-  gInterrupted = 0;
-  previous_ = std::signal(SIGINT, translucentCliOnSigint);
+void installStopSignals() {
+  struct sigaction action {};
+  action.sa_handler = translucentCliOnStopSignal;
+  sigemptyset(&action.sa_mask);
+  action.sa_flags = SA_RESTART;
+  // Both, even where the shell started us with SIGINT ignored (a background job): Ctrl-C and
+  // kill -INT ask the work to stop.
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
 }
-InterruptGuard::~InterruptGuard() { std::signal(SIGINT, previous_); }
-bool InterruptGuard::interrupted() { return gInterrupted != 0; }
+
+int stopSignal() { return gStopSignal; }
+int stopExitStatus() { return gStopSignal != 0 ? 128 + gStopSignal : 0; }
+const char* stopSignalName() { return gStopSignal == SIGTERM ? "SIGTERM" : "Ctrl-C"; }
+
+std::string stoppedEarly(bool partial) {
+  if (!partial) return {};
+  return fmt::format("stopped early{}, partial result: ",
+                     gStopSignal != 0 ? fmt::format(" by {}", stopSignalName()) : std::string());
+}
+
+InterruptGuard::InterruptGuard() {
+  static const bool installed = (installStopSignals(), true);
+  (void)installed;
+  gGuards = gGuards + 1;
+}
+InterruptGuard::~InterruptGuard() { gGuards = gGuards - 1; }
+bool InterruptGuard::interrupted() { return gStopSignal != 0; }
 
 std::string clockText(double seconds) {
   if (!std::isfinite(seconds) || seconds < 0.0) return "--:--";

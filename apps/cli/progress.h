@@ -2,8 +2,8 @@
 // Progress reporting and Ctrl-C handling for long-running subcommands (the same bar and Ctrl-C
 // behaviour as `pathtrace slab`): a bar redrawn at 10 Hz on a terminal with rate, elapsed time and
 // ETA, a plain line every 10 s when stderr is not a terminal; an optional time limit; and a
-// SIGINT guard so that Ctrl-C asks the computation to stop (it then returns what it has, marked
-// partial) while a second Ctrl-C ends the program at once.
+// guard so that Ctrl-C (SIGINT) or SIGTERM (kill, timeout, Slurm) asks the computation to stop
+// (it then returns what it has, marked partial) while a second signal ends the program at once.
 #pragma once
 
 #include <optional>
@@ -13,7 +13,28 @@
 
 namespace translucent::cli {
 
-// Installs the SIGINT handler for its lifetime (restoring the previous one after).
+// SIGINT and SIGTERM, one mechanism. Until a command starts long work that can stop early and
+// write what it has (the path tracers, integrate, compare, render --frames, atlas), a signal ends
+// the program as it would without a handler (status 128 + the signal: nothing is lost). The first
+// InterruptGuard catches both for the rest of the run (installStopSignals). While a guard is
+// alive the first signal only asks the work to stop: interrupted() turns true, the command writes
+// its partial outputs, and main() then exits with stopExitStatus(): 130 after SIGINT, 143 after
+// SIGTERM. A second signal, or one while no guard is alive, ends the program at once.
+void installStopSignals();
+// The signal that asked the run to stop (SIGINT, SIGTERM), or 0.
+int stopSignal();
+// 128 + stopSignal() once a signal asked the run to stop, else 0.
+int stopExitStatus();
+// "Ctrl-C" or "SIGTERM": for messages ("stopped by SIGTERM").
+const char* stopSignalName();
+
+// "" for a complete run, else "stopped early, partial result: " naming the signal that stopped it
+// ("stopped early by SIGTERM, partial result: ").
+std::string stoppedEarly(bool partial);
+
+// Marks long work that stops cleanly on SIGINT/SIGTERM for its lifetime (see above); guards nest.
+// Once a signal asked the run to stop, interrupted() stays true (a later guard of the same run,
+// e.g. the next channel or scene, stops after its first step).
 class InterruptGuard {
  public:
   InterruptGuard();
@@ -21,9 +42,6 @@ class InterruptGuard {
   InterruptGuard(const InterruptGuard&) = delete;
   InterruptGuard& operator=(const InterruptGuard&) = delete;
   static bool interrupted();
-
- private:
-  void (*previous_)(int);
 };
 
 // Runs that would take days are refused rather than left to run (issue 15, "legal numbers that

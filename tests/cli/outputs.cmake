@@ -105,14 +105,14 @@ elseif(CASE STREQUAL "same_output_twice")
   run(FAIL "--exr 'same.exr' and --png 'same.exr' are the same file" ${PT} --exr same.exr --png same.exr)
   run(FAIL "--exr 'same.exr' and --json '\\./same.exr' are the same file" ${PT} --exr same.exr --json ./same.exr)
   run(FAIL "--json 'a.json' and --csv '\\./a.json' are the same file"
-      pathtrace slab --preset Marble --channel r --photons 1000 --radial-bins 4 --radial-max 1
+      pathtrace slab --material Marble --channel r --photons 1000 --radial-bins 4 --radial-max 1
       --json a.json --csv ./a.json)
   run(FAIL "--exr 'same.png' and --out '\\./same.png' are the same file" render scene.json --exr same.png --out ./same.png)
   expect_absent(same.exr same.png a.json)
 elseif(CASE STREQUAL "dev_full")
   # `--json /dev/full` used to print "wrote …" and exit 0; images to a full device fail too. A
   # device is written in place, never renamed over.
-  run(FAIL "--json '/dev/full': write failed" pathtrace slab --preset Marble --channel r --photons 1000 --json /dev/full)
+  run(FAIL "--json '/dev/full': write failed" pathtrace slab --material Marble --channel r --photons 1000 --json /dev/full)
   run(FAIL "--json '/dev/full': write failed" ${PT} --exr out.exr --json /dev/full)
   file(CREATE_LINK /dev/full ${WORK}/full.exr SYMBOLIC)
   file(CREATE_LINK /dev/full ${WORK}/full.png SYMBOLIC)
@@ -140,11 +140,11 @@ elseif(CASE STREQUAL "all_or_nothing")
   run(FAIL "--png 'full.png': write failed" ${PT} --exr new.exr --png full.png)
   run(FAIL "--json '/dev/full': write failed" ${PT} --exr keep.exr --png new.png --json /dev/full)
   # pathtrace slab: --json and --csv.
-  set(SLAB pathtrace slab --preset Marble --channel r --photons 1000 --radial-bins 4 --radial-max 1)
+  set(SLAB pathtrace slab --material Marble --channel r --photons 1000 --radial-bins 4 --radial-max 1)
   run(FAIL "--csv '/dev/full': write failed" ${SLAB} --json new.json --csv /dev/full)
   run(FAIL "--csv 'full.csv': write failed" ${SLAB} --json keep.json --csv full.csv)
   # profile: --save-profile and --out.
-  set(PROFILE profile --preset Skin1 --model dipole --points 10 --reference --photons 2000 --threads 1)
+  set(PROFILE profile --material Skin1 --model dipole --points 10 --reference --photons 2000 --threads 1)
   run(FAIL "--out 'full.csv': write failed" ${PROFILE} --save-profile new.csv --out full.csv)
   run(FAIL "--out 'full.csv': write failed" ${PROFILE} --save-profile keep.csv --out full.csv)
   # render: --exr and --out.

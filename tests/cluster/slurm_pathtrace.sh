@@ -313,7 +313,7 @@ single() {
 mkdir -p "$TMP/sharded" "$TMP/single"
 S=$TMP/sharded
 P=$TMP/single
-SLAB=(pathtrace slab --device cpu --preset Skimmilk --channel r --photons 4e5 --radial-bins 50 --radial-max 5 --seed 7)
+SLAB=(pathtrace slab --device cpu --material Skimmilk --channel r --photons 4e5 --radial-bins 50 --radial-max 5 --seed 7)
 cd "$S"
 sharded slab "${SLAB[@]}" -- --json slab.json --csv slab.csv
 cd "$P"
@@ -335,7 +335,7 @@ cd "$TMP"
 # Shards that fail (no photons): submit --wait fails, the merge never runs, no output appears.
 rc=0
 SUBMIT_POLL_SECONDS=0.2 "$SCRIPTS/submit" -n 2 -d "$TMP/bad-parts" --wait \
-  -- pathtrace slab --preset Skimmilk --channel r --photons 0 -- --json "$TMP/bad.json" \
+  -- pathtrace slab --material Skimmilk --channel r --photons 0 -- --json "$TMP/bad.json" \
   >"$TMP/bad-submit.out" 2>"$TMP/bad-submit.err" || rc=$?
 # shellcheck disable=SC2207
 JOBS+=($(sed -n 's/^\(array\|merge\)_job=//p' "$TMP/bad-submit.out"))

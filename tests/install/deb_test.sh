@@ -24,7 +24,7 @@ dpkg-deb -c "$deb" | grep -q './usr/share/translucent/shaders/' || fail "no shad
 dpkg -x "$deb" "$T/root"
 # The packaged CLI, run from the extracted root: it finds ../share/translucent beside itself.
 env -u TRANSLUCENT_SHARE_DIR "$T/root/usr/bin/translucent" --version | grep -q "0\.1\.0" || fail "--version"
-env -u TRANSLUCENT_SHARE_DIR "$T/root/usr/bin/translucent" profile --preset Marble --model dipole \
+env -u TRANSLUCENT_SHARE_DIR "$T/root/usr/bin/translucent" profile --material Marble --model dipole \
     --out "$T/profile.csv" >"$T/profile.log" 2>&1 || { cat "$T/profile.log"; fail "profile"; }
 [[ $(wc -l <"$T/profile.csv") -gt 10 ]] || fail "profile.csv has $(wc -l <"$T/profile.csv") lines"
 echo "deb_test: PASS"

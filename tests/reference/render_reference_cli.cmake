@@ -14,30 +14,30 @@ if(TARGET translucent_cli)
     set_tests_properties(cli.render_${name} PROPERTIES LABELS cli)
   endfunction()
   set(SMALL --width 12 --height 12 --threads 2)
-  render_test(sphere_json ARGS pathtrace sphere --preset Skin1 --scale 2 ${SMALL} --photons 4000
+  render_test(sphere_json ARGS pathtrace sphere --material Skin1 --scale 2 ${SMALL} --photons 4000
               --passes 2 --exr ${OUT}/rs.exr --png ${OUT}/rs.png --json ${OUT}/rs.json
               FILE ${OUT}/rs.json MATCH "\"photons_per_channel\": 8192")
   render_test(sphere_png ARGS pathtrace sphere --sigma-a 0.1 --sigma-s 1 --g 0.5 --eta 1.4
               --light-dir 0,1,1 --quantity cone-radiance ${SMALL} --photons 3000
               --exr ${OUT}/rs2.exr --png ${OUT}/rs2.png --exposure 2 --gamma 2.2
               FILE ${OUT}/rs2.png MATCH "PNG")
-  render_test(sphere_time_limit ARGS pathtrace sphere --preset Marble ${SMALL} --photons 1e15
+  render_test(sphere_time_limit ARGS pathtrace sphere --material Marble ${SMALL} --photons 1e15
               --time-limit 0.3 --exr ${OUT}/rs3.exr --json ${OUT}/rs3.json
               FILE ${OUT}/rs3.json MATCH "\"partial\": true")
   # --device (issue 16): the GPU walk writes the same outputs and says what traced them; time
   # limits act between its batches; unknown devices are refused.
-  render_test(sphere_device_gpu ARGS pathtrace sphere --preset Skin1 --scale 2 ${SMALL}
+  render_test(sphere_device_gpu ARGS pathtrace sphere --material Skin1 --scale 2 ${SMALL}
               --photons 4000 --device gpu --exr ${OUT}/rsg.exr --json ${OUT}/rsg.json
               FILE ${OUT}/rsg.json MATCH "\"device\": \"gpu \\(")
-  render_test(sphere_device_gpu_time_limit ARGS pathtrace sphere --preset Marble ${SMALL}
+  render_test(sphere_device_gpu_time_limit ARGS pathtrace sphere --material Marble ${SMALL}
               --photons 1e15 --device gpu --time-limit 0.5 --exr ${OUT}/rsg2.exr
               --json ${OUT}/rsg2.json FILE ${OUT}/rsg2.json MATCH "\"partial\": true")
   # The split by scattering order (issue 14 §4): EXR layers per order, fluxes per order.
   # (The layers themselves: tests/python/test_reference.py reads them with OpenImageIO.)
-  render_test(sphere_split_orders ARGS pathtrace sphere --preset Skin1 --scale 2 ${SMALL}
+  render_test(sphere_split_orders ARGS pathtrace sphere --material Skin1 --scale 2 ${SMALL}
               --photons 4000 --split-orders --exr ${OUT}/rso.exr --json ${OUT}/rso.json
               FILE ${OUT}/rso.json MATCH "\"split_orders\": true")
-  render_test(sphere_flux_by_order ARGS pathtrace sphere --preset Skin1 --scale 2 ${SMALL}
+  render_test(sphere_flux_by_order ARGS pathtrace sphere --material Skin1 --scale 2 ${SMALL}
               --photons 4000 --exr ${OUT}/rso2.exr --json ${OUT}/rso2.json
               FILE ${OUT}/rso2.json MATCH "\"exited_by_order\": {[^}]*\"multiple\"")
   render_test(mesh_split_orders ARGS pathtrace mesh --scene ${PROJECT_SOURCE_DIR}/data/scenes/cube.json
@@ -66,17 +66,17 @@ if(TARGET translucent_cli)
               --scene ${PROJECT_SOURCE_DIR}/data/scenes/bunny-bend.json
               --photons 2000 --device gpu --exr ${OUT}/rmgd.exr --json ${OUT}/rmgd.json
               FILE ${OUT}/rmgd.json MATCH "\"device\": \"gpu \\(")
-  render_test(integrate_json ARGS integrate sphere --model dipole --preset Ketchup ${SMALL}
+  render_test(integrate_json ARGS integrate sphere --model dipole --material Ketchup ${SMALL}
               --samples 4 --sampling uniform --exr ${OUT}/ri.exr --json ${OUT}/ri.json
               FILE ${OUT}/ri.json MATCH "\"samples_per_pixel\": 4")
   # Directional models (issue 14 §1): the C++ directional dipole on the CPU, its .bssrdf twin on
   # the GPU with the light's direction (uniform sampling, said in the JSON).
   render_test(integrate_directional ARGS integrate sphere --model directional-dipole
-              --preset Skin1 --light-dir 1,0,1 ${SMALL} --samples 8 --exr ${OUT}/rid.exr
+              --material Skin1 --light-dir 1,0,1 ${SMALL} --samples 8 --exr ${OUT}/rid.exr
               --json ${OUT}/rid.json FILE ${OUT}/rid.json MATCH "\"device\": \"cpu\"")
   render_test(integrate_directional_bssrdf ARGS integrate sphere
               --model ${PROJECT_SOURCE_DIR}/data/bssrdf/directional-dipole.bssrdf
-              --preset Skin1 --light-dir 1,0,1 ${SMALL} --samples 64 --exr ${OUT}/ridb.exr
+              --material Skin1 --light-dir 1,0,1 ${SMALL} --samples 64 --exr ${OUT}/ridb.exr
               --json ${OUT}/ridb.json FILE ${OUT}/ridb.json MATCH "\"sampling\": \"uniform\"")
   render_test(mesh_json ARGS pathtrace mesh --scene ${PROJECT_SOURCE_DIR}/data/scenes/cube.json
               --photons 2000 --threads 2 --quantity radiance --exr ${OUT}/rm.exr

@@ -70,7 +70,8 @@ expect_error "expected 0 <= I < N" "$T" "${SLAB[@]}" --shard 4/4 --partial x.tpa
 expect_error "expected I/N" "$T" "${SLAB[@]}" --shard 2 --partial x.tpart
 expect_error "give --partial FILE" "$T" "${SLAB[@]}" --shard 0/2
 expect_error "a shard writes only its --partial file" "$T" "${SLAB[@]}" --shard 0/2 --partial x.tpart --json x.json
-expect_error "--json: required" "$T" "${SLAB[@]}"
+# Without --json (or --csv) a run prints its result to stdout and writes nothing.
+"$T" "${SLAB[@]}" 2>/dev/null | grep -q "^pathtrace: 50000 photons" || fail "pathtrace slab without --json: no result on stdout"
 # The parts are inputs of the merge: an output naming one, or a hard or symbolic link to one, is
 # refused before anything is written, and the part is unchanged byte for byte.
 cp slab-0.tpart kept.tpart

@@ -12,7 +12,7 @@ rm -f "$out"
   --json "$out" 2>/dev/null &
 pid=$!
 interrupt "$pid" || exit 1
-if [ "$rc" -ne 0 ]; then echo "exit status $rc after SIGINT"; exit 1; fi
+if [ "$rc" -ne 130 ]; then echo "exit status $rc after SIGINT, expected 130"; exit 1; fi
 if [ ! -f "$out" ]; then echo "$out was not written"; exit 1; fi
 grep -q '"partial": true' "$out" || { echo "no \"partial\": true in $out"; cat "$out"; exit 1; }
 grep -q '"diffuse_reflectance_stderr"' "$out" || { echo "no estimates in $out"; exit 1; }
