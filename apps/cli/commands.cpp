@@ -2,6 +2,13 @@
 // The list of subcommands and the seam between each one's checks and its work (commands.h).
 #include "commands.h"
 
+#include <fmt/format.h>
+
+#include <exception>
+#include <string>
+
+#include "translucent/io/resources.h"
+
 namespace translucent::cli {
 namespace {
 bool gCheckOnly = false;
@@ -24,7 +31,17 @@ uint64_t CheckOnly::checked() { return gChecked; }
 
 void addAllCommands(CLI::App& app) {
   app.require_subcommand(1);
-  app.set_version_flag("--version", "translucent 0.1.0");
+  // --version: the release, and where this binary takes its shaders and data from (an installed
+  // prefix's share/translucent, or the source tree for a build-tree run).
+  app.set_version_flag("--version", [] {
+    std::string where;
+    try {
+      where = io::shareDirectory().string();
+    } catch (const std::exception& e) {
+      where = e.what();
+    }
+    return fmt::format("translucent {}\nshaders and data: {}", TRANSLUCENT_VERSION, where);
+  });
   addPresetsCommand(app);
   addInvertCommand(app);
   addProfileCommand(app);

@@ -19,8 +19,12 @@ echo "Depends: $depends"
 for lib in libc6 libstdc++6 libopenimageio libembree libtbb libassimp libepoxy; do
   grep -q "$lib" <<<"$depends" || fail "Depends: does not name $lib"
 done
-dpkg-deb -c "$deb" | grep -q './usr/bin/translucent$' || fail "no /usr/bin/translucent in the package"
-dpkg-deb -c "$deb" | grep -q './usr/share/translucent/shaders/' || fail "no shaders in the package"
+# The listing to a file first: `grep -q` closing a pipe early would fail the pipeline (pipefail).
+dpkg-deb -c "$deb" >"$T/listing.txt"
+grep -q '\./usr/bin/translucent$' "$T/listing.txt" || fail "no /usr/bin/translucent in the package"
+grep -q '\./usr/share/translucent/shaders/' "$T/listing.txt" || fail "no shaders in the package"
+grep -q '\./usr/share/doc/translucent/LICENSE$' "$T/listing.txt" || fail "no LICENSE in the package"
+grep -q '\./usr/lib/cmake/Translucent/TranslucentConfig.cmake$' "$T/listing.txt" || fail "no CMake package"
 dpkg -x "$deb" "$T/root"
 # The packaged CLI, run from the extracted root: it finds ../share/translucent beside itself.
 env -u TRANSLUCENT_SHARE_DIR "$T/root/usr/bin/translucent" --version | grep -q "0\.1\.0" || fail "--version"
