@@ -71,7 +71,7 @@ def test_slab_on_the_gpu_matches_cli_json(cli, tmp_path):
     assert comparable(got) == {k: v for k, v in expected.items() if k not in TIMING}
     assert translucent.pathtrace_slab(preset="Marble", channel="g", photons=2e4, seed=7,
                                       device="cpu")["device"] == "cpu"
-    with pytest.raises(ValueError, match="device 'tpu': expected cpu, gpu or auto"):
+    with pytest.raises(ValueError, match="device='tpu': expected cpu, gpu or auto"):
         translucent.pathtrace_slab(preset="Marble", channel="g", device="tpu")
 
 

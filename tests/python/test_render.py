@@ -113,7 +113,7 @@ def test_compare_reference_on_the_gpu_matches_cli_report(cli, cube, tmp_path):
     assert got["settings"]["reference_device"] == "gpu"
     cpu = translucent.compare(str(cube), **common)
     assert cpu["metrics"] != got["metrics"]
-    with pytest.raises(ValueError, match="--reference-device 'tpu': expected cpu or gpu"):
+    with pytest.raises(ValueError, match="reference_device='tpu': expected cpu or gpu"):
         translucent.compare(str(cube), **common, reference_device="tpu")
 
 

@@ -216,17 +216,27 @@ ProfileSamples readProfileSamples(const std::string& path) {
         throw ParameterError(fmt::format("{}: R ({} channel) {}: expected >= 0", where,
                                          kChannelNames[c], v));
       const double perMm2 = v / (f * f);
-      if (v > 0.0 && !(perMm2 >= kMinValuePerMm2 && perMm2 <= kMaxValuePerMm2))
-        throw ParameterError(fmt::format("{}: R ({} channel) {} ({} per mm²): expected 0 or a "
-                                         "value in [{}, {}] per mm²", where, kChannelNames[c], v,
-                                         perMm2, kMinValuePerMm2, kMaxValuePerMm2));
+      if (!(perMm2 <= kMaxValuePerMm2))
+        throw ParameterError(fmt::format("{}: R ({} channel) {} ({} per mm²): expected at most {} "
+                                         "per mm²", where, kChannelNames[c], v, perMm2,
+                                         kMaxValuePerMm2));
     }
   }
-  for (int c = 0; c < 3; ++c)
-    if (std::none_of(t.R_mm[size_t(c)].begin(), t.R_mm[size_t(c)].end(),
-                     [](double v) { return v > 0.0; }))
+  // A tail may fall as far below kMinValuePerMm2 as it likes (a profile decays exponentially);
+  // what a renderer cannot use is a channel whose largest value is that small: its pixels come
+  // out as 0 (or subnormal) everywhere.
+  for (int c = 0; c < 3; ++c) {
+    const auto& ch = t.R_mm[size_t(c)];
+    const double peak = *std::max_element(ch.begin(), ch.end());
+    if (!(peak > 0.0))
       throw ParameterError(fmt::format("{}: the {} channel is 0 everywhere: expected some "
                                        "reflectance", path, kChannelNames[c]));
+    if (!(peak / (f * f) >= kMinValuePerMm2))
+      throw ParameterError(fmt::format("{}: the {} channel's largest R is {} ({} per mm²): "
+                                       "expected a peak of at least {} per mm²",
+                                       path, kChannelNames[c], peak, peak / (f * f),
+                                       kMinValuePerMm2));
+  }
   for (auto& r : t.r_mm) r *= f;
   for (auto& ch : t.R_mm)
     for (auto& v : ch) v /= f * f;
