@@ -4,10 +4,13 @@
 # and uses the installed package as a user would: the CLI renders a shipped scene (shaders found
 # relative to the binary), and a separate CMake project finds Translucent and links
 # Translucent::bssrdf.
-# Usage: install_test.sh BUILD_DIR SOURCE_DIR
+# Usage: install_test.sh BUILD_DIR SOURCE_DIR [PYTHON]
+#   PYTHON: the interpreter of the build's Python module, when the build has one: the installed
+#   package (lib/python3/dist-packages/translucent) is then imported from the moved prefix too.
 set -euo pipefail
 BUILD=$(realpath "$1")
 SRC=$(realpath "$2")
+PYTHON=${3:-}
 T=$(mktemp -d)
 trap 'rm -rf "$T"' EXIT
 cd "$T"
@@ -66,4 +69,14 @@ r, g, b = map(float, m.groups())
 assert all(0.0 < x < 1.0 for x in (r, g, b)), (r, g, b)
 assert r > b, (r, b)
 PY
+# The Python package of `cmake --install` (component python), from the moved prefix with the
+# trees hidden: it imports, finds the shaders and data installed beside it, and computes.
+if [[ -n "$PYTHON" ]]; then
+  site="$P/lib/python3/dist-packages"
+  [[ -f "$site/translucent/__init__.py" ]] || fail "the Python package is not installed under $site"
+  py=$(run_hidden "PYTHONPATH='$site' '$PYTHON' -c 'import translucent; print(translucent.share_directory()); print(translucent.profile(\"dipole\", [1.0], preset=\"Marble\")[0][0])'") \
+    || fail "importing the installed Python package with the source and build trees hidden"
+  echo "python: $py"
+  case "$(head -1 <<<"$py")" in "$site"/*|"$P"/*) ;; *) fail "the installed package reads its data from $(head -1 <<<"$py"), outside the prefix" ;; esac
+fi
 echo "install_test: PASS"
