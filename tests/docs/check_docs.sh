@@ -19,6 +19,12 @@ CHROMIUM=$(command -v chromium || command -v chromium-browser || true)
 "$ROOT/scripts/build-docs" "$CLI"
 HTML=$ROOT/build/docs/html
 "$PYTHON" "$ROOT/tests/docs/check_links.py" "$HTML"
+if [[ -n "${TRANSLUCENT_DOCS_REQUIRE_PYTHON:-}" ]]; then
+  # The API page documents the module's functions from their docstrings.
+  for name in translucent.profile translucent.pathtrace_slab translucent.Scene; do
+    grep -q "id=\"$name\"" "$HTML/reference/python.html" || { echo "check_docs: FAIL: $name is not on the Python API page" >&2; exit 1; }
+  done
+fi
 
 mkdir -p "$SHOT_DIR"
 SHOT=$SHOT_DIR/index.png
