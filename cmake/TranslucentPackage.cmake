@@ -18,8 +18,12 @@ set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
 set(CPACK_DEBIAN_PACKAGE_SECTION graphics)
 set(CPACK_DEBIAN_PACKAGE_LICENSE "GPL-3.0-or-later")
+# OpenGL is reached through libepoxy, which opens libEGL at run time: dpkg-shlibdeps cannot see
+# it. The Mesa drivers (llvmpipe where there is no GPU), the plots' font and the Python module's
+# NumPy are recommended.
+set(CPACK_DEBIAN_PACKAGE_DEPENDS "libegl1")
 set(CPACK_DEBIAN_PACKAGE_RECOMMENDS
-    "libfmt-dev, nlohmann-json3-dev, libtbb-dev, libglm-dev, libassimp-dev, libembree-dev, libcgal-dev, libopenvdb-dev, libopenimageio-dev, libepoxy-dev, libegl-dev, libssl-dev")
+    "libegl-mesa0, libgl1-mesa-dri, fonts-dejavu-core, python3, python3-numpy, libfmt-dev, nlohmann-json3-dev, libtbb-dev, libglm-dev, libassimp-dev, libembree-dev, libcgal-dev, libopenvdb-dev, libopenimageio-dev, libepoxy-dev, libegl-dev, libssl-dev")
 # One package with everything installed (runtime, dev, python components).
 set(CPACK_DEB_COMPONENT_INSTALL OFF)
 set(CPACK_GENERATOR DEB)

@@ -16,7 +16,7 @@ deb=$(find "$T/pkg" -maxdepth 1 -name 'translucent_*.deb' | head -1)
 echo "deb: $(basename "$deb") $(du -h "$deb" | cut -f1) ($(stat -c %s "$deb") bytes)"
 depends=$(dpkg-deb -f "$deb" Depends)
 echo "Depends: $depends"
-for lib in libc6 libstdc++6 libopenimageio libembree libtbb libassimp libepoxy; do
+for lib in libc6 libstdc++6 libopenimageio libembree libtbb libassimp libepoxy libegl1; do
   grep -q "$lib" <<<"$depends" || fail "Depends: does not name $lib"
 done
 # The listing to a file first: `grep -q` closing a pipe early would fail the pipeline (pipefail).

@@ -47,7 +47,7 @@ run_hidden() {
 run_hidden "'$P/bin/translucent' --version" >"$T/version.txt" || fail "translucent --version"
 grep -q "0\.1\.0" "$T/version.txt" || fail "--version printed: $(cat "$T/version.txt")"
 env -u TRANSLUCENT_SHARE_DIR -u TRANSLUCENT_SHADER_DIR -u TRANSLUCENT_BSSRDF_DIR \
-  bash -c "$(declare -f run_hidden); T='$T' SRC='$SRC' BUILD='$BUILD'; run_hidden \"'$P/bin/translucent' render --scene '$P/share/translucent/data/scenes/cube.json' --width 48 --height 36 --out '$T/cube.png'\"" \
+  bash -c "$(declare -f run_hidden); T='$T' SRC='$SRC' BUILD='$BUILD'; run_hidden \"'$P/bin/translucent' render '$P/share/translucent/data/scenes/cube.json' --width 48 --height 36 --out '$T/cube.png'\"" \
   >"$T/render.log" 2>&1 || { cat "$T/render.log"; fail "the installed CLI could not render a shipped scene with the source and build trees hidden"; }
 [[ $(head -c 8 "$T/cube.png" | od -An -tx1 | tr -d ' \n') == "89504e470d0a1a0a" ]] || fail "cube.png is not a PNG"
 echo "install_test: the moved prefix renders data/scenes/cube.json with the source and build trees hidden"
