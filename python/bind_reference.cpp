@@ -257,6 +257,7 @@ void bindReference(py::module_& m) {
         a.absorption = absorption;
         a.kernel = kernel;
         a.device = device;
+        a.time_limited = time_limit.has_value();  // a long estimated run is traced up to it
         return pathtraceSlab(a, layers, time_limit);
       },
       py::kw_only(), py::arg("sigma_a") = py::none(), py::arg("sigma_s") = py::none(),

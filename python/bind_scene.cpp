@@ -12,6 +12,7 @@
 #include "bind.h"
 #include "common.h"
 #include "translucent/geometry/mesh.h"
+#include "translucent/io/json.h"
 #include "json_py.h"
 #include "translucent/scene/mesh_scene.h"
 #include "translucent/reference/gpu/device.h"
@@ -81,7 +82,7 @@ search path ($TRANSLUCENT_DATA).
            "The scene as JSON text (Scene.from_json(s.to_json()) is the same scene)")
       .def(
           "to_dict",
-          [](const scene::Scene& s) { return toPython(nlohmann::json::parse(scene::toJson(s))); },
+          [](const scene::Scene& s) { return toPython(io::parseJson(scene::toJson(s), "the scene")); },
           "The scene as a dict with the file's keys")
       .def(
           "save", [](const scene::Scene& s, const std::filesystem::path& p) { scene::saveScene(s, p); },
@@ -174,7 +175,7 @@ search path ($TRANSLUCENT_DATA).
         stop.finish();
         const auto& st = tracer->stats();
         py::dict d = tracerImageDict(*tracer);
-        d["scene"] = toPython(nlohmann::json::parse(scene::toJson(scene)));
+        d["scene"] = toPython(io::parseJson(scene::toJson(scene), "the scene"));
         d["triangles"] = tracer->body().triangleCount();
         d["photons_per_channel"] = st.photons.empty() ? 0 : st.photons[0];
         d["passes"] = passesRun;

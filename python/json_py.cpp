@@ -5,6 +5,8 @@
 
 #include <string>
 
+#include "translucent/io/json.h"
+
 namespace translucent::python {
 
 namespace py = pybind11;
@@ -40,7 +42,8 @@ nlohmann::json fromPython(const py::handle& o) {
   });
   const std::string text =
       py::module_::import("json").attr("dumps")(o, py::arg("default") = def).cast<std::string>();
-  return nlohmann::json::parse(text);
+  // The one JSON reader (its depth limit: toPython() and the readers of the result recurse).
+  return io::parseJson(text, "the Python value");
 }
 
 }  // namespace translucent::python

@@ -79,6 +79,7 @@ void runSlab(const PathtraceArgs& a) {
   reference::SlabRequest request = a.request;
   request.photons = parsePhotons(a.photons);
   request.device = a.shard.device(request.device);
+  request.time_limited = a.time_limit.has_value();  // a long estimated run is traced up to it
   if (!a.csv.empty() && request.radial_bins == 0)
     throw ParameterError("--csv writes the radial profile: give --radial-bins and --radial-max");
   const reference::SlabRun run =

@@ -31,6 +31,9 @@ namespace translucent::cli {
 namespace {
 
 constexpr const char* kDefaultPreset = "Marble";
+// Radii per curve: each curve holds them all, and --save-profile tallies 32 times as many annuli
+// per channel (at most 2^24, the tally's limit); far beyond any plot's resolution.
+constexpr int kMaxPoints = 500'000;
 
 struct ProfileArgs {
   std::string models = "all";
@@ -57,6 +60,12 @@ struct ProfileArgs {
   std::string device = "auto";  // of the reference: cpu | gpu | auto (reference/gpu/device.h)
   double theta = 0.0;  // incidence of the pencil beam [degrees]
 };
+
+// --model ",,," (or ""): a list that names nothing would write a file without a curve.
+std::string noModelNamed(const std::string& models) {
+  return fmt::format("--model '{}': names no model: expected comma-separated model names, .bssrdf "
+                     "or .csv files, or 'all'", models);
+}
 
 std::string extensionOf(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
@@ -200,6 +209,7 @@ void runStudy(const ProfileArgs& a, const std::string& command) {
   if (!(a.photons >= 1000.0 && a.photons <= 1e12))
     throw ParameterError(
         fmt::format("--photons is {}: expected between 1e3 and 1e12 per channel", a.photons));
+  if (a.models != "all" && splitList(a.models).empty()) throw ParameterError(noModelNamed(a.models));
   OutputSet outputs;
   outputs.output("--out", a.out);
   outputs.output("--csv", a.csv);
@@ -256,6 +266,7 @@ void runProfile(const ProfileArgs& a) {
   const Medium medium = a.medium.medium();
   const std::vector<std::string> entries =
       a.models == "all" ? bssrdf::modelNames() : splitList(a.models);
+  if (entries.empty()) throw ParameterError(noModelNamed(a.models));
   std::vector<std::string> models, files;  // registered models, .bssrdf files
   for (const auto& m : entries) (isBssrdfFile(m) ? files : models).push_back(m);
   OutputSet outputs;
@@ -276,10 +287,11 @@ void runProfile(const ProfileArgs& a) {
     channels = {analysis::Channel::Red, analysis::Channel::Green, analysis::Channel::Blue};
   else
     channels = {analysis::parseChannel(a.channel)};
-  if (a.r_max && !(*a.r_max > 0.0))
-    throw ParameterError(fmt::format("--rmax is {}: expected a positive radius", *a.r_max));
-  if (a.points < 2)
-    throw ParameterError(fmt::format("--points is {}: expected at least 2", a.points));
+  if (a.r_max && !(*a.r_max > 0.0 && std::isfinite(*a.r_max)))
+    throw ParameterError(fmt::format("--rmax is {}: expected a positive finite radius", *a.r_max));
+  if (a.points < 2 || a.points > kMaxPoints)
+    throw ParameterError(fmt::format("--points is {}: expected 2 to {} radii per curve", a.points,
+                                     kMaxPoints));
   analysis::CurveOptions opts{a.r_max, a.points, a.times_r};
   if (!(a.theta >= 0.0 && a.theta < 90.0))
     throw ParameterError(fmt::format("--theta is {}: expected a polar angle in [0, 90) degrees", a.theta));

@@ -232,9 +232,17 @@ void runRender(const RenderArgs& a) {
   const double time0 = s.time;
   auto frameTime = [&](int i) { return time0 + i / a.fps; };
   s.camera.validate();
-  if (!(s.gamma > 0.0) || !std::isfinite(s.gamma) || !std::isfinite(s.exposure))
-    throw ParameterError(fmt::format("--gamma {} / --exposure {}: expected a finite gamma > 0 and a "
-                                     "finite exposure", s.gamma, s.exposure));
+  // Tone mapping: x -> (2^exposure x)^(1/gamma). A gamma of 1e-300 or an exposure of 1e6 is a
+  // legal number that maps every pixel to black or white; the ranges below hold every useful one.
+  constexpr double kMinGamma = 0.01, kMaxGamma = 100.0, kMaxExposure = 64.0;
+  if (!(s.gamma >= kMinGamma && s.gamma <= kMaxGamma))
+    throw ParameterError(fmt::format("--gamma is {}{}: expected a display gamma in [{}, {}]",
+                                     s.gamma, a.gamma ? "" : " (the scene's display.gamma)",
+                                     kMinGamma, kMaxGamma));
+  if (!(std::fabs(s.exposure) <= kMaxExposure))
+    throw ParameterError(fmt::format("--exposure is {}{}: expected stops in [-{}, {}]", s.exposure,
+                                     a.exposure ? "" : " (the scene's display.exposure)",
+                                     kMaxExposure, kMaxExposure));
   // The outputs against each other and against every file the run reads, before the GPU work;
   // nothing is created until a file is complete (written via a temporary file and renamed).
   OutputSet outputs;

@@ -126,21 +126,23 @@ void OutputFiles::discard() noexcept {
 OutputFiles::Staged OutputFiles::stage(const std::string& option, const std::string& path) {
   Staged s{option, path, "", isStdoutPath(path) || isDevice(path), ""};
   const fs::path p(path);
-  const std::string name = fmt::format("{}.tmp-{}-{}{}", p.filename().string(), ::getpid(),
-                                       nextNumber(), p.extension().string());
+  const std::string tag = fmt::format(".tmp-{}-{}", ::getpid(), nextNumber());
   std::error_code ec;
-  s.tmp = s.device ? (fs::temp_directory_path(ec) / ("translucent-" + name)).string()
-                   : (p.parent_path() / ("." + name)).string();
+  // A device's temporary does not take its name (/dev/stdout is short, a FIFO's name may not be).
+  s.tmp = s.device ? (fs::temp_directory_path(ec) /
+                      ("translucent-output" + tag + p.extension().string()))
+                         .string()
+                   : io::temporaryBeside(p, tag);
   return s;
 }
 
 void OutputFiles::text(const std::string& option, const std::string& path, std::string_view text) {
   Staged s = stage(option, path);
   if (!analysis::writeBytes(s.tmp, text)) {
+    const std::string why = analysis::writeErrorText();
     std::error_code ec;
     fs::remove(s.tmp, ec);
-    throw ParameterError(fmt::format("{} '{}': write failed (disk full, or the folder is missing "
-                                     "or not writable)", option, path));
+    throw ParameterError(fmt::format("{} '{}': write failed: {}", option, path, why));
   }
   staged_.push_back(std::move(s));
 }
@@ -153,7 +155,13 @@ void OutputFiles::file(const std::string& option, const std::string& path,
   } catch (const std::exception& e) {
     std::error_code ec;
     fs::remove(s.tmp, ec);
-    throw ParameterError(replaceAll(e.what(), s.tmp, path));
+    // Every message names the file: a writer's own ("cannot write 'x.png': ...") with the
+    // target for its temporary, else the option and the target before it ("No space left on
+    // device" alone says nothing of which output failed).
+    const std::string message = replaceAll(e.what(), s.tmp, path);
+    throw ParameterError(message.find(path) != std::string::npos
+                             ? message
+                             : fmt::format("{} '{}': write failed: {}", option, path, message));
   } catch (...) {
     std::error_code ec;
     fs::remove(s.tmp, ec);
@@ -195,8 +203,9 @@ void OutputFiles::commit() {
         readBytes(s.tmp, bytes) &&
         (isStdoutPath(s.path) ? writeStdout(bytes) : analysis::writeBytes(s.path, bytes));
     if (!written) {
+      const std::string why = analysis::writeErrorText();
       discard();
-      throw ParameterError(fmt::format("{} '{}': write failed (device full?)", s.option, s.path));
+      throw ParameterError(fmt::format("{} '{}': write failed: {}", s.option, s.path, why));
     }
   }
   // 3. The renames; a failed one undoes those before it.

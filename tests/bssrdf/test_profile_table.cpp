@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "translucent/bssrdf/profile_table.h"
@@ -38,6 +39,28 @@ TEST(ProfileTable, SizedFromEffectiveRangeAndConsistent) {
 TEST(ProfileTable, RejectsTooFewEntries) {
   const auto prof = model("dipole").profile(preset("Marble").medium().channel(0));
   EXPECT_THROW((void)tabulate(*prof, 1), std::invalid_argument);
+}
+
+// A profile with a 1/r singularity written with r clamped (1/max(r, 1e-6), as plug-ins do): R(0)
+// is finite but huge, and used to become the first texel (a speckled render). It is tabulated as
+// the singular profile it stands for: R a quarter step out, and the finite limit of r·R.
+class ClampedInverseR : public RadialProfile {
+ public:
+  ClampedInverseR() : RadialProfile(preset("Marble").medium().channel(0)) {}
+  double R(double r) const override { return std::exp(-r) / std::max(r, 1e-6); }
+};
+
+TEST(ProfileTable, ClampedSingularityIsTabulatedAsOne) {
+  const ClampedInverseR prof;
+  const auto t = tabulate(prof, 512, 0.999);
+  const double quarter = 0.25 * t.radius(1);
+  EXPECT_NEAR(double(t.R[0]), prof.R(quarter), 1e-6 * prof.R(quarter));
+  EXPECT_LT(t.R[0], 5.0f * t.R[1]);
+  EXPECT_NEAR(double(t.r_times_R[0]), 1.0, 1e-2);  // r e^-r / r -> 1
+  // A profile that is smooth at the source keeps its own R(0).
+  const auto dipole = model("dipole").profile(preset("Marble").medium().channel(0));
+  const auto d = tabulate(*dipole, 512, 0.999);
+  EXPECT_EQ(d.R[0], static_cast<float>(dipole->R(0.0)));
 }
 
 }  // namespace

@@ -128,4 +128,48 @@ TEST_F(OutputFilesTest, ReplacesExistingTargetsAndKeepsNoCopy) {
   EXPECT_EQ(read(path("a.json")), "newer");
 }
 
+// A writer's error that does not name the file ("No space left on device") is reported with
+// the option and the target, never the temporary file.
+TEST_F(OutputFilesTest, WriterErrorsNameTheOutput) {
+  OutputFiles out;
+  try {
+    out.file("--out", path("plot.png"),
+             [](const std::string&) { throw std::runtime_error("No space left on device"); });
+    FAIL() << "a failing writer succeeded";
+  } catch (const ParameterError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "--out '" + path("plot.png") + "': write failed: No space left on device");
+  }
+  EXPECT_TRUE(entries().empty());
+}
+
+// A name that fits the folder's file system writes, though its hidden temporary
+// (".NAME.tmp-PID-N.EXT") would be longer than the longest name: the temporary is shortened.
+TEST_F(OutputFilesTest, LongestNameThatFitsIsWritten) {
+  const std::string name = std::string(251, 'n') + ".csv";  // 255 bytes
+  OutputFiles out;
+  out.text("--csv", path(name), "a,b\n");
+  out.file("--out", path(std::string(250, 'p') + ".json"),
+           [](const std::string& tmp) { std::ofstream(tmp) << "{}"; });
+  out.commit();
+  EXPECT_EQ(read(path(name)), "a,b\n");
+  EXPECT_EQ(entries().size(), 2u);
+}
+
+// A name longer than the file system takes is refused by the check before the work, naming the
+// option, the length and the limit (it used to fail after the work as "disk full").
+TEST_F(OutputFilesTest, TooLongNameIsRefusedBeforeTheWork) {
+  translucent::cli::OutputSet outputs;
+  const std::string name = std::string(300, 'x') + ".csv";
+  outputs.output("--csv", path(name));
+  try {
+    outputs.check();
+    FAIL() << "a 304-byte file name passed the check";
+  } catch (const ParameterError& e) {
+    EXPECT_NE(std::string(e.what()).find("--csv '"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("the file name is 304 bytes long"), std::string::npos)
+        << e.what();
+  }
+}
+
 }  // namespace

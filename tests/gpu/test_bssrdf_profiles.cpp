@@ -181,5 +181,70 @@ TEST_F(BssrdfProfiles, NanProfileIsNamed) {
   }
 }
 
+// A shader that is finite on the x axis, where the profile is sampled, and NaN elsewhere (an
+// atan2 of the azimuth gone wrong): it used to render without a word; now named as on the axis.
+TEST_F(BssrdfProfiles, NanOffTheAxisIsNamed) {
+  testing::TempDir dir;
+  const auto path = dir.write("offaxis.bssrdf",
+                              "analytic radial no_wi no_wo\n"
+                              "::begin shader\n"
+                              "vec3 Bssrdf(vec3 Xi, vec3 Wi, vec3 Xo, vec3 Wo) {\n"
+                              "  float r = length(Xo - Xi);\n"
+                              "  return abs(Xo.y - Xi.y) > 1e-6 * r ? vec3(uintBitsToFloat(0xff800000u)) : vec3(exp(-r));\n"
+                              "}\n"
+                              "::end shader\n");
+  BssrdfEvaluator e(path);
+  try {
+    bssrdfRadiusForFraction(e, preset("Marble").medium(), 0.5);
+    FAIL() << "expected ParameterError";
+  } catch (const ParameterError& err) {
+    const std::string what = err.what();
+    EXPECT_NE(what.find("offaxis.bssrdf: Bssrdf() returned "), std::string::npos) << what;
+    EXPECT_NE(what.find("samples off the x axis"), std::string::npos) << what;
+  }
+}
+
+// A valid profile that decays more slowly than the diffusion models (e^(-r/100) in a medium
+// whose 40/σtr is ~340): its integral used to stop at 40/σtr with a tail above the bound and
+// the profile was refused as "not integrable ... needs absorption"; the range now grows.
+TEST_F(BssrdfProfiles, SlowlyDecayingProfileIsIntegrated) {
+  testing::TempDir dir;
+  const auto path = dir.write("slow.bssrdf",
+                              "analytic radial no_wi no_wo\n"
+                              "::begin shader\n"
+                              "vec3 Bssrdf(vec3 Xi, vec3 Wi, vec3 Xo, vec3 Wo) {\n"
+                              "  return vec3(exp(-length(Xo - Xi) / 100.0));\n"
+                              "}\n"
+                              "::end shader\n");
+  BssrdfEvaluator e(path);
+  const auto energy = bssrdfRadiusForFraction(e, preset("Marble").medium(), 0.5);
+  // 2π ∫ r e^(-r/100) dr = 2π 10^4; half of it within 100 · 1.678346990...
+  for (size_t c = 0; c < 3; ++c) {
+    EXPECT_NEAR(energy.rd[c], 2.0 * M_PI * 1e4, 1e-4 * 2.0 * M_PI * 1e4) << c;
+    EXPECT_NEAR(energy.radius[c], 167.83469900166608, 1e-3) << c;
+  }
+}
+
+// A shader that clamps r at the source (1/max(r, 1e-6)) has a finite but huge R(0): the table
+// holds R a quarter step out there, as for an infinite R(0), not 1e6 (a speckled render).
+TEST_F(BssrdfProfiles, ClampedSingularityIsTabulatedAsOne) {
+  testing::TempDir dir;
+  const auto path = dir.write("clamped.bssrdf",
+                              "analytic radial no_wi no_wo\n"
+                              "::begin shader\n"
+                              "vec3 Bssrdf(vec3 Xi, vec3 Wi, vec3 Xo, vec3 Wo) {\n"
+                              "  float r = length(Xo - Xi);\n"
+                              "  return vec3(exp(-r) / max(r, 1e-6));\n"
+                              "}\n"
+                              "::end shader\n");
+  BssrdfEvaluator e(path);
+  const auto t = tabulateBssrdf(e, preset("Marble").medium(), 0, 256);
+  ASSERT_GE(t.size(), 2u);
+  // 1/r: R(Δr/4) = 4 R(Δr); r·R ~ e^-r, about 1 near the source.
+  EXPECT_LT(t.R[0], 5.0f * t.R[1]);
+  EXPECT_GT(t.R[0], 3.0f * t.R[1]);
+  EXPECT_NEAR(t.r_times_R[0], t.r_times_R[1], 0.1f * t.r_times_R[1]);
+}
+
 }  // namespace
 }  // namespace translucent::gpu

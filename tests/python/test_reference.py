@@ -110,6 +110,9 @@ def test_layered_slab_matches_cli(cli, tmp_path):
     (["--preset", "Skin1", "--channel", "r", "--photons", "0.5"],
      dict(preset="Skin1", channel="r", photons=0.5)),
     (["--sigma-a", "1e-12", "--sigma-s", "1", "--eta", "1"], dict(sigma_a=1e-12, sigma_s=1, eta=1)),
+    # Walks short enough one by one, but hours all together: refused unless time_limit= is given.
+    (["--sigma-a", "1e-20", "--sigma-s", "1", "--eta", "1.3", "--photons", "1e5"],
+     dict(sigma_a=1e-20, sigma_s=1, eta=1.3, photons=1e5)),
 ])
 def test_slab_errors_same_message_as_cli(cli_error, as_python, tmp_path, args, kwargs):
     # The CLI's message in the Python arguments' names.

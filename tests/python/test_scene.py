@@ -52,6 +52,15 @@ def test_bad_scene_same_message_as_cli(cli_error, tmp_path):
     assert "materiel" in str(e.value)
 
 
+def test_deeply_nested_json_is_a_value_error():
+    # 10^5 nested brackets: refused by the depth limit with a message, not a stack overflow.
+    deep = "[" * 100_000 + "]" * 100_000
+    with pytest.raises(ValueError, match="nest"):
+        translucent.Scene.from_json(deep)
+    with pytest.raises(ValueError, match="nest"):
+        translucent.Scene.from_json('{"mesh": ' + deep + "}")
+
+
 def test_pathtrace_mesh_matches_cli(cli, cube, tmp_path):
     exr, js = tmp_path / "m.exr", tmp_path / "m.json"
     cli("pathtrace", "mesh", "--scene", cube, "--photons", "2e4", "--seed", "3", "--device", "cpu",

@@ -33,6 +33,12 @@ ProfileTable tabulate(const RadialProfile& profile, size_t n, double fraction) {
       const double eps = 1e-7 * t.radius(1);
       rValue = eps * profile.R(eps);
       value = profile.R(0.25 * t.radius(1));
+    } else if (i == 0 && isClampedSingularity(value, profile.R(0.25 * t.radius(1)))) {
+      // The same singularity with r clamped (1/max(r, 1e-6)): R(0) is finite but huge, and the
+      // first texel would spread it over the whole first step (a speckled render).
+      const double quarter = 0.25 * t.radius(1);
+      value = profile.R(quarter);
+      rValue = quarter * value;  // r·R is ~constant near a 1/r singularity
     }
     t.R[i] = static_cast<float>(value);
     t.r_times_R[i] = static_cast<float>(rValue);

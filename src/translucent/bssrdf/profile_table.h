@@ -25,6 +25,15 @@ struct ProfileTable {
 // Tabulates `profile` on n >= 2 entries up to the radius holding `fraction` of Rd
 // (default 0.999: the 95% effective range is well inside). Every entry is finite: where R
 // diverges at r = 0, R[0] holds R(Δr/4) and r_times_R[0] the finite limit of r·R.
+// A profile clamped at the source (1/max(r, 1e-6)) is treated as the singular one it stands for:
+// R(0) more than kClampedRatio times R a quarter step out.
 ProfileTable tabulate(const RadialProfile& profile, size_t n = 1024, double fraction = 0.999);
+
+// Whether a finite R(0) is the clamped value of a singularity: far above R(Δr/4), which a
+// profile that is smooth at the source (the dipoles) stays close to.
+inline constexpr double kClampedRatio = 4.0;
+inline bool isClampedSingularity(double r0_value, double quarter_step_value) {
+  return quarter_step_value > 0.0 && r0_value > kClampedRatio * quarter_step_value;
+}
 
 }  // namespace translucent::bssrdf

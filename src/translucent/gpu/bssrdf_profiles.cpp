@@ -3,10 +3,13 @@
 
 #include <fmt/format.h>
 
+#include <glm/geometric.hpp>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 #include "translucent/optics/inversion.h"
 #include "translucent/optics/quadrature.h"
@@ -23,6 +26,39 @@ std::vector<Rgb> evaluate(BssrdfEvaluator& e, const std::vector<double>& radii) 
   for (size_t i = 0; i < v.size(); ++i)
     out[i] = {double(v[i][0]), double(v[i][1]), double(v[i][2])};
   return out;
+}
+
+// The profile samples lie on the x axis with normal incidence; a renderer evaluates Bssrdf()
+// at every azimuth and direction. A shader that returns NaN or inf only there (an atan2, a
+// division by Xo.y) rendered without a word: it is probed at every 16th radius, at 4 azimuths
+// with tilted directions, and named as on the axis.
+void checkOffAxis(BssrdfEvaluator& e, const std::vector<double>& radii) {
+  std::vector<BssrdfQuery> queries;
+  for (size_t i = 0; i < radii.size(); i += 16)
+    for (int k = 0; k < 4; ++k) {
+      const double phi = 2.0 * std::numbers::pi * (k + 0.37) / 4.0;
+      const auto r = static_cast<float>(radii[i]);
+      BssrdfQuery q;
+      q.x_o = glm::vec3(r * static_cast<float>(std::cos(phi)), r * static_cast<float>(std::sin(phi)), 0.0f);
+      q.w_i = glm::normalize(glm::vec3(0.3f * static_cast<float>(k - 1), 0.2f, 1.0f));
+      q.w_o = glm::normalize(glm::vec3(-0.2f, 0.25f * static_cast<float>(k - 2), 1.0f));
+      queries.push_back(q);
+    }
+  const auto v = e.evaluate(queries);
+  for (size_t c = 0; c < 3; ++c) {
+    size_t bad = 0, first = 0;
+    for (size_t i = 0; i < v.size(); ++i)
+      if (!std::isfinite(v[i][c]) && bad++ == 0) first = i;
+    if (bad == 0) continue;
+    const BssrdfQuery& q = queries[first];
+    throw ParameterError(fmt::format(
+        "{}: Bssrdf() returned {} NaN or infinite values in the {} channel of {} samples off the "
+        "x axis (the first, {}, at Xi = (0, 0, 0), Xo = ({:.4g}, {:.4g}, 0), Wi = ({:.3g}, {:.3g}, "
+        "{:.3g}), Wo = ({:.3g}, {:.3g}, {:.3g})): expected finite values everywhere a renderer "
+        "evaluates it",
+        e.file().path, bad, kChannelNames[c], v.size(), v[first][c], q.x_o.x, q.x_o.y, q.w_i.x,
+        q.w_i.y, q.w_i.z, q.w_o.x, q.w_o.y, q.w_o.z));
+  }
 }
 
 // Appends the 8 Gauss-Legendre nodes of [a, b] to `nodes`.
@@ -107,15 +143,40 @@ BssrdfEnergy bssrdfRadiusForFraction(BssrdfEvaluator& evaluator, const Medium& m
                   std::min(1e8 * l, std::max(1e3 * l, sigmaTr > 0.0 ? 40.0 / sigmaTr : 1e8 * l)));
   }
   const double lo = 1e-6 * lMin;
+  // A valid profile may decay more slowly than the diffusion models (a power-law tail, a wider
+  // multiple-scattering lobe): where the last panel still holds more than the tail bound of Rd
+  // below, the range grows tenfold, up to 1e8 ℓ' of the longest channel, before the profile is
+  // called not integrable.
+  double lMax = 0.0;
+  for (int c = 0; c < 3; ++c) lMax = std::max(lMax, 1.0 / medium.channel(c).sigmaTPrime());
+  const double hiCap = std::max(hi, 1e8 * lMax);
+  constexpr double kTailBound = 1e-9;  // of Rd, in the last panel
   // Log panels, 20 per decade (ratio 1.12: 8-point Gauss-Legendre is exact to ~1e-12 there for
   // the smooth profiles of diffusion models); panel 0 is [0, lo].
   const int perDecade = 20;
-  const size_t panels = 1 + static_cast<size_t>(std::ceil(perDecade * std::log10(hi / lo)));
-  std::vector<double> edges{0.0, lo};
-  for (size_t p = 1; p < panels; ++p) edges.push_back(lo * std::pow(10.0, double(p) / perDecade));
-  std::vector<double> nodes;
-  for (size_t p = 0; p + 1 < edges.size(); ++p) appendNodes(nodes, edges[p], edges[p + 1]);
-  const auto values = evaluate(evaluator, nodes);
+  std::vector<double> edges, nodes;
+  std::vector<Rgb> values;
+  for (;;) {
+    const size_t panels = 1 + static_cast<size_t>(std::ceil(perDecade * std::log10(hi / lo)));
+    edges = {0.0, lo};
+    for (size_t p = 1; p < panels; ++p) edges.push_back(lo * std::pow(10.0, double(p) / perDecade));
+    nodes.clear();
+    for (size_t p = 0; p + 1 < edges.size(); ++p) appendNodes(nodes, edges[p], edges[p + 1]);
+    values = evaluate(evaluator, nodes);
+    if (hi >= hiCap) break;
+    bool converged = true, finite = true;
+    for (size_t c = 0; c < 3; ++c) {
+      double total = 0.0, last = 0.0;
+      for (size_t p = 0; p + 1 < edges.size(); ++p) {
+        last = panelIntegral(nodes, values, p, c, edges[p], edges[p + 1]);
+        total += last;
+      }
+      if (!std::isfinite(total)) finite = false;
+      if (!(total > 0.0) || last > kTailBound * total) converged = false;
+    }
+    if (converged || !finite) break;  // NaN and inf are named below
+    hi = std::min(hiCap, 10.0 * hi);
+  }
   // A shader that returns NaN or inf somewhere (often only off-axis or far out) is named as
   // such, with where: the integral below would only say "not integrable ... needs absorption".
   // Negative values are counted for that message too.
@@ -137,6 +198,8 @@ BssrdfEnergy bssrdfRadiusForFraction(BssrdfEvaluator& evaluator, const Medium& m
           nodes[first]));
   }
 
+  checkOffAxis(evaluator, nodes);
+
   BssrdfEnergy out;
   for (size_t c = 0; c < 3; ++c) {
     std::vector<double> cum{0.0};
@@ -145,7 +208,7 @@ BssrdfEnergy bssrdfRadiusForFraction(BssrdfEvaluator& evaluator, const Medium& m
     const double total = cum.back();
     // The last panel must hold a negligible part of Rd, or the integral has not converged.
     const double lastPanel = total - cum[cum.size() - 2];
-    if (!std::isfinite(total) || total <= 0.0 || lastPanel > 1e-9 * total)
+    if (!std::isfinite(total) || total <= 0.0 || lastPanel > kTailBound * total)
       throw ParameterError(fmt::format(
           "{}: the {} channel's profile is not integrable on [0, {:.3g}] (Rd so far {:.6g}, {:.3g} "
           "of it in the last panel{}): it needs absorption or a decaying, non-negative profile",
@@ -211,6 +274,10 @@ bssrdf::ProfileTable tabulateBssrdf(BssrdfEvaluator& evaluator, const Medium& me
     if (i == 0 && !std::isfinite(value)) {
       rValue = eps * values[values.size() - 2][c];
       value = values.back()[c];
+    } else if (i == 0 && bssrdf::isClampedSingularity(value, values.back()[c])) {
+      // A shader that clamps r at the source (1/max(r, 1e-6)): as bssrdf::tabulate does.
+      value = values.back()[c];
+      rValue = quarter * value;
     }
     t.R[i] = static_cast<float>(value);
     t.r_times_R[i] = static_cast<float>(rValue);

@@ -9,11 +9,15 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cerrno>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+
+#include "translucent/io/output_guard.h"
 
 namespace translucent::analysis {
 namespace {
@@ -36,10 +40,7 @@ std::string_view asText(const std::vector<unsigned char>& bytes) {
 // folder during the write does not show a half-written image.
 std::string temporaryName(const std::string& path) {
   static std::atomic<uint64_t> counter{0};
-  const std::filesystem::path p(path);
-  return (p.parent_path() / fmt::format(".{}.tmp-{}-{}", p.filename().string(), ::getpid(),
-                                        counter.fetch_add(1)))
-      .string();
+  return io::temporaryBeside(path, fmt::format(".tmp-{}-{}", ::getpid(), counter.fetch_add(1)));
 }
 
 
@@ -73,14 +74,14 @@ void write(const std::string& path, const OIIO::ImageSpec& spec, OIIO::TypeDesc 
 
   if (fs::exists(path, ec) && !fs::is_regular_file(path, ec)) {
     if (!writeBytes(path, asText(bytes)))
-      throw ImageError(fmt::format("cannot write '{}': write failed (device full?)", path));
+      throw ImageError(fmt::format("cannot write '{}': {}", path, writeErrorText()));
     return;
   }
   const std::string tmp = temporaryName(path);
   if (!writeBytes(tmp, asText(bytes))) {
+    const std::string why = writeErrorText();
     fs::remove(tmp, ec);
-    throw ImageError(fmt::format("cannot write '{}': write failed (disk full, or the folder is "
-                                 "missing or not writable)", path));
+    throw ImageError(fmt::format("cannot write '{}': {}", path, why));
   }
   fs::rename(tmp, path, ec);
   if (ec) {
@@ -93,12 +94,22 @@ void write(const std::string& path, const OIIO::ImageSpec& spec, OIIO::TypeDesc 
 }  // namespace
 
 bool writeBytes(const std::string& file, std::string_view bytes) {
+  errno = 0;
   std::FILE* f = std::fopen(file.c_str(), "wb");
   if (!f) return false;
+  int first = 0;  // the first failure's errno: the close after a failed write may set another
   const bool wrote = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
+  if (!wrote) first = errno;
   const bool flushed = std::fflush(f) == 0;
+  if (!flushed && first == 0) first = errno;
   const bool closed = std::fclose(f) == 0;
+  if (!closed && first == 0) first = errno;
+  errno = first;
   return wrote && flushed && closed;
+}
+
+std::string writeErrorText() {
+  return errno != 0 ? std::strerror(errno) : std::string("write failed");
 }
 
 void writeExr(const std::string& path, int width, int height, std::span<const float> rgb,

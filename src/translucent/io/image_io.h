@@ -77,7 +77,10 @@ void writePng(const std::string& path, int width, int height, std::span<const fl
 void writePng8(const std::string& path, int width, int height, std::span<const uint8_t> rgb8);
 
 // Writes `bytes` to `file` (created or truncated) and closes it; false when any write, the flush
-// or the close failed (a device such as /dev/full too). Shared with the CLI's outputs.
+// or the close failed (a device such as /dev/full too); errno then holds the first failure's
+// reason (ENOSPC, ENAMETOOLONG, EACCES: writeErrorText()). Shared with the CLI's outputs.
 bool writeBytes(const std::string& file, std::string_view bytes);
+// Why the last writeBytes() failed, from errno ("No space left on device").
+std::string writeErrorText();
 
 }  // namespace translucent::analysis

@@ -6,6 +6,8 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <climits>
 #include <system_error>
 #include <unordered_map>
 
@@ -35,6 +37,25 @@ std::string fileKey(const fs::path& path) {
   return "path " + (ec ? path.lexically_normal().string() : c.string());
 }
 
+size_t maxFileNameLength(const fs::path& folder) {
+  errno = 0;
+  const long n = ::pathconf(folder.empty() ? "." : folder.c_str(), _PC_NAME_MAX);
+  return n > 0 ? static_cast<size_t>(n) : 255;
+}
+
+std::string temporaryBeside(const fs::path& target, const std::string& tag) {
+  const std::string name = target.filename().string(), ext = target.extension().string();
+  const fs::path dir = target.parent_path();
+  const size_t limit = maxFileNameLength(dir.empty() ? fs::path(".") : dir);
+  // "." + name + tag + ext; when too long, NAME loses its end (bytes; a cut UTF-8 character in
+  // a hidden temporary's name is harmless).
+  const size_t fixed = 1 + tag.size() + ext.size();
+  const std::string kept = fixed + name.size() <= limit
+                               ? name
+                               : name.substr(0, limit > fixed ? limit - fixed : 1);
+  return (dir / ("." + kept + tag + ext)).string();
+}
+
 void OutputSet::output(std::string option, std::string path) {
   if (!path.empty()) outputs_.emplace_back(std::move(option), std::move(path));
 }
@@ -59,6 +80,15 @@ void OutputSet::check() const {
       throw OutputError(fmt::format("{} '{}': is a folder: expected a file name", option, path));
     const fs::path dir = fs::path(path).parent_path().empty() ? fs::path(".")
                                                                 : fs::path(path).parent_path();
+    // ENAMETOOLONG would otherwise come only when the output is written, after the work.
+    const std::string name = fs::path(path).filename().string();
+    if (const size_t limit = maxFileNameLength(dir); name.size() > limit)
+      throw OutputError(fmt::format("{} '{}': cannot write: the file name is {} bytes long, and "
+                                    "the folder's file system takes at most {}",
+                                    option, path, name.size(), limit));
+    if (const size_t whole = fs::absolute(path, ec).string().size(); whole >= PATH_MAX)
+      throw OutputError(fmt::format("{} '{}': cannot write: the path is {} bytes long, and the "
+                                    "system takes at most {}", option, path, whole, PATH_MAX - 1));
     if (!fs::is_directory(dir, ec))
       throw OutputError(fmt::format("{} '{}': cannot write: folder '{}' does not exist",
                                     option, path, dir.string()));

@@ -23,6 +23,16 @@ class OutputError : public std::invalid_argument {
 // A key two names of one file share (device and inode, else the resolved absolute path).
 std::string fileKey(const std::filesystem::path& path);
 
+// A hidden temporary file beside `target`, for writing it whole before a rename:
+// `.NAME<tag>EXT` (the extension kept, since some writers choose the format by it), with NAME
+// shortened so that the name fits the folder's longest file name (a target whose own name fits
+// always gets a temporary that fits too).
+std::string temporaryBeside(const std::filesystem::path& target, const std::string& tag);
+
+// The longest file name (bytes) the folder's file system takes (pathconf _PC_NAME_MAX; 255 when
+// it does not say).
+size_t maxFileNameLength(const std::filesystem::path& folder);
+
 class OutputSet {
  public:
   // An output of the run; `option` names it in messages ("--json"). Empty paths are skipped.
@@ -30,7 +40,8 @@ class OutputSet {
   // A file the run reads; `what` names it in messages ("scene", "environment map"). Names that
   // are not files (a registered model name, "checker") are skipped.
   void input(std::string what, const std::filesystem::path& path);
-  // Throws OutputError when an output is a folder, its folder does not exist or is not
+  // Throws OutputError when an output is a folder, its name is longer than its folder's file
+  // system takes (or the whole path than the system's), its folder does not exist or is not
   // writable, it is one of the inputs (those given here and the process's run inputs, below),
   // or two outputs are the same file. Call it before any long work.
   void check() const;

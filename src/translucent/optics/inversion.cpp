@@ -3,6 +3,8 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
+
 namespace translucent {
 
 double invertReducedAlbedo(const AlbedoToReflectance& rd_of_albedo, double rd,
@@ -41,6 +43,14 @@ Medium invertMedium(const AlbedoToReflectance& rd_of_albedo, const Rgb& rd, cons
     const double a = invertReducedAlbedo(rd_of_albedo, rd[c],
                                          fmt::format("Rd ({} channel)", kChannelNames[c]));
     const auto k = coefficientsFromAlbedo(a, ld[c]);
+    // A positive ℓd can still be out of reach: 1e-320 makes σt' = 1/(ℓd ...) infinite (and σa
+    // NaN), 1e308 makes it vanish below the smallest normal number.
+    const double sigmaT = k.sigma_a + k.sigma_s_prime;
+    if (!std::isfinite(k.sigma_a) || !std::isfinite(k.sigma_s_prime) || !std::isnormal(sigmaT))
+      throw ParameterError(fmt::format(
+          "ld ({} channel) is {}: out of range, the coefficients 1/ℓd are not finite and non-zero "
+          "numbers (σa {}, σs' {}); expected a length between 1e-300 and 1e300",
+          kChannelNames[c], ld[c], k.sigma_a, k.sigma_s_prime));
     sigmaA[c] = k.sigma_a;
     sigmaSPrime[c] = k.sigma_s_prime;
   }

@@ -20,7 +20,17 @@ namespace {
 // over kMaxWalkEvents is refused with the estimate.
 constexpr double kMaxWalkEvents = 1e10;  // ~minutes for one photon at ~1e8 events/s
 
-void checkWalkLength(const SlabSetup& s, const TraceOptions& o,
+// The total: the longest walk may be fine while the run is not (`--sigma-a 1e-20 --sigma-s 1
+// --photons 1e4` ran for many minutes). A half-space walk that absorption or the longest-walk
+// scale c cuts off averages ~2 sqrt(c) events (P(N > k) ~ k^{-1/2}), in a finite slab too (c
+// then at most its crossing, ~(σt' L)²).
+// Measured: 1e3 photons of σa = 1e-20 (estimate 2e6 events) take 1.4 s on one core, the time
+// growing as the square of the photons. A run that is long only because it has many photons of
+// a normal medium (~10-100 events each) is the user's choice and never refused.
+constexpr double kMaxMeanEvents = 1e3;   // per photon: ~100x a typical medium's
+constexpr double kMaxTotalEvents = 1e9;  // estimated events of the run: ~10 min on one core
+
+void checkWalkLength(const SlabSetup& s, const TraceOptions& o, bool time_limited,
                      const std::string& what = "--sigma-a") {
   if (o.long_path_roulette != 0 || !(s.sigma_a > 0.0)) return;  // σa = 0: traceSlab says why
   const double sigmaTPrime = s.sigma_a + (1.0 - s.g) * s.sigma_s;
@@ -37,6 +47,17 @@ void checkWalkLength(const SlabSetup& s, const TraceOptions& o,
         "long walks without bias, a larger --sigma-a, or a --thickness",
         what, s.sigma_a, (1.0 - s.g) * s.sigma_s, absorbed > 0.0 ? 1.0 / absorbed : HUGE_VAL,
         o.photons, longest));
+  if (time_limited) return;
+  const double mean = 2.0 * std::sqrt(longest);
+  const double total = mean * n;
+  if (mean > kMaxMeanEvents && total > kMaxTotalEvents)
+    throw ParameterError(fmt::format(
+        "{} is {} with σs' = {}: a walk takes ~{:.3g} scattering events on average, ~{:.3g} for "
+        "the {} photons, which would take tens of minutes to hours; "
+        "give --time-limit SECONDS to trace what fits in that time, --long-path-roulette N (e.g. "
+        "1e4) to end long walks without bias, fewer --photons, a larger --sigma-a or a "
+        "--thickness",
+        what, s.sigma_a, (1.0 - s.g) * s.sigma_s, mean, total, o.photons));
 }
 
 SlabSetup buildSetup(const SlabRequest& a, bool layered, std::string& lengthUnit) {
@@ -142,7 +163,7 @@ SlabRun makeSlabRun(const SlabRequest& a, const std::optional<std::vector<SlabLa
   if (a.device != "cpu" && a.device != "gpu" && a.device != "auto")
     throw ParameterError(fmt::format("--device '{}': expected cpu, gpu or auto", a.device));
   run.device = a.device;
-  checkWalkLength(run.setup, run.options);
+  checkWalkLength(run.setup, run.options, a.time_limited);
   run.shown = run.setup;
   if (!layers) return run;
   LayeredSlabSetup L;
@@ -169,7 +190,7 @@ SlabRun makeSlabRun(const SlabRequest& a, const std::optional<std::vector<SlabLa
     one.sigma_s = L.layers[i].sigma_s;
     one.g = L.layers[i].g;
     one.thickness = L.layers[i].thickness;
-    checkWalkLength(one, run.options, fmt::format("--layers {}: layer [{}]: sigma_a", layers_what, i));
+    checkWalkLength(one, run.options, a.time_limited, fmt::format("--layers {}: layer [{}]: sigma_a", layers_what, i));
   }
   run.layered = std::move(L);
   return run;

@@ -31,6 +31,9 @@ struct SlabRequest {
   uint64_t long_path_roulette = 0;
   std::string absorption = "analog", kernel = "lanes";
   std::string device = "auto";  // cpu | gpu | auto (reference/gpu/device.h opens it)
+  // A time limit bounds the run (--time-limit: it stops between photons): an estimated total
+  // beyond the bound below is traced then, up to the limit, instead of refused.
+  bool time_limited = false;
 };
 
 // The checked run.
@@ -49,7 +52,8 @@ struct SlabRun {
 // missing media, bad numbers, and legal numbers that lead nowhere: without long-path roulette, a
 // longest walk of more than ~1e10 scattering events (almost no absorption in a thick slab or a
 // half-space) could not end in any reasonable time, nor be interrupted (Ctrl-C and time limits act
-// between photons).
+// between photons); and, without a time limit, a run whose walks average more than ~1e3 events
+// and total more than ~1e9 (hours on one core), naming --time-limit and the other ways out.
 SlabRun makeSlabRun(const SlabRequest& request,
                     const std::optional<std::vector<SlabLayer>>& layers = std::nullopt,
                     const std::string& layers_what = "layers");

@@ -457,6 +457,11 @@ Scene parseScene(const std::string& text, const std::filesystem::path& base_dir,
     s.exposure = r.number(d, "exposure", "display", 0.0);
     s.gamma = r.number(d, "gamma", "display", 2.2);
     requirePositive(r, s.gamma, "display.gamma");
+    // Legal numbers that map every pixel to black or white (x^(1/1e-300), 2^1000 x).
+    if (!(s.gamma >= 0.01 && s.gamma <= 100.0))
+      r.fail("display.gamma", fmt::format("is {}: expected a display gamma in [0.01, 100]", s.gamma));
+    if (!(std::fabs(s.exposure) <= 64.0))
+      r.fail("display.exposure", fmt::format("is {}: expected stops in [-64, 64]", s.exposure));
   }
 
   s.cone_angle = doc.contains("cone_angle") ? r.number(doc["cone_angle"], "cone_angle") : 5.0;

@@ -153,6 +153,15 @@ sc("texture_file_missing.json", scene(lights=[{"type": "filtered_directional", "
 sc("model_bssrdf_missing.json", scene(material={"preset": "Marble", "model": "assets/none.bssrdf"}), "none.bssrdf: error: cannot open the file for reading")
 sc("model_bssrdf_broken.json", scene(material={"preset": "Marble", "model": "assets/broken.bssrdf"}), "broken.bssrdf:1: error: missing attribute 'analytic'")
 sc("model_empty.json", scene(material={"preset": "Marble", "model": ""}), "material.model: expected a model name or a .bssrdf file")
+# Nesting deeper than the reader's limit: refused with the place instead of overflowing the stack.
+sc("deeply_nested.json", '{"mesh": ' + "[" * 20000 + "]" * 20000 + "}",
+   "not valid JSON: arrays and objects nest deeper than 512 levels (at line 1, column")
+# Lights that light nothing: black, or so faint that every pixel is 0 in a 32-bit image.
+sc("black_light.json", scene(lights__0__color=[0, 0, 0]), "lights[0].color: is [0, 0, 0]: the light emits nothing")
+sc("faint_light.json", scene(lights__0__irradiance=1e-40), "irradiance 1e-40 times red 1 is 1e-40: expected at least")
+# Display settings that map every pixel to black or white.
+sc("gamma_tiny.json", scene(display={"gamma": 1e-300}), "display.gamma: is 1e-300: expected a display gamma in [0.01, 100]")
+sc("exposure_1000.json", scene(display={"exposure": 1000}), "display.exposure: is 1000: expected stops in [-64, 64]")
 sc("empty.json", "", "is empty: expected a JSON object")
 sc("whitespace_only.json", " \n\t\n", "is empty: expected a JSON object")
 sc("binary_garbage.json", b"\x89PNG\r\n\x1a\n\x00\x00\x00\rIHDR", "byte 8 is NUL: expected a JSON text file")
