@@ -171,44 +171,87 @@ class ChannelPaths {
   // Σ over the lights of p(d·ω_l) L_l T(x, light): next-event estimation at the collision x of a
   // path travelling along d (camera_paths.h).
   double direct(const glm::dvec3& x, const glm::dvec3& d, double g, Rng& rng, Counters& k) const {
-    const size_t ci = static_cast<size_t>(c_);
     double sum = 0.0;
     for (const Light& light : lights_) {
       glm::dvec3 w;
       double li = 0.0, dist = kInf;
-      if (const auto* dl = std::get_if<DirectionalLight>(&light.emitter)) {
-        w = dl->direction;
-        li = dl->irradiance;
-      } else if (const auto* pl = std::get_if<PointLight>(&light.emitter)) {
-        w = pl->position - x;
-        dist = glm::length(w);
-        if (!(dist > 0.0)) continue;
-        w /= dist;
-        li = pl->intensity / (dist * dist);
-      } else if (const auto* bl = std::get_if<BeamLight>(&light.emitter)) {
-        const glm::dvec3 r = x - bl->origin;
-        const double along = glm::dot(r, bl->direction);
-        if (!(along > 0.0) || glm::length(r - along * bl->direction) > bl->radius) continue;
-        w = -bl->direction;
-        dist = along;
-        li = bl->power / (kPi * bl->radius * bl->radius);
-      } else {
-        continue;  // refused by the tracer (refusal())
-      }
-      li *= light.color[ci];
+      if (!incident(light, x, w, li, dist)) continue;
       const double phase = hgCosineDensity(glm::dot(d, w), g) / (2.0 * kPi);
       if (!(li * phase > 0.0)) continue;
       ++k.shadowRays;
-      sum += phase * li * transmittance(x, w, dist, rng);
+      sum += phase * li * transmittance(x, w, dist, false, rng);
     }
     return sum;
   }
 
-  // T along x + t w, t in (0, dist], x inside the body (not on its surface): the product over
-  // the parts of the ray inside the body (η = 1: straight through every boundary).
-  double transmittance(glm::dvec3 x, const glm::dvec3& w, double dist, Rng& rng) const {
+ public:
+  // The unscattered light leaving the body at the surface point x (outward unit normal n): the
+  // light of a delta light that crossed the body without a collision and leaves at x, travelling
+  // along -ω_l with n·(-ω_l) > 0. Per light, its irradiance there E_l (on a plane perpendicular
+  // to ω_l), the cosine μ = n·(-ω_l) and the transmittance T along the straight segment from x
+  // to the light through every part of the body (η = 1), so that
+  //     B0(x) = Σ_l E_l μ T                                     (radiant exitance, camera.h)
+  //     C0(x) = Σ_{l: -ω_l in the cone} E_l μ T / (π sin²θc (n·v))   (cone average, camera.h)
+  // (the radiance of a delta light is a delta in direction: ∫ L (n·ω) dω over any set of
+  // directions holding -ω_l is E_l T μ). No path of `radiance` can hit a delta light, so this
+  // term is added deterministically; the light method scores it as the exits of its photons of
+  // scattering order 0 (camera.h), wherever x sees the camera, not only towards it.
+  // `cosCone` <= 1: the cone's cosine (C0 is returned for cosCone < 1, else 0).
+  void unscattered(const glm::dvec3& x, const glm::dvec3& n, const glm::dvec3& v, double cosCone,
+                   double coneMeasure, Rng& rng, Counters& k, double& b0, double& c0) const {
+    b0 = c0 = 0.0;
+    for (const Light& light : lights_) {
+      glm::dvec3 w;
+      double li = 0.0, dist = kInf;
+      if (!incident(light, x, w, li, dist)) continue;
+      const double mu = -glm::dot(n, w);
+      if (!(mu > 0.0 && li > 0.0)) continue;
+      ++k.shadowRays;
+      const double e = li * mu * transmittance(x, w, dist, true, rng);
+      b0 += e;
+      if (cosCone < 1.0 && glm::dot(-w, v) >= cosCone) c0 += e / (coneMeasure * glm::dot(n, v));
+    }
+  }
+
+ private:
+  // The light's direction ω_l from x (unit, towards it), its irradiance at x on a plane
+  // perpendicular to ω_l in this channel (directional: E; point: I / r²; beam of radius > 0:
+  // P / (π r²) inside its cylinder, downstream of its origin) and the distance to it (kInf for a
+  // directional light); false where it does not light x.
+  bool incident(const Light& light, const glm::dvec3& x, glm::dvec3& w, double& li,
+                double& dist) const {
+    const size_t ci = static_cast<size_t>(c_);
+    dist = kInf;
+    if (const auto* dl = std::get_if<DirectionalLight>(&light.emitter)) {
+      w = dl->direction;
+      li = dl->irradiance;
+    } else if (const auto* pl = std::get_if<PointLight>(&light.emitter)) {
+      w = pl->position - x;
+      dist = glm::length(w);
+      if (!(dist > 0.0)) return false;
+      w /= dist;
+      li = pl->intensity / (dist * dist);
+    } else if (const auto* bl = std::get_if<BeamLight>(&light.emitter)) {
+      const glm::dvec3 r = x - bl->origin;
+      const double along = glm::dot(r, bl->direction);
+      if (!(along > 0.0) || glm::length(r - along * bl->direction) > bl->radius) return false;
+      w = -bl->direction;
+      dist = along;
+      li = bl->power / (kPi * bl->radius * bl->radius);
+    } else {
+      return false;  // refused by the tracer (refusal())
+    }
+    li *= light.color[ci];
+    return true;
+  }
+
+  // T along x + t w, t in (0, dist], x inside the body, or on its surface with w pointing in
+  // (`onSurface`: hits closer than epsilon are its own surface): the product over the parts of
+  // the ray inside the body (η = 1: straight through every boundary).
+  double transmittance(glm::dvec3 x, const glm::dvec3& w, double dist, bool onSurface,
+                       Rng& rng) const {
     double depth = 0.0, ratio = 1.0;
-    bool inside = true, onSurface = false;
+    bool inside = true;
     SurfaceHit hit;
     for (;;) {
       const bool h = body_.intersect(x, w, onSurface ? eps_ : 0.0, dist, hit);
@@ -281,8 +324,8 @@ std::vector<ScalarMedium> materialChannels(const material::Material& m) {
 }
 
 // The images' per-sample scores of one pixel and channel: [image][order], image 0 the radiance
-// towards the camera, 1 the exitance, 2 the diffusion radiance; order 0 unscattered (always 0),
-// 1 single, 2 multiple.
+// towards the camera, 1 the exitance, 2 the diffusion radiance; order 0 unscattered (the light
+// that crossed the body without a collision: ChannelPaths::unscattered), 1 single, 2 multiple.
 using Scores = std::array<std::array<double, kScatteringOrders>, 3>;
 
 }  // namespace
@@ -500,6 +543,18 @@ CameraPathStats CameraPathTracer::addPass(uint64_t samples, const ProgressCallba
               for (size_t k = 0; k < 2; ++k) {
                 sc[1][k + 1] = wPix * kPi * Lb[k];
                 sc[2][k + 1] = wPix * Lb[k];  // Ft B / π with Ft = 1 (η = 1)
+              }
+            }
+            if (options_.exitance || cone) {
+              // The light that crossed the body unscattered and leaves at x (ChannelPaths::
+              // unscattered), after the paths so that their random streams do not depend on it.
+              double b0 = 0.0, c0 = 0.0;
+              paths[c].unscattered(x, nrm, -d, cone ? cosCone : 1.0, kPi * sin2Cone, rng, row.k,
+                                   b0, c0);
+              sc[0][0] = wPix * c0;
+              if (options_.exitance) {
+                sc[1][0] = wPix * b0;
+                sc[2][0] = wPix * b0 / kPi;
               }
             }
           }
