@@ -21,6 +21,16 @@
 #include <memory>
 #include <optional>
 #include <set>
+#include <thread>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <csignal>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
 
 #include "safe_print.h"
 #include "translucent/compare/compare_run.h"
@@ -40,6 +50,9 @@ namespace {
 namespace fs = std::filesystem;
 using analysis::PassStat;
 using analysis::PairMetrics;
+
+// --budget's default [s]: a technique or reference still running after it is stopped.
+constexpr double kDefaultBudget = 120.0;
 
 struct CompareArgs {
   std::string scene;
@@ -63,6 +76,7 @@ struct CompareArgs {
   std::optional<int> width, height;
   int frames = 5, warmup = 2;
   std::optional<double> time;  // of the mesh's deformations (the scene's when not given)
+  double budget = kDefaultBudget;  // --budget: seconds per technique and per reference, 0: none
 };
 
 using analysis::makeTechniqueSpec;
@@ -99,6 +113,320 @@ std::string quoted(const std::string& s) {
   return q + "'";
 }
 
+// ---- A technique in a process of its own -----------------------------------------------------
+// A technique renders in a child process (fork) with its own GL context: one that runs past
+// --budget, or that is still inside a draw call when Ctrl-C or SIGTERM asks the run to stop, is
+// ended (SIGKILL) and the others continue. The child sends its images and timings back through a
+// temporary file; compare computes the metrics from them.
+
+// A rendering of a technique's sweep (its quality parameter at one value), or why it failed.
+struct SweepRender {
+  std::string parameter;
+  double value = 0.0;
+  std::string failure;  // "" when it rendered
+  double frame_ms = 0.0;
+  analysis::TechniqueImages images;
+};
+
+struct WorkerResult {
+  std::string gpu;    // renderer and GL version
+  std::string error;  // the technique failed on the scene
+  std::vector<std::pair<std::string, std::string>> parameters;
+  analysis::TimedRender render;
+  std::vector<std::string> sweep_notes;
+  std::vector<SweepRender> sweep;
+};
+
+class Bytes {
+ public:
+  Bytes() = default;
+  explicit Bytes(std::string b) : b_(std::move(b)) {}
+  const std::string& str() const { return b_; }
+  template <class T> void put(T v) { b_.append(reinterpret_cast<const char*>(&v), sizeof v); }
+  void put(const std::string& s) { put<uint64_t>(s.size()); b_ += s; }
+  void put(const std::vector<float>& v) {
+    put<uint64_t>(v.size());
+    b_.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(float));
+  }
+  void put(const analysis::CompareImage& im) { put<int32_t>(im.width); put<int32_t>(im.height); put(im.rgb); put(im.se); }
+  void put(const analysis::TechniqueImages& im) {
+    put(im.name);
+    put<int32_t>(static_cast<int32_t>(im.convention));
+    put(im.radiance);
+    put(im.exitance);
+  }
+  template <class T> T get() {
+    T v;
+    read(&v, sizeof v);
+    return v;
+  }
+  std::string text() {
+    std::string s(size(1), '\0');
+    read(s.data(), s.size());
+    return s;
+  }
+  std::vector<float> floats() {
+    std::vector<float> v(size(sizeof(float)));
+    read(v.data(), v.size() * sizeof(float));
+    return v;
+  }
+  analysis::CompareImage image() {
+    analysis::CompareImage im;
+    im.width = get<int32_t>();
+    im.height = get<int32_t>();
+    im.rgb = floats();
+    im.se = floats();
+    return im;
+  }
+  analysis::TechniqueImages images() {
+    analysis::TechniqueImages im;
+    im.name = text();
+    im.convention = static_cast<bssrdf::ExitConvention>(get<int32_t>());
+    im.radiance = image();
+    im.exitance = image();
+    return im;
+  }
+
+ private:
+  size_t size(size_t unit) {
+    const auto n = get<uint64_t>();
+    if (n > (b_.size() - pos_) / unit) throw std::runtime_error("technique result truncated");
+    return static_cast<size_t>(n);
+  }
+  void read(void* p, size_t n) {
+    if (n > b_.size() - pos_) throw std::runtime_error("technique result truncated");
+    if (n) std::memcpy(p, b_.data() + pos_, n);
+    pos_ += n;
+  }
+  std::string b_;
+  size_t pos_ = 0;
+};
+
+std::string encode(const WorkerResult& w) {
+  Bytes b;
+  b.put(w.gpu);
+  b.put(w.error);
+  b.put<uint64_t>(w.parameters.size());
+  for (const auto& [k, v] : w.parameters) { b.put(k); b.put(v); }
+  b.put(w.render.images);
+  b.put<uint64_t>(w.render.passes.size());
+  for (const PassStat& p : w.render.passes) {
+    b.put(p.name);
+    b.put<int32_t>(p.depth);
+    b.put(p.median_ms);
+    b.put(p.min_ms);
+    b.put(p.max_ms);
+  }
+  b.put(w.render.frame_ms);
+  b.put<uint64_t>(w.render.notes.size());
+  for (const std::string& n : w.render.notes) b.put(n);
+  b.put<uint64_t>(w.sweep_notes.size());
+  for (const std::string& n : w.sweep_notes) b.put(n);
+  b.put<uint64_t>(w.sweep.size());
+  for (const SweepRender& r : w.sweep) {
+    b.put(r.parameter);
+    b.put(r.value);
+    b.put(r.failure);
+    b.put(r.frame_ms);
+    b.put(r.images);
+  }
+  return b.str();
+}
+
+WorkerResult decode(std::string bytes) {
+  Bytes b(std::move(bytes));
+  WorkerResult w;
+  w.gpu = b.text();
+  w.error = b.text();
+  for (auto n = b.get<uint64_t>(); n--;) {
+    std::string k = b.text();
+    w.parameters.emplace_back(std::move(k), b.text());
+  }
+  w.render.images = b.images();
+  for (auto n = b.get<uint64_t>(); n--;) {
+    PassStat p;
+    p.name = b.text();
+    p.depth = b.get<int32_t>();
+    p.median_ms = b.get<double>();
+    p.min_ms = b.get<double>();
+    p.max_ms = b.get<double>();
+    w.render.passes.push_back(std::move(p));
+  }
+  w.render.frame_ms = b.get<double>();
+  for (auto n = b.get<uint64_t>(); n--;) w.render.notes.push_back(b.text());
+  for (auto n = b.get<uint64_t>(); n--;) w.sweep_notes.push_back(b.text());
+  for (auto n = b.get<uint64_t>(); n--;) {
+    SweepRender r;
+    r.parameter = b.text();
+    r.value = b.get<double>();
+    r.failure = b.text();
+    r.frame_ms = b.get<double>();
+    r.images = b.images();
+    w.sweep.push_back(std::move(r));
+  }
+  return w;
+}
+
+// The child's work: a context, the technique prepared for the scene, its timed render and (with
+// --sweep) its quality parameters over their sweep values.
+WorkerResult renderTechnique(const std::string& name, const scene::Scene& s, int warmup,
+                             int frames, bool sweep) {
+  WorkerResult w;
+  gpu::Context gl;
+  w.gpu = fmt::format("{} ({})", gl.info().renderer, gl.info().version);
+  std::unique_ptr<techniques::Technique> t;
+  try {
+    // The scene's settings belong to the scene's technique; the others run at their defaults;
+    // then a variant's own settings.
+    t = makeTechniqueSpec(name, &s);
+    printStderr("{}: preparing on {}\n", name, w.gpu);
+    t->prepare(s, gl);
+    w.render = renderTimed(*t, name, s, warmup, frames);
+    printStderr("  frame {:.3f} ms (median of {}), L by the {} convention{}\n", w.render.frame_ms,
+                frames, toString(w.render.images.convention),
+                w.render.images.exitance.empty() ? ", no exitance" : "");
+    for (const auto& p : t->parameters())
+      w.parameters.emplace_back(p.name, techniques::toString(t->parameter(p.name)));
+  } catch (const std::exception& e) {
+    w.error = e.what();
+    if (t)
+      for (const auto& p : t->parameters())
+        w.parameters.emplace_back(p.name, techniques::toString(t->parameter(p.name)));
+    return w;
+  }
+  if (!sweep) return w;
+  // The sweep: each quality parameter over its values (the others as above), then restored. A
+  // value that fails ends that parameter's sweep with a note; the technique's own result stands.
+  // A sweep measures the real-time image at each value: a technique that accumulates frames into
+  // a converged image (tsis) would give every sample count the same converged error, so its
+  // accumulation is off during the sweep.
+  for (const auto& p : t->parameters())
+    if (p.name == "accumulate" && p.type == techniques::ParameterType::Bool) {
+      t->setParameter(p.name, false);
+      w.sweep_notes.push_back("sweep: accumulate false (real-time frames)");
+    }
+  for (const auto& p : t->parameters()) {
+    if (p.sweep.empty()) continue;
+    const techniques::ParameterValue keep = t->parameter(p.name);
+    for (double v : p.sweep) {
+      SweepRender r;
+      r.parameter = p.name;
+      r.value = v;
+      try {
+        t->setParameter(p.name, v);
+        analysis::TimedRender sr = renderTimed(*t, name, s, warmup, frames);
+        printStderr("  sweep {} = {:g}: {:.3f} ms\n", p.name, v, sr.frame_ms);
+        r.frame_ms = sr.frame_ms;
+        r.images = std::move(sr.images);
+        w.sweep.push_back(std::move(r));
+      } catch (const std::exception& e) {
+        r.failure = fmt::format("sweep {} = {:g} failed, sweep of {} stopped: {}", p.name, v,
+                                p.name, e.what());
+        printStderr("  {}\n", r.failure);
+        w.sweep.push_back(std::move(r));
+        break;
+      }
+    }
+    t->setParameter(p.name, keep);
+  }
+  return w;
+}
+
+// How a technique's process ended.
+struct Isolated {
+  enum class End { Done, OverBudget, Stopped, Crashed } end = End::Done;
+  WorkerResult result;  // when Done
+  double seconds = 0.0;
+  std::string why;      // when Crashed
+};
+
+// Runs renderTechnique in a child process, ended after `budget` seconds (0: none) or when a
+// signal asks the run to stop.
+Isolated runIsolated(const std::string& name, const scene::Scene& s, const CompareArgs& a,
+                     bool watchSignal) {
+  char path[] = "/tmp/translucent-technique-XXXXXX";
+  const int fd = mkstemp(path);
+  if (fd < 0)
+    throw std::runtime_error(fmt::format("cannot create a temporary file: {}", std::strerror(errno)));
+  ::close(fd);
+  struct Remove {
+    const char* p;
+    ~Remove() { ::unlink(p); }
+  } cleanup{path};
+  std::fflush(stdout);
+  std::fflush(stderr);
+  const auto t0 = std::chrono::steady_clock::now();
+  const pid_t pid = ::fork();
+  if (pid < 0) throw std::runtime_error(fmt::format("fork: {}", std::strerror(errno)));
+  if (pid == 0) {
+    // The child: the parent watches the signals and ends the child when asked to stop.
+    std::signal(SIGINT, SIG_IGN);
+    std::signal(SIGTERM, SIG_DFL);
+    int status = 0;
+    try {
+      const std::string bytes = encode(renderTechnique(name, s, a.warmup, a.frames,
+                                                         a.sweep && !InterruptGuard::interrupted()));
+      std::ofstream f(path, std::ios::binary | std::ios::trunc);
+      f.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+      f.close();
+      if (!f) status = 3;
+    } catch (const std::exception& e) {
+      printStderr("{}: {}\n", name, e.what());
+      status = 4;
+    } catch (...) {
+      status = 4;
+    }
+    std::fflush(stdout);
+    std::fflush(stderr);
+    ::_exit(status);
+  }
+  Isolated out;
+  int status = 0;
+  double nextLine = 10.0;
+  for (;;) {
+    const pid_t r = ::waitpid(pid, &status, WNOHANG);
+    out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (r == pid) break;
+    if (r < 0 && errno != EINTR) throw std::runtime_error(fmt::format("waitpid: {}", std::strerror(errno)));
+    if (out.end == Isolated::End::Done) {
+      if (watchSignal && InterruptGuard::interrupted()) {
+        out.end = Isolated::End::Stopped;
+        ::kill(pid, SIGKILL);
+      } else if (a.budget > 0.0 && out.seconds > a.budget) {
+        out.end = Isolated::End::OverBudget;
+        ::kill(pid, SIGKILL);
+      } else if (out.seconds >= nextLine) {
+        printStderr("compare: {}: running for {}{}\n", name, clockText(out.seconds),
+                    a.budget > 0.0 ? fmt::format(" of its budget of {}", clockText(a.budget)) : "");
+        nextLine += 10.0;
+      }
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  if (out.end != Isolated::End::Done) return out;
+  if (watchSignal && InterruptGuard::interrupted() &&
+      !(WIFEXITED(status) && WEXITSTATUS(status) == 0)) {
+    out.end = Isolated::End::Stopped;
+    return out;
+  }
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+    out.end = Isolated::End::Crashed;
+    out.why = WIFSIGNALED(status)
+                  ? fmt::format("its process ended by signal {} ({})", WTERMSIG(status),
+                                strsignal(WTERMSIG(status)))
+                  : fmt::format("its process exited with status {}", WEXITSTATUS(status));
+    return out;
+  }
+  std::ifstream f(path, std::ios::binary | std::ios::ate);
+  const std::streamoff size = f ? static_cast<std::streamoff>(f.tellg()) : -1;
+  if (size < 0) throw std::runtime_error(fmt::format("cannot read the result of {}", name));
+  std::string bytes(static_cast<size_t>(size), '\0');
+  f.seekg(0);
+  f.read(bytes.data(), size);
+  if (!f) throw std::runtime_error(fmt::format("cannot read the result of {}", name));
+  out.result = decode(std::move(bytes));
+  return out;
+}
 
 // The options that apply to every scene, checked once (before a suite's first scene).
 struct Parsed {
@@ -125,6 +453,8 @@ Parsed parseOptions(const CompareArgs& a) {
   if (a.frames < 1) throw ParameterError(fmt::format("--frames {}: expected at least 1", a.frames));
   if (a.warmup < 0) throw ParameterError(fmt::format("--warmup {}: expected 0 or more", a.warmup));
   if (a.threads < 0) throw ParameterError(fmt::format("--threads {}: expected >= 0", a.threads));
+  if (!std::isfinite(a.budget) || a.budget < 0.0)
+    throw ParameterError(fmt::format("--budget {}: expected seconds >= 0 (0: no limit)", a.budget));
   if (a.time && !std::isfinite(*a.time))
     throw ParameterError(fmt::format("--time {}: expected a finite time", *a.time));
   if (!a.cache.empty() && a.no_cache)
@@ -139,6 +469,7 @@ Parsed parseOptions(const CompareArgs& a) {
 struct SceneOutcome {
   bool partial = false;                         // stopped early (Ctrl-C)
   std::vector<std::string> failed_techniques;   // ran into an error; the report has the others
+  std::vector<std::string> over_budget;         // stopped by --budget (not an error)
   size_t techniques = 0;
 };
 
@@ -189,6 +520,7 @@ SceneOutcome compareScene(const CompareArgs& a, const Parsed& parsed, const std:
                      a.seed, s.camera.width, s.camera.height, a.frames, a.warmup,
                      a.sweep ? " --sweep" : "", quoted(out.string()));
   if (a.time) cmd += fmt::format(" --time {}", *a.time);
+  cmd += fmt::format(" --budget {:g}", a.budget);
   cmd += a.material.commandLine();
   for (const std::string& f : a.reference_from) cmd += " --reference-from " + quoted(f);
   if (a.reference_device != "cpu") cmd += " --reference-device " + a.reference_device;
@@ -218,6 +550,7 @@ SceneOutcome compareScene(const CompareArgs& a, const Parsed& parsed, const std:
                      {"height", std::to_string(s.camera.height)},
                      {"frames", std::to_string(a.frames)},
                      {"warmup", std::to_string(a.warmup)},
+                     {"budget", fmt::format("{:g}", a.budget)},
                      {"sweep", a.sweep ? "true" : "false"},
                      {"cache", a.no_cache ? "off" : cacheDir.string()},
                      {"out", out.string()}};
@@ -249,7 +582,8 @@ SceneOutcome compareScene(const CompareArgs& a, const Parsed& parsed, const std:
     req.device = a.reference_device;
     const bool physical = kind == analysis::ReferenceKind::Physical;
     ProgressBar bar(fmt::format("compare: {} reference", toString(kind)),
-                    physical ? "photons" : "pixels");
+                    physical ? "photons" : "pixels",
+                    a.budget > 0.0 ? std::optional<double>(a.budget) : std::nullopt);
     printStderr("{} reference ({} {}):\n", toString(kind), req.count,
                physical ? "photons per channel" : "surface samples");
     analysis::Reference ref;
@@ -287,6 +621,15 @@ SceneOutcome compareScene(const CompareArgs& a, const Parsed& parsed, const std:
       throw std::runtime_error(fmt::format("{} reference: {}", toString(kind), e.what()));
     }
     bar.end();
+    if (ref.partial && !InterruptGuard::interrupted()) {
+      // Stopped by --budget: the reference is what it traced so far (fewer photons or samples).
+      const std::string over = fmt::format(
+          "{} reference over budget: stopped after --budget {:g} s with {} of {} {} (partial)",
+          toString(kind), a.budget, ref.count_done, req.count,
+          physical ? "photons per channel" : "surface samples");
+      printStderr("{}\n", over);
+      report.notes.push_back(over);
+    }
     const std::string what = analysis::referenceOrigin(ref);
     printStderr("{} reference: {}\n", toString(kind), what);
     report.notes.push_back(fmt::format("{} reference: {}", toString(kind), what));
@@ -303,106 +646,131 @@ SceneOutcome compareScene(const CompareArgs& a, const Parsed& parsed, const std:
   display.gamma = s.gamma;
 
   // ---- Techniques --------------------------------------------------------------------------
-  // The context first: the techniques' GL objects must be deleted while it is alive.
-  gpu::Context gl;
-  report.gpu = fmt::format("{} ({})", gl.info().renderer, gl.info().version);
+  // Each in a process of its own (runIsolated), stopped after --budget; the report is written
+  // after each one, so that a stop, a budget or a crash keeps the techniques done.
   std::set<bssrdf::ExitConvention> conventions;
   std::vector<plot::XySeries> sweepSeries;
-  for (const std::string& name : names) {
+  const auto techniquesStarted = std::chrono::steady_clock::now();
+  double finishedSeconds = 0.0;
+  size_t finished = 0;
+  // A stop during the references leaves them partial and the techniques still render (each
+  // within --budget); a stop during the techniques ends the one running and skips the rest.
+  const bool stoppedBefore = InterruptGuard::interrupted();
+  // Writes the report as it stands: the model's rows under the conventions seen so far.
+  const auto writeNow = [&](const analysis::CompareReport& r, bool inProgress) {
+    analysis::CompareReport copy = r;
+    std::set<bssrdf::ExitConvention> convs = conventions;
+    if (convs.empty()) convs.insert(bssrdf::ExitConvention::Jensen);
+    for (const auto conv : convs) {
+      const auto rows = analysis::modelMetrics(copy.references, conv, eta, copy.masks, display);
+      copy.metrics.insert(copy.metrics.end(), rows.begin(), rows.end());
+    }
+    if (inProgress) {
+      copy.partial = true;
+      copy.notes.push_back(fmt::format("in progress: {} of {} techniques done", r.techniques.size(),
+                                       names.size()));
+    }
+    return analysis::writeReport(out, copy);
+  };
+  for (size_t i = 0; i < names.size(); ++i) {
+    const std::string& name = names[i];
+    if (!stoppedBefore && InterruptGuard::interrupted()) {
+      report.notes.push_back(fmt::format("{} not run (stopped by {})", name, stopSignalName()));
+      report.partial = true;
+      continue;
+    }
+    {
+      const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() -
+                                                           techniquesStarted).count();
+      const double perTechnique = finished ? finishedSeconds / double(finished) : -1.0;
+      const double remaining = static_cast<double>(names.size() - i);
+      const double etaSeconds = perTechnique >= 0.0 ? perTechnique * remaining : -1.0;
+      printStderr("compare: technique {}/{}: {} (elapsed {}, ETA {}{})\n", i + 1, names.size(),
+                  name, clockText(elapsed), clockText(etaSeconds),
+                  a.budget > 0.0 ? fmt::format(", at most {}", clockText(a.budget * remaining)) : "");
+    }
     analysis::TechniqueRun run;
     run.images.name = name;
     run.description = techniques::description(parseTechniqueSpec(name).base);
-    std::unique_ptr<techniques::Technique> t;
-    std::vector<PairMetrics> rows;
-    try {
-      // The scene's settings belong to the scene's technique; the others run at their defaults;
-      // then a variant's own settings.
-      t = makeTechniqueSpec(name, &s);
-      printStderr("{}: preparing on {}\n", name, report.gpu);
-      t->prepare(s, gl);
-      analysis::TimedRender r = renderTimed(*t, name, s, a.warmup, a.frames);
-      printStderr("  frame {:.3f} ms (median of {}), L by the {} convention{}\n", r.frame_ms,
-                 a.frames, toString(r.images.convention),
-                 r.images.exitance.empty() ? ", no exitance" : "");
-      rows = analysis::techniqueMetrics(r.images, report.references, eta, report.masks, display);
-      run.passes = r.passes;
-      run.frame_ms = r.frame_ms;
-      run.timed_frames = a.frames;
-      run.warmup_frames = a.warmup;
-      run.notes = r.notes;
-      run.images = std::move(r.images);
-    } catch (const std::exception& e) {
-      // This technique cannot do this scene (e.g. the point cloud's shadow map and a point light
-      // inside the bounding sphere): the other techniques and the references still say
-      // something, so the report keeps them and lists this one with its reason.
-      run.error = e.what();
-      printStderr("{}: failed: {}\n", name, run.error);
-    }
-    if (t)
-      for (const auto& p : t->parameters())
-        run.parameters.emplace_back(p.name, techniques::toString(t->parameter(p.name)));
-    if (run.failed()) {
-      report.techniques.push_back(std::move(run));
+    const Isolated iso = runIsolated(name, s, a, !stoppedBefore);
+    if (iso.end == Isolated::End::Stopped) {
+      const std::string what = fmt::format("{} stopped by {} after {:.1f} s: not in the report",
+                                           name, stopSignalName(), iso.seconds);
+      printStderr("compare: {}\n", what);
+      report.notes.push_back(what);
+      report.partial = true;
       continue;
     }
+    ++finished;
+    finishedSeconds += iso.seconds;
+    if (iso.end == Isolated::End::OverBudget) {
+      run.over_budget = true;
+      run.error = fmt::format("over budget: stopped after {:.1f} s (--budget {:g} s)", iso.seconds,
+                              a.budget);
+    } else if (iso.end == Isolated::End::Crashed) {
+      run.error = iso.why;
+    } else {
+      const WorkerResult& w = iso.result;
+      if (report.gpu.empty()) report.gpu = w.gpu;
+      run.parameters = w.parameters;
+      run.error = w.error;
+    }
+    if (run.failed()) {
+      printStderr("{}: {}{}\n", name, run.over_budget ? "" : "failed: ", run.error);
+      report.techniques.push_back(std::move(run));
+      writeNow(report, i + 1 < names.size());
+      continue;
+    }
+    analysis::TimedRender r = iso.result.render;
+    const std::vector<PairMetrics> rows =
+        analysis::techniqueMetrics(r.images, report.references, eta, report.masks, display);
+    run.passes = r.passes;
+    run.frame_ms = r.frame_ms;
+    run.timed_frames = a.frames;
+    run.warmup_frames = a.warmup;
+    run.notes = r.notes;
+    run.images = std::move(r.images);
     conventions.insert(run.images.convention);
     report.metrics.insert(report.metrics.end(), rows.begin(), rows.end());
-
-    // The sweep: each quality parameter over its values (the others as above), then restored. A
-    // value that fails ends that parameter's sweep with a note; the technique's own result stands.
-    if (a.sweep && !InterruptGuard::interrupted()) {
-      // A sweep measures the real-time image at each value: a technique that accumulates frames
-      // into a converged image (tsis) would give every sample count the same converged error,
-      // so its accumulation is off during the sweep (and restored after).
-      std::optional<techniques::ParameterValue> accumulate;
-      for (const auto& p : t->parameters())
-        if (p.name == "accumulate" && p.type == techniques::ParameterType::Bool) {
-          accumulate = t->parameter(p.name);
-          t->setParameter(p.name, false);
-        }
-      if (accumulate) run.notes.push_back("sweep: accumulate false (real-time frames)");
-      for (const auto& p : t->parameters()) {
-        if (p.sweep.empty()) continue;
-        const techniques::ParameterValue keep = t->parameter(p.name);
-        std::map<std::string, plot::XySeries> series;  // per reference
-        for (double v : p.sweep) {
-          try {
-            t->setParameter(p.name, v);
-            analysis::TimedRender sr = renderTimed(*t, name, s, a.warmup, a.frames);
-            analysis::SweepPoint point{name, p.name, v, sr.frame_ms,
-                                       analysis::techniqueMetrics(sr.images, report.references,
-                                                                  eta, report.masks, display)};
-            printStderr("  sweep {} = {:g}: {:.3f} ms\n", p.name, v, sr.frame_ms);
-            for (const PairMetrics& m : point.metrics) {
-              if (m.quantity != "radiance") continue;
-              auto& xy = series[m.reference];
-              xy.label = fmt::format("{} {} vs {}", name, p.name, m.reference);
-              xy.x.push_back(sr.frame_ms);
-              xy.y.push_back(100.0 * m.metrics.rel_rmse);
-            }
-            report.sweep.push_back(std::move(point));
-          } catch (const std::exception& e) {
-            const std::string note =
-                fmt::format("sweep {} = {:g} failed, sweep of {} stopped: {}", p.name, v, p.name,
-                            e.what());
-            printStderr("  {}\n", note);
-            run.notes.push_back(note);
-            break;
-          }
-        }
-        t->setParameter(p.name, keep);
-        for (auto& [ref, xy] : series) sweepSeries.push_back(std::move(xy));
+    run.notes.insert(run.notes.end(), iso.result.sweep_notes.begin(), iso.result.sweep_notes.end());
+    // The sweep's points, one series per parameter and reference.
+    std::string parameter;
+    std::map<std::string, plot::XySeries> series;  // per reference
+    const auto flush = [&] {
+      for (auto& [ref, xy] : series) sweepSeries.push_back(std::move(xy));
+      series.clear();
+    };
+    for (const SweepRender& sr : iso.result.sweep) {
+      if (sr.parameter != parameter) flush();
+      parameter = sr.parameter;
+      if (!sr.failure.empty()) {
+        run.notes.push_back(sr.failure);
+        continue;
       }
-      if (accumulate) t->setParameter("accumulate", *accumulate);
+      analysis::SweepPoint point{name, sr.parameter, sr.value, sr.frame_ms,
+                                 analysis::techniqueMetrics(sr.images, report.references, eta,
+                                                            report.masks, display)};
+      for (const PairMetrics& m : point.metrics) {
+        if (m.quantity != "radiance") continue;
+        auto& xy = series[m.reference];
+        xy.label = fmt::format("{} {} vs {}", name, sr.parameter, m.reference);
+        xy.x.push_back(sr.frame_ms);
+        xy.y.push_back(100.0 * m.metrics.rel_rmse);
+      }
+      report.sweep.push_back(std::move(point));
     }
+    flush();
+    printStderr("compare: {} done in {:.1f} s\n", name, iso.seconds);
     report.techniques.push_back(std::move(run));
+    writeNow(report, i + 1 < names.size());
   }
+  if (a.sweep && InterruptGuard::interrupted())
+    report.notes.push_back(fmt::format("sweep skipped (stopped by {})", stopSignalName()));
   if (conventions.empty()) conventions.insert(bssrdf::ExitConvention::Jensen);
   for (const auto conv : conventions) {
     const auto rows = analysis::modelMetrics(report.references, conv, eta, report.masks, display);
     report.metrics.insert(report.metrics.end(), rows.begin(), rows.end());
   }
-  if (a.sweep && InterruptGuard::interrupted()) report.notes.push_back("sweep skipped (Ctrl-C)");
 
   // ---- Report ------------------------------------------------------------------------------
   if (!sweepSeries.empty()) {
@@ -430,6 +798,11 @@ SceneOutcome compareScene(const CompareArgs& a, const Parsed& parsed, const std:
   outcome.partial = report.partial;
   outcome.techniques = report.techniques.size();
   for (const auto& t : report.techniques) {
+    if (t.over_budget) {
+      fmt::print("{:<12} {}\n", t.images.name, t.error);
+      outcome.over_budget.push_back(t.images.name);
+      continue;
+    }
     if (t.failed()) {
       fmt::print("{:<12} failed: {}\n", t.images.name, t.error);
       outcome.failed_techniques.push_back(t.images.name);
@@ -469,6 +842,7 @@ void runSuite(const CompareArgs& a, const Parsed& o) {
       a.height ? fmt::format(" --height {}", *a.height) : "", a.frames, a.warmup,
       a.sweep ? " --sweep" : "", quoted(out.string()));
   if (a.time) cmd += fmt::format(" --time {}", *a.time);
+  cmd += fmt::format(" --budget {:g}", a.budget);
   cmd += a.material.commandLine();
   for (const std::string& f : a.reference_from) cmd += " --reference-from " + quoted(f);
   if (a.reference_device != "cpu") cmd += " --reference-device " + a.reference_device;
@@ -633,6 +1007,18 @@ void addCompareCommand(CLI::App& app) {
   cmd->add_option("--frames", a->frames, "Timed frames per technique (the median is reported)")
       ->capture_default_str();
   cmd->add_option("--warmup", a->warmup, "Untimed frames before the timed ones")
+      ->capture_default_str();
+  cmd->add_option("--budget", a->budget,
+                  fmt::format("Seconds each technique and each reference may take (0: no limit). A "
+                              "technique still running then is stopped and listed as over budget "
+                              "(the others continue; not an error); a reference still running "
+                              "keeps the photons or samples done (partial). Every finished "
+                              "technique is written to the report at once. With the defaults a "
+                              "run takes at most {} techniques x {:g} s plus 2 references x {:g} "
+                              "s (about {:.0f} min), whatever the renderer (a software one, "
+                              "llvmpipe, included)",
+                              techniques::names().size(), kDefaultBudget, kDefaultBudget,
+                              (double(techniques::names().size()) + 2.0) * kDefaultBudget / 60.0))
       ->capture_default_str();
   cmd->callback([a] { runCompare(*a); });
 }

@@ -73,6 +73,7 @@ struct Row {
   double model_vs_physical_rmse = kNaN, model_vs_physical_bias = kNaN;
   double frame_ms = kNaN;
   bool partial = false;
+  bool over_budget = false;  // the technique was stopped by compare's --budget (error says so)
 };
 
 double metric(const json* m, const char* key) { return m ? value(m->at(key)) : kNaN; }
@@ -102,8 +103,9 @@ std::vector<Row> sceneRows(const fs::path& dir, const SuiteScene& s) {
     r.report = urlPart(s.name) + "/index.html";
     r.technique = t.at("name");
     r.partial = report.at("partial").get<bool>();
-    if (t.contains("status") && t.at("status") == "failed") {
+    if (t.contains("status") && (t.at("status") == "failed" || t.at("status") == "over budget")) {
       r.error = t.at("error");
+      r.over_budget = t.at("status") == "over budget";
       rows.push_back(r);
       continue;
     }
@@ -306,7 +308,7 @@ std::vector<std::string> writeLeaderboard(const fs::path& dir, const SuiteInfo& 
       // A failed technique keeps its name (status "failed"); a failed scene has none.
       if (!r.technique.empty()) {
         row["technique"] = r.technique;
-        row["status"] = "failed";
+        row["status"] = r.over_budget ? "over budget" : "failed";
         row["partial"] = r.partial;
       }
       row["error"] = r.error;
@@ -363,7 +365,7 @@ std::vector<std::string> writeLeaderboard(const fs::path& dir, const SuiteInfo& 
     if (!r.error.empty() && !r.technique.empty()) {
       md += fmt::format("| {}{} | {} | **{}** |  |  |  |  |  |  |\n", mdCell(r.scene),
                         r.partial ? " (partial)" : "", mdCell(r.technique),
-                        mdCell("failed: " + r.error));
+                        mdCell((r.over_budget ? "" : "failed: ") + r.error));
       continue;
     }
     if (!r.error.empty()) {
@@ -408,9 +410,9 @@ std::vector<std::string> writeLeaderboard(const fs::path& dir, const SuiteInfo& 
   for (const Row& r : rows) {
     if (!r.error.empty() && !r.technique.empty()) {
       h += fmt::format("<tr><td class=\"l\"><a href=\"{}\">{}</a>{}</td><td class=\"l\">{}</td>"
-                       "<td class=\"l warn\" colspan=\"7\">failed: {}</td></tr>\n", html(r.report),
+                       "<td class=\"l warn\" colspan=\"7\">{}{}</td></tr>\n", html(r.report),
                        html(r.scene), r.partial ? " <span class=\"warn\">(partial)</span>" : "",
-                       html(r.technique), html(r.error));
+                       html(r.technique), r.over_budget ? "" : "failed: ", html(r.error));
       continue;
     }
     if (!r.error.empty()) {

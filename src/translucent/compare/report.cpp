@@ -23,6 +23,11 @@ using text::html, text::number, text::num, text::pct, text::spct;
 
 namespace {
 
+// "failed: ERROR", or for a technique stopped by compare's --budget its error ("over budget: ...").
+std::string failureText(const TechniqueRun& t) {
+  return t.over_budget ? t.error : "failed: " + t.error;
+}
+
 constexpr const char* kGenerator = "translucent compare";
 constexpr double kPi = 3.14159265358979323846;
 
@@ -269,7 +274,7 @@ std::vector<std::string> writeReport(const fs::path& dir, const CompareReport& r
   for (const TechniqueRun& t : r.techniques) {
     const std::string n = t.images.name;
     if (t.failed()) {
-      json tj = {{"name", n}, {"description", t.description}, {"status", "failed"},
+      json tj = {{"name", n}, {"description", t.description}, {"status", t.over_budget ? "over budget" : "failed"},
                  {"error", t.error}, {"notes", t.notes}};
       for (const auto& [k, v] : t.parameters) tj["parameters"][k] = v;
       techniques.push_back(tj);
@@ -380,7 +385,7 @@ std::vector<std::string> writeReport(const fs::path& dir, const CompareReport& r
        html(sceneSummary(r.scene)) + ". GPU: " + html(r.gpu) + ". " + html(r.version) +
        ", created " + html(r.created) + ".</p>\n";
   if (!failed.empty()) {
-    h += fmt::format("<p class=\"warn\">{} of {} techniques failed on this scene (no images or "
+    h += fmt::format("<p class=\"warn\">{} of {} techniques failed or ran over budget on this scene (no images or "
                      "metrics; the others and the references are complete):</p>\n<ul>\n",
                      failed.size(), r.techniques.size());
     for (const TechniqueRun* t : failed)
@@ -406,7 +411,7 @@ std::vector<std::string> writeReport(const fs::path& dir, const CompareReport& r
   };
   for (const TechniqueRun* t : failed)
     h += "<tr><td class=\"l\">" + html(t->images.name) + "</td><td class=\"l warn\" colspan=\"3\">"
-         "failed: " + html(t->error) + "</td></tr>\n";
+         + html(failureText(*t)) + "</td></tr>\n";
   for (const Shown& s : shownRows) {
     const std::string exr = (s.label.ends_with(" reference") ? s.label.substr(0, s.label.size() - 10)
                                                              : s.label) + ".exr";
@@ -456,7 +461,7 @@ std::vector<std::string> writeReport(const fs::path& dir, const CompareReport& r
   // A failed technique is a row with its reason, never blank or zero numbers.
   for (const TechniqueRun* t : failed)
     h += "<tr><td class=\"l\">" + html(t->images.name) + "</td><td class=\"l warn\" "
-         "colspan=\"14\">failed: " + html(t->error) + "</td></tr>\n";
+         "colspan=\"14\">" + html(failureText(*t)) + "</td></tr>\n";
   h += "</table>\n<h3>Error maps</h3>\n<p>Relative difference (test − reference) / reference: " +
        figure(barRel, fmt::format("−{0:g}% … +{0:g}%", 100 * kRelativeRange), " class=\"bar\"") +
        " z-score: " + figure(barZ, fmt::format("−{0:g} … +{0:g}", kZRange), " class=\"bar\"") +
@@ -477,7 +482,7 @@ std::vector<std::string> writeReport(const fs::path& dir, const CompareReport& r
   for (const TechniqueRun& t : r.techniques) {
     if (t.failed()) {
       h += "<tr><th class=\"l\">" + html(t.images.name) + "</th><td class=\"l warn\" colspan=\"4\">"
-           "failed: " + html(t.error) + "</td></tr>\n";
+           + html(failureText(t)) + "</td></tr>\n";
       continue;
     }
     for (const PassStat& p : t.passes)
@@ -503,7 +508,7 @@ std::vector<std::string> writeReport(const fs::path& dir, const CompareReport& r
   h += "</table>\n<h3>Technique settings</h3>\n";
   for (const TechniqueRun& t : r.techniques) {
     h += "<p><b>" + html(t.images.name) + "</b> (" + html(t.description) + ")" +
-         (t.failed() ? " <span class=\"warn\">failed: " + html(t.error) + "</span>" : "") + ": ";
+         (t.failed() ? " <span class=\"warn\">" + html(failureText(t)) + "</span>" : "") + ": ";
     for (size_t i = 0; i < t.parameters.size(); ++i)
       h += (i ? ", " : "") + html(t.parameters[i].first) + " = " + html(t.parameters[i].second);
     for (const std::string& n : t.notes) h += "<br>" + html(n);

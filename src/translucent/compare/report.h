@@ -37,6 +37,8 @@ struct TechniqueRun {
   TechniqueImages images;  // a failed run has only images.name
   std::string error;       // why the technique failed on this scene ("" when it ran): a row of
                            // the report with this message, no images and no metrics
+  bool over_budget = false;  // stopped by compare's --budget (error says after how long):
+                            // report.json status "over budget"
   std::string description;
   std::vector<std::pair<std::string, std::string>> parameters;  // every value as rendered
   std::vector<PassStat> passes;  // depth-0 and nested, in frame order
