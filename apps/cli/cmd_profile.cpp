@@ -305,6 +305,14 @@ void runProfile(const ProfileArgs& a) {
   if (a.reference && !(a.photons >= 1000.0 && a.photons <= 1e12))
     throw ParameterError(
         fmt::format("--photons is {}: expected between 1e3 and 1e12 per channel", a.photons));
+  // The plot's name and size, before the curves and the reference are computed.
+  if (!a.out.empty() && ext != ".csv") {
+    try {
+      plot::checkPlotOutput(a.out, a.width, a.height);
+    } catch (const ParameterError& e) {
+      throw ParameterError(fmt::format("--width {} --height {}: {}", a.width, a.height, e.what()));
+    }
+  }
   if (!beginWork()) return;
   // .bssrdf files: evaluated on the GPU; the context exists only when one is requested.
   std::unique_ptr<gpu::Context> gl;

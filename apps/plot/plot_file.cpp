@@ -587,4 +587,8 @@ void writeXyPlot(const std::string& path, const std::vector<XySeries>& series,
               options.title.empty() ? "x-y plot" : options.title);
 }
 
+void checkPlotOutput(const std::string& path, int width, int height) {
+  (void)checkPlotFile(path, width, height);
+}
+
 }  // namespace translucent::plot

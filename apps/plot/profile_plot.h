@@ -48,6 +48,9 @@ struct PlotOptions {
 // for bad values; they are dropped.
 void writeProfilePlot(const std::string& path, const std::vector<analysis::Curve>& curves,
                       const PlotOptions& options);
+// The checks writeProfilePlot makes of the file name and the size (ParameterError), made before
+// the curves are computed (a path-traced reference can take minutes).
+void checkPlotOutput(const std::string& path, int width, int height);
 
 // Generic x-y plots (e.g. `translucent compare --sweep`: error against GPU time): one line with
 // point markers per series, optionally logarithmic axes (points a log axis cannot show are

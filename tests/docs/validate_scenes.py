@@ -27,7 +27,7 @@ REFUSED = [
     "technique_string.json", "color_two_values.json", "unknown_top_key.json",
     "unknown_light_key.json", "unknown_camera_key.json", "unknown_light_type.json",
     "missing_lights.json", "missing_mesh.json", "missing_camera_position.json",
-    "preset_and_sigma.json", "model_empty.json",
+    "preset_and_sigma.json", "model_empty.json", "gamma_tiny.json", "exposure_1000.json",
 ]
 
 
