@@ -127,11 +127,17 @@ void runSlab(const PathtraceArgs& a) {
     reference::SlabRun shard = run;
     reference::TraceOptions& o = shard.options;
     std::optional<ShardRange> range;
+    std::optional<Checkpoint> checkpoint;
+    uint64_t resumed = 0;  // blocks of the shard in its checkpoint
     if (a.shard.active()) {
       range = a.shard.range(options.totalBlocks());
+      // A re-run of a shard that stopped early resumes from its partial file: the blocks after
+      // those done.
+      checkpoint = readCheckpoint(a.shard, *range, inputs);
+      if (checkpoint) resumed = checkpoint->blocks_done;
       // An empty shard (more shards than blocks) starts at the end: it traces nothing.
-      o.first_block = range->blocks == 0 ? range->total : range->first;
-      o.blocks = range->blocks;
+      o.first_block = range->blocks == resumed ? range->total : range->first + resumed;
+      o.blocks = range->blocks - resumed;
     }
     const reference::TraceDevice dev = reference::openTraceDevice(run.device);
     reference::RunState state;
@@ -141,7 +147,16 @@ void runSlab(const PathtraceArgs& a) {
     r = reference::traceSlabRun(dev, shard, cb, &state);
     progress.end();
     if (range) {
-      writePartial(a.shard, *range, inputs, state, r.seconds, r.threads, !r.partial);
+      // The blocks traced now: on the CPU a prefix of those asked for (a stop keeps whole blocks
+      // in order); the GPU's stop is not block-wise, so its stopped shard starts over.
+      const uint64_t done =
+          !r.partial ? range->blocks
+          : run.device == "cpu"
+              ? resumed + std::min<uint64_t>(o.blocks, r.photons / reference::kBlockPhotons)
+              : 0;
+      if (checkpoint) state.merge(checkpoint->state);
+      writePartial(a.shard, *range, inputs, state, r.seconds + (checkpoint ? checkpoint->seconds : 0.0),
+                   r.threads, !r.partial, done);
       return;
     }
   }

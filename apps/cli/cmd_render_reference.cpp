@@ -365,7 +365,9 @@ void runShard(const RunArgs& a, Tracer& tracer, uint64_t photons, const std::str
   }
   reference::RunState state;
   tracer.write(state);
-  writePartial(a.shard, range, inputs, state, st.seconds, st.threads, !st.partial);
+  // A stopped shard of these tracers starts over when run again (only the slab's resumes).
+  writePartial(a.shard, range, inputs, state, st.seconds, st.threads, !st.partial,
+               st.partial ? 0 : range.blocks);
 }
 
 void runPathtraceSphere(const SphereArgs& s, const RunArgs& a, std::string device) {

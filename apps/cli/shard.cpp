@@ -137,7 +137,8 @@ void checkPartialOutput(const ShardArgs& s, const OutputSet& inputs) {
 }
 
 void writePartial(const ShardArgs& s, const ShardRange& r, const OutputSet& inputs,
-                  const reference::RunState& state, double seconds, int threads, bool complete) {
+                  const reference::RunState& state, double seconds, int threads, bool complete,
+                  uint64_t blocks_done) {
   const std::vector<std::string> args = recordedArguments();
   const nlohmann::json header = {{"args", args},
                                  {"settings_hash", settingsHash(args, inputs)},
@@ -147,13 +148,57 @@ void writePartial(const ShardArgs& s, const ShardRange& r, const OutputSet& inpu
                                  {"blocks", r.blocks},
                                  {"total_blocks", r.total},
                                  {"complete", complete},
+                                 {"blocks_done", complete ? r.blocks : blocks_done},
                                  {"seconds", seconds},
                                  {"threads", threads}};
   writeTextOutput("--partial", s.partial, reference::encodeRunState(header.dump(), state));
   printStderr("{}: shard {}/{} (blocks {}..{} of {}){}; wrote {}\n",
               args.size() >= 2 ? args[0] + " " + args[1] : "pathtrace", r.index, r.shards, r.first,
-              r.first + r.blocks, r.total, complete ? "" : ", stopped early: INCOMPLETE (merge "
-              "will refuse it; run the shard again)", s.partial);
+              r.first + r.blocks, r.total,
+              complete ? "" : fmt::format(", stopped early after {} of its {} blocks: INCOMPLETE "
+                                          "(merge will refuse it; run the shard again: it resumes "
+                                          "from this file)", blocks_done, r.blocks),
+              s.partial);
+}
+
+std::optional<Checkpoint> readCheckpoint(const ShardArgs& s, const ShardRange& r,
+                                         const OutputSet& inputs) {
+  std::error_code ec;
+  if (s.partial.empty() || isStdoutPath(s.partial) || !fs::is_regular_file(s.partial, ec))
+    return std::nullopt;
+  const auto notResumed = [&](const std::string& why) {
+    printStderr("--partial {}: not resumed ({}); the shard is traced from its start\n", s.partial,
+                why);
+    return std::nullopt;
+  };
+  try {
+    reference::DecodedRunState d = reference::decodeRunState(readBytes(s.partial, "--partial"));
+    const nlohmann::json h = io::parseJson(d.header_json, "its header");
+    const std::vector<std::string> args = recordedArguments();
+    if (!h.is_object() || !h.contains("args") || h.at("args") != nlohmann::json(args))
+      return notResumed("the file is the partial result of another command");
+    if (!h.contains("settings_hash") || h.at("settings_hash") != settingsHash(args, inputs))
+      return notResumed("the inputs have changed since it was written");
+    for (const auto& [key, value] : {std::pair<const char*, uint64_t>{"shard", r.index},
+                                     {"shards", r.shards},
+                                     {"first_block", r.first},
+                                     {"blocks", r.blocks}})
+      if (!h.contains(key) || !h.at(key).is_number_unsigned() || h.at(key).get<uint64_t>() != value)
+        return notResumed(fmt::format("it is another shard: its \"{}\" differs", key));
+    if (!h.contains("blocks_done") || !h.at("blocks_done").is_number_unsigned() ||
+        h.at("blocks_done").get<uint64_t>() > r.blocks)
+      return notResumed("it records no finished blocks");
+    Checkpoint c;
+    c.blocks_done = h.at("blocks_done").get<uint64_t>();
+    if (c.blocks_done == 0) return notResumed("no block was finished");
+    c.state = std::move(d.state);
+    if (h.contains("seconds") && h.at("seconds").is_number()) c.seconds = h.at("seconds").get<double>();
+    printStderr("--partial {}: resuming shard {}/{} after its {} of {} blocks done\n", s.partial,
+                r.index, r.shards, c.blocks_done, r.blocks);
+    return c;
+  } catch (const std::exception& e) {
+    return notResumed(e.what());
+  }
 }
 
 void checkMergedInputs(const OutputSet& inputs) {

@@ -19,6 +19,7 @@
 #include <CLI/CLI.hpp>
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -82,8 +83,26 @@ void refuseOutputsWithShard(const std::vector<std::pair<std::string, std::string
 // tracing starts: call checkPartialOutput first). Merge: checks that the inputs still hash to
 // the parts' settings hash.
 void checkPartialOutput(const ShardArgs& s, const OutputSet& inputs);
+// `blocks_done`: the shard's blocks [first, first + blocks_done) that `state` holds (all of them
+// when complete); a shard stopped early (SIGTERM, --time-limit) writes the blocks it finished,
+// which a re-run of the same shard resumes from (readCheckpoint).
 void writePartial(const ShardArgs& s, const ShardRange& r, const OutputSet& inputs,
-                  const reference::RunState& state, double seconds, int threads, bool complete);
+                  const reference::RunState& state, double seconds, int threads, bool complete,
+                  uint64_t blocks_done);
+
+// Checkpoint and resume: the --partial file of an earlier run of this very shard (the same
+// recorded arguments, inputs, shard and blocks) that stopped early. Its state holds the shard's
+// first blocks_done blocks; blocks are deterministic by index and sums exact, so tracing the
+// remaining blocks and adding the states gives the uninterrupted shard's state bit for bit.
+// None (and the shard traces from its start) when the file is missing, is another run's or
+// shard's, or records no finished blocks; a line on stderr says why when a file was there.
+struct Checkpoint {
+  reference::RunState state;
+  uint64_t blocks_done = 0;
+  double seconds = 0.0;
+};
+std::optional<Checkpoint> readCheckpoint(const ShardArgs& s, const ShardRange& r,
+                                         const OutputSet& inputs);
 void checkMergedInputs(const OutputSet& inputs);
 
 void addMergeCommand(CLI::App& app);

@@ -13,7 +13,9 @@
 #            seconds, photons_per_second, threads; the slab's CSV and the sphere's PNG
 #            byte-identical, its EXR too but for the header's capDate (the time of writing);
 #   phase 3: failing shards make submit --wait fail with the merge never run; a merge job given a
-#            missing part fails naming it.
+#            missing part fails naming it;
+#   phase 4: a shard stopped by SIGTERM (scancel) mid-run and submitted again with submit --only
+#            resumes from its partial file; the merge equals the uninterrupted run bit for bit.
 # --cluster-only runs phase 1 only (a diagnostic of the Slurm set-up). The test fails, printing the
 # daemons' logs, when the cluster cannot start. It stops the daemons (by pid) and removes the
 # folder on exit (TRANSLUCENT_TEST_KEEP=1: keeps the folder, with the logs).
@@ -351,5 +353,54 @@ wait_job "$job" 60 FAILED
 grep -q 'part-4.tpart' "$TMP/merge5.out" ||
   { cat "$TMP/merge5.out" >&2; fail "the merge of 4 of 5 parts did not name part-4.tpart"; }
 echo "slurm_pathtrace: phase 3: failed shards cancel the merge (exit $rc); a missing part fails the merge: $(grep -m1 'part-4' "$TMP/merge5.out")"
+
+# --- phase 4: a shard stopped mid-run, submitted again with --only, resumes ---------------------
+# Shard 0 of 2 gets SIGTERM from scancel while it traces (as Slurm sends it 120 s before the time
+# limit, pathtrace.sbatch's --signal): it writes its partial file, fails, and the merge never runs.
+# `submit --only 0` runs it again into the same folder: it resumes from its partial file, and the
+# merge of both parts equals the uninterrupted single-process run bit for bit.
+start=$(now)
+RESUME=(pathtrace slab --device cpu --material Skimmilk --channel r --photons 2e7 --radial-bins 50
+        --radial-max 5 --seed 11)
+RP=$TMP/resume-parts
+cd "$S"  # the JSON records the output paths: relative, as the single run's
+out=$("$SCRIPTS/submit" -n 2 -d "$RP" -- "${RESUME[@]}" --threads 1 -- --json resume.json --csv resume.csv) ||
+  fail "submit of the run to stop failed: $out"
+array=$(sed -n 's/^array_job=//p' <<<"$out")
+merge=$(sed -n 's/^merge_job=//p' <<<"$out")
+JOBS+=("$array" "$merge")
+# Until shard 0 runs translucent (its log names the command), then a second of tracing.
+for ((i = 0; i < 300; i++)); do
+  grep -q 'pathtrace.sbatch: shard 0/2' "$RP/pathtrace-${array}_0.out" 2>/dev/null && break
+  sleep 0.1
+done
+grep -q 'pathtrace.sbatch: shard 0/2' "$RP/pathtrace-${array}_0.out" 2>/dev/null ||
+  fail "shard 0 of job $array did not start within 30 s"
+sleep 1.5
+scancel --signal=TERM --batch "${array}_0" || fail "scancel --signal=TERM --batch ${array}_0 failed"
+wait_job "$array" 120 '(COMPLETED|FAILED)'
+grep -q 'INCOMPLETE' "$RP/pathtrace-${array}_0.out" ||
+  { cat "$RP/pathtrace-${array}_0.out" >&2; fail "shard 0 did not write an incomplete partial file after SIGTERM (it may have finished first)"; }
+done0=$(sed -n 2p "$RP/part-0.tpart" | grep -o '"blocks_done":[0-9]*' | cut -d: -f2 || true)
+[[ -n $done0 && $done0 -gt 0 ]] || fail "part-0.tpart records no finished blocks ('$done0')"
+wait_job "$merge" 60 CANCELLED
+[[ ! -e $S/resume.json ]] || fail "the merge ran although shard 0 was stopped"
+rc=0
+out=$(SUBMIT_POLL_SECONDS=0.2 "$SCRIPTS/submit" --shards 2 --only 0 -d "$RP" --wait -- "${RESUME[@]}" --threads 1 \
+  -- --json resume.json --csv resume.csv 2>"$TMP/resume-submit.err") || rc=$?
+# shellcheck disable=SC2207
+JOBS+=($(sed -n 's/^\(array\|merge\)_job=//p' <<<"$out"))
+again=$(sed -n 's/^array_job=//p' <<<"$out")
+[[ $rc -eq 0 ]] || { cat "$TMP/resume-submit.err" "$RP"/pathtrace-"${again}"_*.out >&2; fail "submit --only 0 failed (exit $rc)"; }
+grep -q "resuming shard 0/2 after its $done0 of" "$RP/pathtrace-${again}_0.out" ||
+  { cat "$RP/pathtrace-${again}_0.out" >&2; fail "shard 0 submitted again did not resume from its $done0 blocks"; }
+[[ ! -e $RP/pathtrace-${again}_1.out ]] || fail "submit --only 0 also ran shard 1"
+cd "$P"
+"$TRANSLUCENT" "${RESUME[@]}" --json resume.json --csv resume.csv >"$TMP/resume-single.log" 2>&1 ||
+  { cat "$TMP/resume-single.log" >&2; fail "the uninterrupted single-process run failed"; }
+cd "$TMP"
+same_json "$S/resume.json" "$P/resume.json"
+cmp "$S/resume.csv" "$P/resume.csv" || fail "resume: the CSV profiles differ"
+echo "slurm_pathtrace: phase 4: shard 0 stopped by SIGTERM after $done0 blocks, submitted again with --only 0, resumed; merge identical to one process ($(seconds_since "$start") s)"
 
 echo "slurm_pathtrace: PASS"

@@ -89,6 +89,55 @@ rm -f kept.tpart hard-link.tpart soft-link.tpart
 expect_error "'slow.tpart' \(shard 0/2\) was stopped before it traced all its blocks" "$T" merge slow.tpart slab-1.tpart --json x.json
 [ ! -e x.json ] || fail "a failed merge wrote x.json"
 
+# ---- slab: a shard stopped by SIGTERM resumes from its partial file ---------------------------
+# Shard 1/2 (one thread) is stopped by SIGTERM twice once it has traced a while, then run to the
+# end; each run resumes from the blocks the previous one finished (its partial file); the merge
+# equals the uninterrupted run bit for bit.
+RES=(pathtrace slab --material Skimmilk --channel g --photons 4e7 --radial-bins 30
+     --radial-max 4 --angle-bins 5 --thickness 3 --seed 9)
+"$T" "${RES[@]}" --device cpu --json res-one.json --csv res-one.csv 2>/dev/null
+"$T" "${RES[@]}" --shard 0/2 --partial res-0.tpart 2>/dev/null
+blocks_done() { sed -n 2p "$1" | grep -o '"blocks_done":[0-9]*' | cut -d: -f2; }
+stops=0 done_before=0
+for attempt in 1 2 3; do
+  "$T" "${RES[@]}" --threads 1 --shard 1/2 --partial res-1.tpart 2>res-run.txt &
+  pid=$!
+  # Until it catches SIGTERM (bit 15 of SigCgt, 0x4000) and has traced a little.
+  for _ in $(seq 300); do
+    caught=$(awk '/^SigCgt:/ {print $2}' "/proc/$pid/status" 2>/dev/null || true)
+    [ "$(cat "/proc/$pid/comm" 2>/dev/null)" = translucent ] && [ -n "$caught" ] &&
+      [ $((0x$caught & 0x4000)) -ne 0 ] && break
+    sleep 0.05
+  done
+  sleep 0.7
+  [ "$attempt" -eq 3 ] || kill -TERM "$pid" 2>/dev/null || true
+  rc=0
+  wait "$pid" || rc=$?
+  if [ "$rc" -eq 0 ]; then break; fi
+  [ "$rc" -eq 143 ] || { cat res-run.txt; fail "shard 1/2 stopped by SIGTERM exited $rc, expected 143"; }
+  grep -q "INCOMPLETE" res-run.txt || { cat res-run.txt; fail "the stopped shard did not say INCOMPLETE"; }
+  now_done=$(blocks_done res-1.tpart)
+  [ -n "$now_done" ] && [ "$now_done" -ge "$done_before" ] ||
+    fail "attempt $attempt: blocks_done '$now_done' after $done_before"
+  if [ "$done_before" -gt 0 ]; then
+    grep -q "resuming shard 1/2 after its $done_before of" res-run.txt ||
+      { cat res-run.txt; fail "attempt $attempt did not resume from $done_before blocks"; }
+  fi
+  done_before=$now_done
+  stops=$((stops + 1))
+done
+[ "$rc" -eq 0 ] || fail "shard 1/2 did not complete"
+[ "$stops" -eq 2 ] || fail "shard 1/2 was stopped $stops times, expected 2 (it finished before SIGTERM: raise --photons)"
+[ "$done_before" -gt 0 ] || fail "the last stop of shard 1/2 left no finished block"
+grep -q "resuming shard 1/2 after its $done_before of" res-run.txt ||
+  { cat res-run.txt; fail "the last run did not resume from $done_before blocks"; }
+"$T" merge res-0.tpart res-1.tpart --json res-merged.json --csv res-merged.csv 2>/dev/null
+same_json res-one.json res-merged.json
+cmp res-one.csv res-merged.csv || fail "the CSV of the resumed shards differs"
+# A partial file of another shard is not resumed: the shard starts over.
+"$T" "${RES[@]}" --shard 0/2 --partial res-1.tpart 2>res-other.txt
+grep -q "not resumed (it is another shard" res-other.txt || { cat res-other.txt; fail "another shard's file was resumed"; }
+
 # ---- sphere: 2 passes unsharded vs 3 shards of its blocks --------------------------------------
 SPHERE=(pathtrace sphere --photons 20000 --passes 2 --width 24 --height 20 --seed 3
         --light-dir 0.3,1,0.8)

@@ -343,13 +343,21 @@ SlabResult runSlabBlocks(const TraceOptions& options, double rsp, const SlabBloc
   const uint64_t expected = share.photons;
   auto photonsIn = [&](uint64_t blocks) { return std::min(blocks * kBlockPhotons, expected); };
   ExactTally total(options.radial_bins, options.angle_bins);
+  // After a stop the driver also hands over the blocks finished beyond one that was abandoned;
+  // they are left out, so that a partial run is a prefix of its blocks [first, next) and a
+  // stopped shard resumes from it (apps/cli/shard.h, readCheckpoint).
+  uint64_t next = share.first;
   const detail::BlockRun run = detail::runBlocks<Tally>(
       share.first, share.count, options.threads,
       [&] { return Tally(options.radial_bins, options.angle_bins); },
       [&](uint64_t b, Tally& t, const std::atomic<bool>& stop_) {
         return block(b, std::min(kBlockPhotons, options.photons - b * kBlockPhotons), t, stop_);
       },
-      [&](uint64_t, const Tally& t) { total.merge(t); },
+      [&](uint64_t b, const Tally& t) {
+        if (b != next) return;
+        total.merge(t);
+        ++next;
+      },
       [&](uint64_t blocks, double seconds) {
         return !progress || progress({photonsIn(blocks), expected, seconds});
       });
