@@ -260,9 +260,9 @@ void runProfile(const ProfileArgs& a) {
       throw ParameterError(fmt::format("--save-profile '{}': expected a .csv file",
                                        a.save_profile));
   }
-  if (!a.out.empty() && ext != ".csv" && ext != ".png" && ext != ".svg")
+  if (!a.out.empty() && ext != ".csv" && ext != ".png" && ext != ".svg" && ext != ".pdf")
     throw ParameterError(
-        fmt::format("--out '{}': expected a file ending in .csv, .png or .svg", a.out));
+        fmt::format("--out '{}': expected a file ending in .csv, .png, .svg or .pdf", a.out));
   const Medium medium = a.medium.medium();
   const std::vector<std::string> entries =
       a.models == "all" ? bssrdf::modelNames() : splitList(a.models);
@@ -432,14 +432,14 @@ void addProfileCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_flag("--times-r", args->times_r, "Plot r·R(r) instead of R(r)");
   outputOption(cmd->add_option("--out", args->out,
-                  "Output file: .csv (model,channel,r,value; '-': CSV on stdout), .png or .svg; "
+                  "Output file: .csv (model,channel,r,value; '-': CSV on stdout), .png, .svg or .pdf; "
                   "with --study a .md report"));
   outputOption(cmd->add_option(
       "--save-profile", args->save_profile,
       "With --reference: save the path-traced R(r) of the three channels as a tabulated model "
       "(.csv, r in mm), usable as --model FILE.csv"));
-  cmd->add_option("--width", args->width, "Plot width [pixels] (.png/.svg)")->capture_default_str();
-  cmd->add_option("--height", args->height, "Plot height [pixels] (.png/.svg)")
+  cmd->add_option("--width", args->width, "Plot width [pixels] (.png/.svg/.pdf)")->capture_default_str();
+  cmd->add_option("--height", args->height, "Plot height [pixels] (.png/.svg/.pdf)")
       ->capture_default_str();
   cmd->add_option("--title", args->title, "Plot title (default: material and what is plotted)");
   cmd->add_flag("--reference", args->reference,
