@@ -2,7 +2,6 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 # SIGTERM (what kill, timeout and Slurm send) and SIGINT (Ctrl-C) stop long work cleanly: the
 # partial outputs must exist and be valid, with the exit status 143 (SIGTERM) or 130 (SIGINT).
-# slab-* runs under `timeout --preserve-status -s SIGNAL 3` itself (its work starts at once).
 # Usage: signals.sh <translucent binary> <work folder> <case>, case one of slab-TERM, slab-INT,
 # sphere-TERM, integrate-TERM, render-frames-TERM.
 set -u
@@ -66,14 +65,9 @@ run() {
 
 case $case in
   slab-*)
-    timeout --preserve-status -s "$signal" 3 "$exe" pathtrace slab --sigma-a 0.01 --sigma-s 10 \
-      --eta 1.3 --photons 1e15 --threads 2 --json "$work/slab.json" >"$work/log" 2>&1
-    rc=$?
-    [ "$rc" -eq "$expected" ] || { echo "exit status $rc, expected $expected"; cat "$work/log"; exit 1; }
-    check_json "$work/slab.json" photons
-    grep -q "stopped early by " "$work/log" || { echo "no 'stopped early by' in the log"; cat "$work/log"; exit 1; }
-    ;;
-  slab-again-*)
+    # Signalled a second after its handler is installed (run): under `timeout 3` a loaded machine
+    # sometimes had not begun the work yet, and a signal before the work ends the program at once
+    # with the same status 143/130 and nothing written.
     run 1 pathtrace slab --sigma-a 0.01 --sigma-s 10 --eta 1.3 --photons 1e15 --threads 2 \
       --json "$work/slab.json"
     check_json "$work/slab.json" photons
