@@ -344,6 +344,23 @@ struct Isolated {
 // signal asks the run to stop.
 Isolated runIsolated(const std::string& name, const scene::Scene& s, const CompareArgs& a,
                      bool watchSignal) {
+  // A process that has used GL already (a physical reference computed on the GPU) cannot fork a
+  // child that renders (gpu::Context::createdInThisProcess): the technique then renders here,
+  // where neither --budget nor a signal can cut a draw call short.
+  if (gpu::Context::createdInThisProcess()) {
+    static bool said = false;
+    if (!said && a.budget > 0.0)
+      printStderr("compare: the physical reference ran on the GPU in this process, so the "
+                  "techniques render here too, without --budget (a forked child cannot reuse "
+                  "this process's GL driver)\n");
+    said = true;
+    Isolated here;
+    const auto t0 = std::chrono::steady_clock::now();
+    here.result = renderTechnique(name, s, a.warmup, a.frames,
+                                  a.sweep && !InterruptGuard::interrupted());
+    here.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return here;
+  }
   char path[] = "/tmp/translucent-technique-XXXXXX";
   const int fd = mkstemp(path);
   if (fd < 0)

@@ -12,6 +12,8 @@
 #include <functional>
 #include <optional>
 
+#include <atomic>
+
 namespace translucent::gpu {
 namespace {
 
@@ -109,9 +111,14 @@ void GLAPIENTRY debugCallback(GLenum /*source*/, GLenum /*type*/, GLuint /*id*/,
     std::fprintf(stderr, "GL debug: %s\n", message);
 }
 
+std::atomic<bool> gCreated{false};
+
 }  // namespace
 
+bool Context::createdInThisProcess() { return gCreated.load(); }
+
 Context::Context(const ContextOptions& options) {
+  gCreated.store(true);
   const int wantMajor = options.major_version, wantMinor = options.minor_version;
   if (wantMajor < 4 || (wantMajor == 4 && wantMinor < 5) || wantMinor < 0)
     throw ContextError(fmt::format("translucent::gpu: OpenGL {}.{} requested; the GPU layer needs "

@@ -62,6 +62,11 @@ class Context {
 
   const ContextInfo& info() const { return info_; }
 
+  // Whether this process has created a context. The EGL driver's state (its display, Mesa's
+  // rasterizer threads) does not survive fork(): a child of such a process cannot create a
+  // working context of its own, so callers that fork to isolate GL work check this first.
+  static bool createdInThisProcess();
+
  private:
   void* display_ = nullptr;  // EGLDisplay
   void* context_ = nullptr;  // EGLContext
