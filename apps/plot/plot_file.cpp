@@ -57,6 +57,7 @@ constexpr double kAscent = 0.76;  // DejaVu Sans digits and capitals, of the fon
 constexpr double kPad = 12.0, kMajorTick = 5.0, kMinorTick = 3.0, kTickGap = 4.0;
 constexpr double kFrameWidth = 0.8, kGridWidth = 0.6, kErrorBarWidth = 0.9;
 constexpr double kMarkerRadius = 2.1;
+constexpr size_t kMaxReferenceMarks = 80;  // a reference's markers along a profile plot
 constexpr double kLegendRow = 1.6 * kLegendSize, kLegendSample = 32.0, kLegendGap = 6.0;
 
 constexpr Colour kInk = {0x1a, 0x1a, 0x1a};
@@ -135,14 +136,23 @@ void markerPath(cairo_t* cr, Marker m, double x, double y, double radius) {
   }
 }
 
-// Filled in its colour with a thin white edge, which keeps a marker readable over a curve.
-void drawMarker(cairo_t* cr, Marker m, Colour c, double x, double y, double radius) {
+// Filled in its colour with a thin white edge, which keeps a marker readable over a curve; or
+// open (an outline in its colour): a profile plot's references are drawn above the curves, and a
+// filled marker hid the model curve that follows the reference closely (photon beam diffusion
+// under the path-traced dots).
+void drawMarker(cairo_t* cr, Marker m, Colour c, double x, double y, double radius,
+                bool open = false) {
   markerPath(cr, m, x, y, radius);
   setColour(cr, c);
+  cairo_set_dash(cr, nullptr, 0, 0.0);
+  if (open) {
+    cairo_set_line_width(cr, 0.9);
+    cairo_stroke(cr);
+    return;
+  }
   cairo_fill_preserve(cr);
   cairo_set_source_rgb(cr, 1.0, 1.0, 1.0);
   cairo_set_line_width(cr, 0.5);
-  cairo_set_dash(cr, nullptr, 0, 0.0);
   cairo_stroke(cr);
 }
 
@@ -160,6 +170,7 @@ struct LegendEntry {
   LineStyle line;
   bool has_line = true;
   bool has_marker = false;
+  bool open_marker = false;  // drawn as an outline (a profile plot's reference)
   bool error_bar = false;
   Marker marker = Marker::Circle;
 };
@@ -197,7 +208,8 @@ void drawLegendSample(cairo_t* cr, const LegendEntry& e, double x, double yc) {
     cairo_line_to(cr, xc, yc + 0.45 * kLegendSize);
     cairo_stroke(cr);
   }
-  if (e.has_marker) drawMarker(cr, e.marker, e.line.colour, xc, yc, 1.25 * kMarkerRadius);
+  if (e.has_marker)
+    drawMarker(cr, e.marker, e.line.colour, xc, yc, 1.25 * kMarkerRadius, e.open_marker);
 }
 
 // Lays out and draws the figure on a W x H canvas (layout units).
@@ -481,7 +493,7 @@ void writeProfilePlot(const std::string& path, const std::vector<analysis::Curve
     e.name = look.name;
     e.line = look.line;
     e.has_line = !look.reference;
-    e.has_marker = e.error_bar = look.reference;
+    e.has_marker = e.error_bar = e.open_marker = look.reference;
     e.marker = look.marker;
     fig.legend.push_back(std::move(e));
   }
@@ -506,8 +518,13 @@ void writeProfilePlot(const std::string& path, const std::vector<analysis::Curve
       cairo_set_line_width(cr, kErrorBarWidth);
       cairo_set_line_cap(cr, CAIRO_LINE_CAP_BUTT);
       cairo_set_dash(cr, nullptr, 0, 0.0);
+      // At most kMaxReferenceMarks marks along the axis (every stride-th sample; the CSV keeps them
+      // all): 200 touching circles would hide a model curve that follows the reference.
+      const size_t stride = std::max<size_t>(1, (c.r.size() + kMaxReferenceMarks - 1) /
+                                                     kMaxReferenceMarks);
       for (const auto& run : visibleRuns(c, scale))
         for (size_t i : run) {
+          if (i % stride != 0) continue;
           const double e = stderrAt(c, i);
           if (e <= 0.0) continue;
           const double low = c.value[i] - e;
@@ -521,8 +538,9 @@ void writeProfilePlot(const std::string& path, const std::vector<analysis::Curve
       cairo_stroke(cr);
       for (const auto& run : visibleRuns(c, scale))
         for (size_t i : run)
-          drawMarker(cr, looks[k].marker, looks[k].line.colour, f.px(c.r[i]), f.py(c.value[i]),
-                     kMarkerRadius);
+          if (i % stride == 0)
+            drawMarker(cr, looks[k].marker, looks[k].line.colour, f.px(c.r[i]), f.py(c.value[i]),
+                       kMarkerRadius, /*open=*/true);
     }
   };
   writeFigure(path, options.width, options.height, fig,
