@@ -158,50 +158,41 @@ TEST_F(BssrdfProfiles, NoDiffuseReflectanceSectionIsAClearError) {
   EXPECT_NEAR(energy.radius[1], 1.6783469900166608, 1e-5);
 }
 
-// A shader that returns NaN only away from the origin (issue #15 §4): the error names the file
-// and says NaN, instead of "not integrable ... needs absorption".
-TEST_F(BssrdfProfiles, NanProfileIsNamed) {
+// A radial plug-in `file` whose Bssrdf() returns `value` (GLSL, with r = |Xo - Xi|) is refused
+// by bssrdfRadiusForFraction with a message naming the file and holding `says`.
+void expectRefused(const std::string& file, const std::string& value, const std::string& says) {
   testing::TempDir dir;
-  const auto path = dir.write("nan.bssrdf",
-                              "analytic radial no_wi no_wo\n"
-                              "::begin shader\n"
-                              "vec3 Bssrdf(vec3 Xi, vec3 Wi, vec3 Xo, vec3 Wo) {\n"
-                              "  float r = length(Xo - Xi);\n"
-                              "  return r > 1.0 ? vec3(uintBitsToFloat(0x7fc00000u)) : vec3(exp(-r));\n"
-                              "}\n"
-                              "::end shader\n");
+  const auto path = dir.write(file, "analytic radial no_wi no_wo\n"
+                                    "::begin shader\n"
+                                    "vec3 Bssrdf(vec3 Xi, vec3 Wi, vec3 Xo, vec3 Wo) {\n"
+                                    "  float r = length(Xo - Xi);\n"
+                                    "  return " + value + ";\n"
+                                    "}\n"
+                                    "::end shader\n");
   BssrdfEvaluator e(path);
   try {
     bssrdfRadiusForFraction(e, preset("Marble").medium(), 0.5);
     FAIL() << "expected ParameterError";
   } catch (const ParameterError& err) {
     const std::string what = err.what();
-    EXPECT_NE(what.find("nan.bssrdf: Bssrdf() returned "), std::string::npos) << what;
-    EXPECT_NE(what.find("NaN or infinite values in the red channel"), std::string::npos) << what;
+    EXPECT_NE(what.find(file + ": Bssrdf() returned "), std::string::npos) << what;
+    EXPECT_NE(what.find(says), std::string::npos) << what;
   }
+}
+
+// A shader that returns NaN only away from the origin: the error names the file and says NaN,
+// instead of "not integrable ... needs absorption".
+TEST_F(BssrdfProfiles, NanProfileIsNamed) {
+  expectRefused("nan.bssrdf", "r > 1.0 ? vec3(uintBitsToFloat(0x7fc00000u)) : vec3(exp(-r))",
+                "NaN or infinite values in the red channel");
 }
 
 // A shader that is finite on the x axis, where the profile is sampled, and NaN elsewhere (an
 // atan2 of the azimuth gone wrong): it used to render without a word; now named as on the axis.
 TEST_F(BssrdfProfiles, NanOffTheAxisIsNamed) {
-  testing::TempDir dir;
-  const auto path = dir.write("offaxis.bssrdf",
-                              "analytic radial no_wi no_wo\n"
-                              "::begin shader\n"
-                              "vec3 Bssrdf(vec3 Xi, vec3 Wi, vec3 Xo, vec3 Wo) {\n"
-                              "  float r = length(Xo - Xi);\n"
-                              "  return abs(Xo.y - Xi.y) > 1e-6 * r ? vec3(uintBitsToFloat(0xff800000u)) : vec3(exp(-r));\n"
-                              "}\n"
-                              "::end shader\n");
-  BssrdfEvaluator e(path);
-  try {
-    bssrdfRadiusForFraction(e, preset("Marble").medium(), 0.5);
-    FAIL() << "expected ParameterError";
-  } catch (const ParameterError& err) {
-    const std::string what = err.what();
-    EXPECT_NE(what.find("offaxis.bssrdf: Bssrdf() returned "), std::string::npos) << what;
-    EXPECT_NE(what.find("samples off the x axis"), std::string::npos) << what;
-  }
+  expectRefused("offaxis.bssrdf",
+                "abs(Xo.y - Xi.y) > 1e-6 * r ? vec3(uintBitsToFloat(0xff800000u)) : vec3(exp(-r))",
+                "samples off the x axis");
 }
 
 // A valid profile that decays more slowly than the diffusion models (e^(-r/100) in a medium
