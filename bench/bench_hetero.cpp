@@ -108,10 +108,10 @@ void ico_field_3x(benchmark::State& s) {
 void ico_two_media(benchmark::State& s) {
   trace(s, ico(), kSun, kIco, 1.3, std::make_shared<testing::CoreField>(2.5, kCore, kIco));
 }
-BENCHMARK(ico_homogeneous)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(ico_field_exact)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(ico_field_3x)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(ico_two_media)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(ico_homogeneous)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
+BENCHMARK(ico_field_exact)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
+BENCHMARK(ico_field_3x)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
+BENCHMARK(ico_two_media)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
 
 const geometry::TriangleMesh& box() {
   static const geometry::TriangleMesh m = geometry::makeBox({-100.0, -100.0, -4.0}, {100.0, 100.0, 0.0});
@@ -128,9 +128,9 @@ void box_two_layers(benchmark::State& s) {
   trace(s, box(), kBeam, kTop, 1.4,
         std::make_shared<testing::PlaneLayers>(std::vector<double>{-1.0}, std::vector{kTop, kBottom}));
 }
-BENCHMARK(box_homogeneous)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(box_field_exact)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(box_two_layers)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(box_homogeneous)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
+BENCHMARK(box_field_exact)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
+BENCHMARK(box_two_layers)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
 
 TraceOptions slabOptions() {
   TraceOptions o;
@@ -166,8 +166,8 @@ void slab(benchmark::State& state, int layers) {
   }
   report(state, photons, events, cpuSeconds() - cpu0);
 }
-BENCHMARK_CAPTURE(slab, slab_homogeneous_scalar, 0)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_CAPTURE(slab, slab_layered_one, 1)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_CAPTURE(slab, slab_layered_two, 2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(slab, slab_homogeneous_scalar, 0)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
+BENCHMARK_CAPTURE(slab, slab_layered_one, 1)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
+BENCHMARK_CAPTURE(slab, slab_layered_two, 2)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
 
 }  // namespace

@@ -36,7 +36,7 @@ void first_image_pathtrace(benchmark::State& state) {
     benchmark::DoNotOptimize(t.addPass(8 * kBlockPhotons).photons[0]);
   }
 }
-BENCHMARK(first_image_pathtrace)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(first_image_pathtrace)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
 
 void first_image_integrate(benchmark::State& state) {
   for (auto _ : state) {
@@ -44,7 +44,7 @@ void first_image_integrate(benchmark::State& state) {
     benchmark::DoNotOptimize(in.addPass(1).samples);
   }
 }
-BENCHMARK(first_image_integrate)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(first_image_integrate)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
 
 void pass_pathtrace(benchmark::State& state) {
   SpherePathTracer t(dockScene(), dockMedium(), {1, 0});
@@ -53,13 +53,13 @@ void pass_pathtrace(benchmark::State& state) {
   state.counters["photons/s"] = benchmark::Counter(
       static_cast<double>(photons) * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
 }
-BENCHMARK(pass_pathtrace)->Arg(8 * 1024)->Arg(64 * 1024)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(pass_pathtrace)->Arg(8 * 1024)->Arg(64 * 1024)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
 
 void pass_integrate(benchmark::State& state) {
   SphereIntegrator in(bssrdf::model("dipole"), dockScene(), dockMedium(), {});
   const auto samples = static_cast<uint64_t>(state.range(0));
   for (auto _ : state) benchmark::DoNotOptimize(in.addPass(samples).samples);
 }
-BENCHMARK(pass_integrate)->Arg(1)->Arg(8)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(pass_integrate)->Arg(1)->Arg(8)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
 
 }  // namespace

@@ -187,6 +187,7 @@ void runPasses(benchmark::State& state, uint64_t blocks, Make&& make) {
   }
   state.counters["photons/s/thread"] = static_cast<double>(photons) / seconds;
   state.counters["events/photon"] = events / static_cast<double>(photons);
+  state.SetItemsProcessed(static_cast<int64_t>(photons));  // photons per CPU second: scripts/gen-benchmarks
 }
 
 void BM_Sphere(benchmark::State& state, bool gpu) {
@@ -259,19 +260,19 @@ const bool registered = [] {
     for (bool gpu : {false, true})
       benchmark::RegisterBenchmark((std::string(veins ? "bunny_veins/" : "bunny/") + (gpu ? "gpu" : "cpu_1t")).c_str(),
                                    BM_Bunny, gpu, veins, false)
-          ->UseRealTime()
+          ->MeasureProcessCPUTime()->UseRealTime()
           ->Unit(benchmark::kMillisecond);
   benchmark::RegisterBenchmark("bunny/cpu_1t_split_orders", BM_Bunny, false, false, true)
-      ->UseRealTime()
+      ->MeasureProcessCPUTime()->UseRealTime()
       ->Unit(benchmark::kMillisecond);
   for (bool gpu : {false, true})
     benchmark::RegisterBenchmark(gpu ? "sphere/gpu" : "sphere/cpu_1t", BM_Sphere, gpu)
-        ->UseRealTime()
+        ->MeasureProcessCPUTime()->UseRealTime()
         ->Unit(benchmark::kMillisecond);
   for (const Config& c : configs()) {
     auto add = [&](const std::string& what, auto&&... args) {
       benchmark::RegisterBenchmark((c.name + "/" + what).c_str(), args...)
-          ->UseRealTime()
+          ->MeasureProcessCPUTime()->UseRealTime()
           ->Unit(benchmark::kMillisecond);
     };
     add("ours_lanes_analog_1t", BM_Ours, c, Kernel::Lanes, Absorption::Analog, 1);

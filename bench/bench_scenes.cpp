@@ -50,8 +50,8 @@ void sphere(benchmark::State& state, double R, double alphaPrime) {
   }
   report(state, photons, events);
 }
-BENCHMARK_CAPTURE(sphere, sphere_R5_albedo0.9, 5.0, 0.9)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_CAPTURE(sphere, sphere_R20_albedo0.99, 20.0, 0.99)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(sphere, sphere_R5_albedo0.9, 5.0, 0.9)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
+BENCHMARK_CAPTURE(sphere, sphere_R20_albedo0.99, 20.0, 0.99)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
 
 void meshTrace(benchmark::State& state, const geometry::TriangleMesh& mesh, const Light& light,
                const ScalarMedium& m) {
@@ -82,14 +82,14 @@ void mesh_box(benchmark::State& state) {
             Light{BeamLight{{0.0, 0.0, 3.0}, {0.0, 0.0, -1.0}, 0.0, 1.0}, {1.0, 1.0, 1.0}},
             ScalarMedium{0.05, 0.95, 0.7, 1.4});
 }
-BENCHMARK(mesh_box)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(mesh_box)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
 
 void mesh_ico(benchmark::State& state) {
   meshTrace(state, geometry::makeIcosphere(5, 5.0),
             Light{DirectionalLight{{1.0, 1.0, 1.0}, 1.0}, {1.0, 1.0, 1.0}},
             ScalarMedium{0.1, 0.9, 0.0, 1.3});
 }
-BENCHMARK(mesh_ico)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(mesh_ico)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
 
 void integrate(benchmark::State& state, SurfaceSampling sampling) {
   IntegrationOptions o;
@@ -105,7 +105,7 @@ void integrate(benchmark::State& state, SurfaceSampling sampling) {
   }
   state.counters["samples/s"] = benchmark::Counter(static_cast<double>(samples), benchmark::Counter::kIsRate);
 }
-BENCHMARK_CAPTURE(integrate, integrate_uniform, SurfaceSampling::Uniform)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_CAPTURE(integrate, integrate_importance, SurfaceSampling::Importance)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(integrate, integrate_uniform, SurfaceSampling::Uniform)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
+BENCHMARK_CAPTURE(integrate, integrate_importance, SurfaceSampling::Importance)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
 
 }  // namespace

@@ -591,7 +591,8 @@ void addRenderCommand(CLI::App& app) {
           a->settings[param] = v;
           a->spelling[param] = fmt::format("{} {}", optionName(param), v);
         },
-        "Deprecated: --param " + param + "=VALUE");
+        "Deprecated: --param " + param + "=VALUE")
+        ->group("");
     seen[param] = "empirical";
   }
   for (const std::string& name : techniques::names()) {
@@ -600,11 +601,18 @@ void addRenderCommand(CLI::App& app) {
       if (seen.contains(p.name)) continue;
       seen[p.name] = name;
       const std::string param = p.name;
+      // Accepted as --NAME VALUE too, but not listed: --help would otherwise list every
+      // technique's parameters in one flat list (`translucent techniques NAME` shows them with
+      // their types, ranges and defaults, grouped by technique).
       cmd->add_option_function<std::string>(
-          optionName(p.name), [a, param](const std::string& v) { a->settings[param] = v; },
-          fmt::format("{}: {}", name, describe(p)));
+             optionName(p.name), [a, param](const std::string& v) { a->settings[param] = v; },
+             fmt::format("{}: {}", name, describe(p)))
+          ->group("");
     }
   }
+  cmd->footer("Technique parameters: --param NAME=VALUE (also accepted as --NAME VALUE). "
+              "`translucent techniques` lists the techniques, `translucent techniques NAME` the "
+              "parameters of one, with their types, ranges and defaults.");
   cmd->callback([a] {
     RenderArgs args = *a;
     // The default output is a convenience for a first try, so it never replaces a file the user

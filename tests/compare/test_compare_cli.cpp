@@ -82,7 +82,7 @@ class CompareCli : public ::testing::Test {
     fs::create_directories(kRoot);
     // The five techniques whose sweeps are checked below. splatting and shah are left out: on
     // llvmpipe one of their frames at the sweep's 1024² irradiance buffer takes minutes (their
-    // accuracy is tested in test_splatting_gpu; their compare rows in BENCHMARKS.md).
+    // accuracy is tested in test_splatting_gpu; their compare rows in BENCHMARKS.md of commit 91fe617).
     first_ = new CliRun(run(testScene("cube.json", "1.0") +
                                 "--techniques pointcloud,empirical,tsis,tsm,lss --sweep " +
                                 common(kRoot / "report"),

@@ -123,7 +123,7 @@ TEST(PointCloudSampling, EliminationIsFarMoreUniformThanRandom) {
   // Coefficient of variation of the nearest-neighbour distance. For a Poisson process in the
   // plane the distance is Rayleigh distributed: CV = sqrt(4/π - 1) = 0.5227; for n = 8000 its
   // standard error is about 0.006, and curvature changes it little. Blue noise from sample
-  // elimination measures about 0.08 (see the report in BENCHMARKS.md).
+  // elimination measures about 0.08 (see the report in BENCHMARKS.md of commit 91fe617).
   const double poisson = std::sqrt(4.0 / std::numbers::pi - 1.0);
   for (const TriangleMesh* mesh : {&testing::bunny()}) {
     const auto random = nearestNeighbourStats(sample(*mesh, 8000, SamplingMethod::Random, 5));

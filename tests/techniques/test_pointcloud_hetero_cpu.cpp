@@ -181,7 +181,7 @@ TEST(PointCloudHeteroTraversal, OctreeAgainstBruteForce) {
 
 // The same on the placed bunny of the default scene (30k points, 150 queries, its Marble at the
 // default scale, Ketchup beyond a plane through the middle of the bunny): the figure for the
-// report next to the homogeneous study of BENCHMARKS.md ("Point cloud").
+// report next to the homogeneous study of BENCHMARKS.md of commit 91fe617 ("Point cloud").
 TEST(PointCloudHeteroTraversal, OctreeAgainstBruteForceOnTheBunny) {
   const scene::Scene sc = scene::defaultScene();
   TriangleMesh mesh = scene::loadSceneMesh(sc);

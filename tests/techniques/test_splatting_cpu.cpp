@@ -65,7 +65,7 @@ TEST(SplattingRbar, CoarseLevelsGetNothingUntilTExceedsTheEdgeValueOverEpsilon) 
   // error there is P̄(1)/T and R̄(T) = 1 for every T <= P̄(1)/ε: a level whose T(x_i) is that
   // coarse splats nothing (Eq. 13 gives it the empty range [R_P, R_P]). With the seed's
   // ε = 0.001 and a diffusion profile's P̄(1) of order 0.1 this means T > ~100 samples across
-  // R_P, which is why level 1 stays idle at 800×600 in BENCHMARKS.md's Table 2.
+  // R_P, which is why level 1 stays idle at 800×600 in BENCHMARKS.md of commit 91fe617's Table 2.
   const MeanProfile mean = testMean();
   const double eps = 0.001;
   ASSERT_GT(mean.at(1.0), 0.0);

@@ -66,7 +66,7 @@ struct AtlasOptions {
   // Lscm by default, not the seed's (and the issue's) area-preserving authalic map: CGAL's discrete
   // authalic map needs a fixed convex (circular) border, which squeezes the boundary triangles,
   // so on the bunny, armadillo and cow it distorts area more than LSCM does (RMS ln(A_T/A_S)
-  // 0.153 / 0.156 / 0.145 against 0.110 / 0.114 / 0.085 at 1024², BENCHMARKS.md) and, split
+  // 0.153 / 0.156 / 0.145 against 0.110 / 0.114 / 0.085 at 1024², BENCHMARKS.md of commit 91fe617) and, split
   // into tens of thousands of charts to stay fold-free, uses a third of the texels.
   AtlasMethod method = AtlasMethod::Lscm;  // Authalic, Lscm or Triangles
   bool useMeshUVs = false;                 // keep the mesh's UVs when they are valid

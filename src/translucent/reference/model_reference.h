@@ -89,7 +89,7 @@
 // representation's profile instead of the model's: it differs from the homogeneous reference by
 // the representation's error (at most 2.2e-3 of B at n = 64 on the test sphere,
 // tests/reference/test_model_reference_hetero.cpp). Cost: ~2x the homogeneous AVX2 loop per
-// (sample, hit) pair (BENCHMARKS.md); r_cut is usually a little below r_max.
+// (sample, hit) pair (BENCHMARKS.md of commit 91fe617); r_cut is usually a little below r_max.
 // The inner loop is scalar double arithmetic (no table, no AVX2): the same standard errors (one
 // term per sample, the two halves for the jitter), determinism and progress/stop as above. The
 // atlas of a surface map is the default one (geometry::AtlasOptions{}, cached), read at the

@@ -32,13 +32,24 @@ constexpr double kMaxTotalEvents = 1e9;  // estimated events of the run: ~10 min
 
 void checkWalkLength(const SlabSetup& s, const TraceOptions& o, bool time_limited,
                      const std::string& what = "--sigma-a") {
-  if (o.long_path_roulette != 0 || !(s.sigma_a > 0.0)) return;  // σa = 0: traceSlab says why
+  if (o.long_path_roulette != 0) return;
+  // σa = 0 in a half-space: traceSlab says why. In a finite slab a walk without absorption ends
+  // only by leaving it, after ~(σt' L)² steps: that estimate alone decides (a thick slab of a
+  // scattering layer without absorption never ended; fuzz_layers).
+  if (!(s.sigma_a > 0.0) && !s.finite()) return;
   const double sigmaTPrime = s.sigma_a + (1.0 - s.g) * s.sigma_s;
   const double absorbed = s.sigma_a / sigmaTPrime;  // 1 − α': absorption chance per step
   const double n = static_cast<double>(o.photons);
   double longest = std::min(absorbed > 0.0 ? 1.0 / absorbed : HUGE_VAL, n * n);
   // A finite slab: a diffusing walk crosses it after ~(σt' L)² steps and leaves.
   if (s.finite()) longest = std::min(longest, 10.0 * std::pow(sigmaTPrime * s.thickness, 2) + 10.0);
+  if (longest > kMaxWalkEvents && !(s.sigma_a > 0.0))
+    throw ParameterError(fmt::format(
+        "{} is 0 with σs' = {} and a thickness of {}: without absorption a walk ends only by "
+        "leaving the slab, after ~(σt' L)² = {:.3g} scattering events, and no photon is "
+        "interrupted mid-walk; give --long-path-roulette N (e.g. 1e6) to end long walks "
+        "without bias, some absorption, or a thinner slab",
+        what, (1.0 - s.g) * s.sigma_s, s.thickness, longest));
   if (longest > kMaxWalkEvents)
     throw ParameterError(fmt::format(
         "{} is {} with σs' = {}: absorption ends a walk only after ~1/(1 − α') = {:.3g} "
@@ -87,7 +98,7 @@ SlabSetup buildSetup(const SlabRequest& a, bool layered, std::string& lengthUnit
     lengthUnit = "length unit of the coefficients";
   } else {
     if (a.preset.empty())
-      throw ParameterError("give the medium: --sigma-a A --sigma-s S --eta N, or --preset NAME "
+      throw ParameterError("give the medium: --sigma-a A --sigma-s S --eta N, or --material NAME "
                            "--channel r|g|b");
     int c = -1;
     if (a.channel == "r" || a.channel == "red") c = 0;
@@ -191,6 +202,28 @@ SlabRun makeSlabRun(const SlabRequest& a, const std::optional<std::vector<SlabLa
     one.g = L.layers[i].g;
     one.thickness = L.layers[i].thickness;
     checkWalkLength(one, run.options, a.time_limited, fmt::format("--layers {}: layer [{}]: sigma_a", layers_what, i));
+  }
+  // The finite layers together, as one slab of their total thickness, reduced optical depth and
+  // absorption (σa weighted by thickness): layers that each pass alone may not together (a
+  // stack of thin layers without absorption is one thick one, whose walks would not end).
+  double depth = 0.0, tauA = 0.0, tauS = 0.0;
+  size_t finiteLayers = 0;
+  for (const SlabLayer& layer : L.layers) {
+    if (!std::isfinite(layer.thickness)) break;  // only the last layer may be semi-infinite
+    depth += layer.thickness;
+    tauA += layer.sigma_a * layer.thickness;
+    tauS += (1.0 - layer.g) * layer.sigma_s * layer.thickness;
+    ++finiteLayers;
+  }
+  if (finiteLayers > 1) {
+    SlabSetup stack = run.shown;
+    stack.thickness = depth;
+    stack.sigma_a = tauA / depth;
+    stack.sigma_s = tauS / depth;
+    stack.g = 0.0;
+    checkWalkLength(stack, run.options, a.time_limited,
+                    fmt::format("--layers {}: layers [0] to [{}] together: their mean sigma_a",
+                                layers_what, finiteLayers - 1));
   }
   run.layered = std::move(L);
   return run;

@@ -3,6 +3,9 @@
 
 #include <fmt/format.h>
 
+#include <filesystem>
+#include <system_error>
+
 #include "translucent/material/layers.h"
 #include "translucent/optics/medium.h"
 #include "translucent/reference/gpu/field_gpu.h"
@@ -11,12 +14,28 @@
 #include "translucent/reference/gpu/sphere_gpu.h"
 
 namespace translucent::reference {
+namespace {
+
+// Whether this machine has a device node through which a hardware GPU could be reached: a DRM
+// render node (/dev/dri/renderD*: Mesa's hardware drivers, NVIDIA's with nvidia-drm) or NVIDIA's
+// /dev/nvidia0. Without one, `auto` means the CPU, decided without creating a GL context: a
+// context would be Mesa's software rasteriser, and creating it only to drop it again loads llvmpipe
+// and LLVM into the process (about 60 MiB resident for the rest of the run).
+bool mayHaveHardwareGpu() {
+  std::error_code ec;
+  if (std::filesystem::exists("/dev/nvidia0", ec)) return true;
+  for (std::filesystem::directory_iterator it("/dev/dri", ec), end; !ec && it != end; it.increment(ec))
+    if (it->path().filename().string().starts_with("renderD")) return true;
+  return false;
+}
+
+}  // namespace
 
 TraceDevice openTraceDevice(const std::string& choice, const std::string& option) {
   if (choice != "cpu" && choice != "gpu" && choice != "auto")
     throw ParameterError(fmt::format("{} '{}': expected cpu, gpu or auto", option, choice));
   TraceDevice d;
-  if (choice == "cpu") return d;
+  if (choice == "cpu" || (choice == "auto" && !mayHaveHardwareGpu())) return d;
   try {
     d.context = std::make_unique<gpu::Context>();
   } catch (const gpu::ContextError& e) {

@@ -24,7 +24,7 @@ struct TraceDevice {
 
 // `choice` is "cpu", "gpu" (whatever GL 4.5 context EGL gives, software renderers included), or
 // "auto": the GPU when EGL gives a context on a hardware GPU, the CPU otherwise (on llvmpipe the
-// CPU tracer is the faster one: BENCHMARKS.md). ParameterError naming `option` for another word,
+// CPU tracer is the faster one: BENCHMARKS.md of commit 91fe617). ParameterError naming `option` for another word,
 // and for "gpu" when EGL gives no GL 4.5 context (the message says what it offered).
 TraceDevice openTraceDevice(const std::string& choice, const std::string& option = "--device");
 

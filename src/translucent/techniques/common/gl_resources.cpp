@@ -107,7 +107,7 @@ ShadowMap::ShadowMap(int size) : size_(size) {
   // bounding radius), at most ~2e-5 r at the far side of a point light's perspective map with
   // the light 1% outside the bounding sphere: far below the normal and depth offsets (about a
   // texel, 1e-3 r). On the H100 two 2048² maps take 1.04 ms instead of 1.23 with 32-bit float
-  // depth (BENCHMARKS.md).
+  // depth (BENCHMARKS.md of commit 91fe617).
   gpu::allocateTexture2D(depth_, 1, GL_DEPTH_COMPONENT24, size, size, "shadow map");
   glTextureParameteri(depth_.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
   glTextureParameteri(depth_.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
@@ -271,7 +271,7 @@ void GBuffer::resize(int width, int height) {
   position_ = target(GL_RGBA32F);
   // Half floats for the unit normal (relative error ~5e-4, used only in Ft(η, n·ω_o) and the
   // .bssrdf kernels): on the H100 the 1280×720 g-buffer pass takes 0.81 ms instead of 0.97 with
-  // RGBA32F (BENCHMARKS.md). Positions stay 32-bit: they set the distances of the kernel.
+  // RGBA32F (BENCHMARKS.md of commit 91fe617). Positions stay 32-bit: they set the distances of the kernel.
   normal_ = target(GL_RGBA16F);
   depth_ = target(GL_DEPTH_COMPONENT24);  // visibility only; positions come from the colour target
   fbo_ = gpu::Framebuffer::create();

@@ -46,7 +46,7 @@
 
 namespace translucent::pointcloud {
 
-// Default ε of the solid-angle criterion with the bounding-box distance. Study (BENCHMARKS.md,
+// Default ε of the solid-angle criterion with the bounding-box distance. Study (BENCHMARKS.md of commit 91fe617,
 // "Point cloud"; bench_pointcloud BM_EpsilonStudy): relative RMS error of B against the brute-
 // force sum at 150 surface points of the bunny (30k points, lit by a directional light), for the
 // dipole of Marble, Skin1, Ketchup and Skimmilk at 20-50 mm per unit. The error grows about

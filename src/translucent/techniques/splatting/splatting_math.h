@@ -52,7 +52,7 @@ double rangeSplitError(const MeanProfile& mean, double r, double T);
 // R̄ = 1 when no r qualifies (this level contributes nothing).
 // At r = 1 the error is P̄(1)/T, so R̄ = 1 for every T <= P̄(1)/ε: with the seed's ε = 0.001 and
 // a diffusion profile's P̄(1) ~ 0.1, a level needs T(x_i) above ~100 samples before it splats
-// anything, which 800x600 frames rarely give level 1 (BENCHMARKS.md, "Why level 1 idles").
+// anything, which 800x600 frames rarely give level 1 (BENCHMARKS.md of commit 91fe617, "Why level 1 idles").
 double minimalRenderingRadius(const MeanProfile& mean, double T, double epsilon = 0.001,
                               int steps = 512);
 
