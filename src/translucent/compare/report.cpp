@@ -3,18 +3,23 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <fstream>
 #include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <set>
+#include <span>
 
 #include "translucent/analysis/colormap.h"
 #include "translucent/io/image_io.h"
 #include "translucent/compare/report_text.h"
 #include "translucent/geometry/atomic_file.h"
 #include "translucent/io/json.h"
+#include "viewer_assets.h"  // generated: viewer/viewer.js and viewer.css (CMakeLists.txt)
 
 namespace translucent::analysis {
 namespace fs = std::filesystem;
@@ -173,6 +178,163 @@ std::string sceneSummary(const scene::Scene& s) {
                      s.medium.sigma_a[1], s.medium.sigma_a[2], s.medium.sigma_s[0],
                      s.medium.sigma_s[1], s.medium.sigma_s[2], s.medium.scale, s.medium.g,
                      s.medium.eta, s.model);
+}
+
+
+// ---- Summary ---------------------------------------------------------------------------------
+
+// The metrics row of (test, reference, quantity), or nullptr.
+const PairMetrics* findPair(const CompareReport& r, const std::string& test,
+                            const std::string& reference, const std::string& quantity) {
+  for (const PairMetrics& p : r.metrics)
+    if (p.test == test && p.reference == reference && p.quantity == quantity) return &p;
+  return nullptr;
+}
+
+double relRmse(const PairMetrics* p) {
+  return p ? p->metrics.rel_rmse : std::numeric_limits<double>::quiet_NaN();
+}
+
+// The leaderboard of this scene (report.json "summary", and the first table of index.html, which
+// is written from this JSON so that the page and the file cannot disagree): per technique the
+// noise-aware relative RMSE of its radiance L against each reference (the quantity the suite's
+// leaderboard ranks by), its median frame time and its status; ranked by the error against the
+// physical reference where there is one, else against the model; failed and over-budget
+// techniques last, in the order they were run, each with its reason.
+json summaryJson(const CompareReport& r) {
+  struct Row {
+    json j;
+    double key1, key2;  // vs physical, vs model (NaN sorts last)
+    size_t order;
+  };
+  std::vector<Row> done, failedRows;
+  for (size_t i = 0; i < r.techniques.size(); ++i) {
+    const TechniqueRun& t = r.techniques[i];
+    const std::string& n = t.images.name;
+    if (t.failed()) {
+      failedRows.push_back({{{"technique", n},
+                             {"status", t.over_budget ? "over budget" : "failed"},
+                             {"reason", failureText(t)}},
+                            0.0, 0.0, i});
+      continue;
+    }
+    const double vm = relRmse(findPair(r, n, "model", "radiance"));
+    const double vp = relRmse(findPair(r, n, "physical", "radiance"));
+    done.push_back({{{"technique", n},
+                     {"status", "done"},
+                     {"vs_model_rel_rmse", number(vm)},
+                     {"vs_physical_rel_rmse", number(vp)},
+                     {"frame_ms", number(t.frame_ms)}},
+                    vp, vm, i});
+  }
+  auto less = [](double a, double b) {  // finite before NaN
+    if (std::isfinite(a) != std::isfinite(b)) return std::isfinite(a);
+    return std::isfinite(a) && a < b;
+  };
+  std::stable_sort(done.begin(), done.end(), [&](const Row& a, const Row& b) {
+    if (less(a.key1, b.key1) || less(b.key1, a.key1)) return less(a.key1, b.key1);
+    return less(a.key2, b.key2);
+  });
+  json rows = json::array();
+  for (const Row& row : done) rows.push_back(row.j);
+  for (const Row& row : failedRows) rows.push_back(row.j);
+  json out = {{"quantity", "radiance L over the interior mask; rel_rmse noise-aware, as in "
+                           "metrics (report.json); frame_ms the median GPU time of a frame"},
+              {"ranked_by", findReference(r, "physical") ? "vs_physical_rel_rmse"
+                                                          : "vs_model_rel_rmse"},
+              {"rows", rows}};
+  out["model_vs_physical_rel_rmse"] = number(relRmse(findPair(r, "model", "physical", "radiance")));
+  return out;
+}
+
+double jsonNumber(const json& j, const char* key) {
+  return j.contains(key) && j.at(key).is_number() ? j.at(key).get<double>()
+                                                  : std::numeric_limits<double>::quiet_NaN();
+}
+
+// index.html's first table, from summaryJson.
+std::string summaryHtml(const json& summary) {
+  std::string h =
+      "<h2 id=\"summary-heading\">Summary</h2>\n<table id=\"summary\" class=\"summary\"><tr>"
+      "<th>rank</th><th class=\"l\">technique</th><th>error vs model</th>"
+      "<th>error vs physical</th><th>GPU time [ms]</th><th class=\"l\">status</th></tr>\n";
+  int rank = 0;
+  std::vector<const json*> failures;
+  for (const json& row : summary.at("rows")) {
+    const std::string status = row.at("status").get<std::string>();
+    if (status != "done") {
+      failures.push_back(&row);
+      continue;
+    }
+    h += fmt::format("<tr data-technique=\"{}\"><td>{}</td><td class=\"l\">{}</td><td>{}</td>"
+                     "<td>{}</td><td>{}</td><td class=\"l\">{}</td></tr>\n",
+                     html(row.at("technique").get<std::string>()), ++rank,
+                     html(row.at("technique").get<std::string>()),
+                     pct(jsonNumber(row, "vs_model_rel_rmse")),
+                     pct(jsonNumber(row, "vs_physical_rel_rmse")), num(jsonNumber(row, "frame_ms")),
+                     html(status));
+  }
+  for (const json* row : failures)
+    h += fmt::format("<tr data-technique=\"{}\"><td>–</td><td class=\"l\">{}</td>"
+                     "<td class=\"l warn\" colspan=\"3\">{}</td><td class=\"l warn\">{}</td></tr>\n",
+                     html(row->at("technique").get<std::string>()),
+                     html(row->at("technique").get<std::string>()),
+                     html(row->at("reason").get<std::string>()),
+                     html(row->at("status").get<std::string>()));
+  h += "</table>\n<p class=\"note\">Error: noise-aware relative RMSE of the radiance L over the "
+       "interior mask (the Errors table below has every quantity and metric); ranked by the "
+       "error vs " +
+       std::string(summary.at("ranked_by") == "vs_physical_rel_rmse" ? "physical" : "model") +
+       ". GPU time: the median frame.";
+  const double mp = jsonNumber(summary, "model_vs_physical_rel_rmse");
+  if (std::isfinite(mp)) h += " The model itself vs physical: " + pct(mp) + ".";
+  h += "</p>\n";
+  if (!failures.empty()) {
+    const size_t total = summary.at("rows").size();
+    h += fmt::format("<p class=\"warn\">{} of {} techniques failed or ran over budget on this "
+                     "scene (no images or metrics; the others and the references are complete):"
+                     "</p>\n<ul class=\"failures\">\n", failures.size(), total);
+    for (const json* row : failures)
+      h += "<li class=\"warn\">" + html(row->at("technique").get<std::string>()) + ": " +
+           html(row->at("reason").get<std::string>()) + "</li>\n";
+    h += "</ul>\n";
+  }
+  return h;
+}
+
+// ---- Viewer data -------------------------------------------------------------------------------
+
+std::string base64(std::span<const unsigned char> bytes) {
+  static constexpr char kAlphabet[] =
+      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  out.reserve((bytes.size() + 2) / 3 * 4);
+  size_t i = 0;
+  for (; i + 2 < bytes.size(); i += 3) {
+    const uint32_t v = (uint32_t{bytes[i]} << 16) | (uint32_t{bytes[i + 1]} << 8) | bytes[i + 2];
+    for (int k = 18; k >= 0; k -= 6) out += kAlphabet[(v >> k) & 63];
+  }
+  if (i < bytes.size()) {
+    uint32_t v = uint32_t{bytes[i]} << 16;
+    if (i + 1 < bytes.size()) v |= uint32_t{bytes[i + 1]} << 8;
+    out += kAlphabet[(v >> 18) & 63];
+    out += kAlphabet[(v >> 12) & 63];
+    out += i + 1 < bytes.size() ? kAlphabet[(v >> 6) & 63] : '=';
+    out += '=';
+  }
+  return out;
+}
+
+// Linear RGB as little-endian IEEE float32, base64.
+std::string floatsBase64(std::span<const float> values) {
+  std::vector<unsigned char> bytes(values.size() * 4);
+  for (size_t i = 0; i < values.size(); ++i) {
+    uint32_t u = 0;
+    static_assert(sizeof(float) == 4);
+    std::memcpy(&u, &values[i], 4);
+    for (int b = 0; b < 4; ++b) bytes[4 * i + static_cast<size_t>(b)] = static_cast<unsigned char>(u >> (8 * b));
+  }
+  return base64(bytes);
 }
 
 const char* kStyle = R"(body{font-family:sans-serif;margin:1.5em;max-width:1400px;color:#222}
@@ -335,6 +497,26 @@ std::vector<std::string> writeReport(const fs::path& dir, const CompareReport& r
   json metrics = json::array();
   struct Maps { std::string rel, z, flip; };
   std::vector<Maps> maps;
+  // The viewer's linear pixels: one script per image (px-KEY.js, each image once however many
+  // pairs show it) that hands its float32 RGB to viewer.js. A script rather than a .bin beside
+  // the PNGs because a page opened from file:// may not fetch() or XHR the files beside it in
+  // Chromium (nor Firefox by default), while <script src> loads them; base64 rather than a JSON
+  // number list so that every float arrives bit-exact, at 16 bytes a pixel (4/3 of the raw
+  // floats). The viewer loads an image's script when a pair first shows it.
+  json viewerImages = json::object();
+  json viewerPairs = json::array();
+  auto viewerImage = [&](const std::string& key, const std::string& label,
+                         const std::string& quantity, const CompareImage& img) {
+    if (viewerImages.contains(key)) return key;
+    const std::string file = "px-" + key + ".js";
+    w.text(file, fmt::format("translucentViewerPixels(\"{}\", {}, {}, \"{}\");\n", key, img.width,
+                             img.height, floatsBase64(img.rgb)));
+    viewerImages[key] = {{"file", file}, {"label", label}, {"quantity", quantity},
+                         {"width", img.width}, {"height", img.height},
+                         {"exposure", r.scene.exposure - (quantity == "exitance" ? std::log2(kPi) : 0.0)},
+                         {"encoding", "RGB float32 little-endian, rows from the top, base64"}};
+    return key;
+  };
   for (const PairMetrics& p : r.metrics) {
     const PairImages im = pairImages(r, p);
     const std::string stem = pairStem(p);
@@ -354,11 +536,55 @@ std::vector<std::string> writeReport(const fs::path& dir, const CompareReport& r
       if (!(*im.mask)[i]) flip[i] = std::numeric_limits<float>::quiet_NaN();
     m.flip = w.map(stem + "-flip.png", flip, ColorMap::Magma, 0.0, 1.0);
     maps.push_back(m);
+    {
+      const std::string conv = p.convention.empty() ? "jensen" : p.convention;
+      const std::string testQuantity = p.quantity == "exitance" ? "exitance" : "radiance";
+      const std::string left =
+          p.test == "model"
+              ? viewerImage(fileStem("ref-model-" + testQuantity +
+                                     (testQuantity == "radiance" ? "-" + conv : "")),
+                            "model reference " + testQuantity + (testQuantity == "radiance" ? " (" + conv + ")" : ""),
+                            testQuantity, im.test)
+              : viewerImage(fileStem("tech-" + p.test + "-" + testQuantity), p.test + " " + testQuantity,
+                            testQuantity, im.test);
+      const std::string right = viewerImage(
+          fileStem("ref-" + p.reference + "-" + p.quantity + (p.quantity == "radiance" ? "-" + conv : "")),
+          p.reference + " reference " + p.quantity + (p.quantity == "radiance" ? " (" + conv + ")" : ""),
+          p.quantity, im.reference);
+      viewerPairs.push_back({{"test", p.test}, {"reference", p.reference}, {"quantity", p.quantity},
+                             {"convention", p.convention}, {"mask", p.mask}, {"left", left},
+                             {"right", right},
+                             {"maps", {{"relative", m.rel}, {"z", m.z}, {"flip", m.flip}}}});
+    }
     json pj = pairJson(p);
     pj["maps"] = {{"relative", m.rel}, {"z", m.z}, {"flip", m.flip}};
     metrics.push_back(pj);
   }
   j["metrics"] = metrics;
+  j["summary"] = summaryJson(r);
+  // What viewer.js shows: every metrics pair with its two images and error maps; the tests in the
+  // summary's order, then the model. viewer-data.js holds the same and the masks.
+  {
+    json tests = json::array();
+    for (const json& row : j["summary"]["rows"])
+      if (row.at("status") == "done") tests.push_back(row.at("technique"));
+    if (findPair(r, "model", "physical", "radiance")) tests.push_back("model");
+    j["viewer"] = {{"width", width}, {"height", height}, {"gamma", r.scene.gamma},
+                   {"tests", tests}, {"images", viewerImages}, {"pairs", viewerPairs},
+                   {"bars", {{"relative", barRel}, {"z", barZ}, {"flip", barFlip}}},
+                   {"ranges", {{"relative", kRelativeRange}, {"z", kZRange}, {"flip", 1.0}}},
+                   {"script", "viewer.js"}, {"style", "viewer.css"}, {"data", "viewer-data.js"}};
+    json data = j["viewer"];
+    auto maskBase64 = [](const std::vector<uint8_t>& mask) {
+      return base64(std::span<const unsigned char>(mask.data(), mask.size()));
+    };
+    data["masks"] = {{"interior", maskBase64(r.masks.interior)},
+                     {"interior_cone", maskBase64(r.masks.cone)}};
+    w.text("viewer-data.js", "// Written by translucent compare: what viewer.js shows (report.json \"viewer\").\n"
+                             "window.translucentViewerData = " + data.dump() + ";\n");
+    w.text("viewer.js", std::string(viewer::kScript));
+    w.text("viewer.css", std::string(viewer::kStyle));
+  }
   json sweep = json::array();
   for (const SweepPoint& s : r.sweep) {
     json sj = {{"technique", s.technique}, {"parameter", s.parameter}, {"value", s.value},
@@ -376,7 +602,7 @@ std::vector<std::string> writeReport(const fs::path& dir, const CompareReport& r
   std::string h;
   h += "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>translucent compare: " +
        html(r.scene_file.empty() ? "built-in bunny" : r.scene_file) + "</title><style>" + kStyle +
-       "</style></head><body>\n";
+       "</style><link rel=\"stylesheet\" href=\"viewer.css\"></head><body>\n";
   h += "<h1>translucent compare</h1>\n";
   if (r.partial)
     h += "<p class=\"warn\">Partial report: stopped early (Ctrl-C); a reference is partial or "
@@ -384,14 +610,10 @@ std::vector<std::string> writeReport(const fs::path& dir, const CompareReport& r
   h += "<p>Scene: <b>" + html(r.scene_file.empty() ? "built-in bunny" : r.scene_file) + "</b>: " +
        html(sceneSummary(r.scene)) + ". GPU: " + html(r.gpu) + ". " + html(r.version) +
        ", created " + html(r.created) + ".</p>\n";
-  if (!failed.empty()) {
-    h += fmt::format("<p class=\"warn\">{} of {} techniques failed or ran over budget on this scene (no images or "
-                     "metrics; the others and the references are complete):</p>\n<ul>\n",
-                     failed.size(), r.techniques.size());
-    for (const TechniqueRun* t : failed)
-      h += "<li class=\"warn\">" + html(t->images.name) + ": " + html(t->error) + "</li>\n";
-    h += "</ul>\n";
-  }
+  // The summary first, then the viewer; the details follow.
+  h += summaryHtml(j["summary"]);
+  h += "<h2 id=\"viewer-heading\">Viewer</h2>\n<div id=\"viewer\" class=\"viewer\"><noscript>The "
+       "viewer needs JavaScript; every image is also in the tables below.</noscript></div>\n";
   h += "<p>Reproduce:</p><pre>" + html(r.command) + "</pre>\n";
   if (!r.material.text.empty()) h += "<p>References: " + html(r.material.text) + "</p>\n";
   for (const std::string& n : r.notes) h += "<p>" + html(n) + "</p>\n";
@@ -534,6 +756,7 @@ std::vector<std::string> writeReport(const fs::path& dir, const CompareReport& r
     h += "</table>\n";
   }
   h += "<h2>Files</h2>\n<p><a href=\"report.json\">report.json</a> (every number)</p>\n"
+       "<script src=\"viewer-data.js\"></script>\n<script src=\"viewer.js\"></script>\n"
        "</body></html>\n";
   w.text("index.html", h);
   std::vector<std::string> files = w.files();

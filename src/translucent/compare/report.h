@@ -1,12 +1,23 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The report of `translucent compare`: a self-contained folder
-//   index.html     the images side by side (tone-mapped PNGs), false-colour error maps (relative
+//   index.html     first the summary (the leaderboard of the scene: per technique the error of
+//                  its radiance against each reference, its GPU time and status; failed and
+//                  over-budget techniques one line each with the reason), then the viewer, then
+//                  the images side by side (tone-mapped PNGs), false-colour error maps (relative
 //                  difference, z-score, FLIP) with their colour bars, the metric and timing
 //                  tables, the plots, and the command that reproduces the report
-//   report.json    every number, the scene, the settings, versions and times, the list of files
+//   report.json    every number, the scene, the settings, versions and times, the list of files;
+//                  "summary" is what the first table of index.html shows, "viewer" what the
+//                  viewer shows
 //   *.exr          every image, linear, the references with their standard errors as layers
 //   *.png          what index.html shows
-// Nothing outside the folder is referenced.
+//   viewer.js, viewer.css, viewer-data.js, px-*.js
+//                  the interactive viewer (viewer/viewer.js in the source tree): a technique
+//                  against a reference by flip, slider or error map, zoom and pan, and the linear
+//                  values under the cursor, which px-KEY.js holds per image (float32, base64:
+//                  16 bytes a pixel per image; a page opened from file:// can load scripts beside
+//                  it but not fetch files)
+// Nothing outside the folder is referenced, and nothing on the network.
 //
 // A technique that failed on the scene (TechniqueRun::error) is listed with its message in
 // index.html (images, errors and time tables) and in report.json (techniques[].status "failed",
