@@ -25,10 +25,12 @@ constexpr double kMaxWalkEvents = 1e10;  // ~minutes for one photon at ~1e8 even
 // scale c cuts off averages ~2 sqrt(c) events (P(N > k) ~ k^{-1/2}), in a finite slab too (c
 // then at most its crossing, ~(σt' L)²).
 // Measured: 1e3 photons of σa = 1e-20 (estimate 2e6 events) take 1.4 s on one core, the time
-// growing as the square of the photons. A run that is long only because it has many photons of
-// a normal medium (~10-100 events each) is the user's choice and never refused.
+// growing as the square of the photons: such walks run at ~1.5e6 events/s, not the ~1e8 of a
+// normal medium, since one long walk holds its SIMD lane while the other seven idle: 1e4 photons
+// (2e8 events) take ~2.5 minutes. A run that is long only because it has many photons of a
+// normal medium (~10-100 events each) is the user's choice and never refused.
 constexpr double kMaxMeanEvents = 1e3;   // per photon: ~100x a typical medium's
-constexpr double kMaxTotalEvents = 1e9;  // estimated events of the run: ~10 min on one core
+constexpr double kMaxTotalEvents = 1e8;  // estimated events of the run: ~1 min on one core
 
 void checkWalkLength(const SlabSetup& s, const TraceOptions& o, bool time_limited,
                      const std::string& what = "--sigma-a") {
@@ -64,7 +66,7 @@ void checkWalkLength(const SlabSetup& s, const TraceOptions& o, bool time_limite
   if (mean > kMaxMeanEvents && total > kMaxTotalEvents)
     throw ParameterError(fmt::format(
         "{} is {} with σs' = {}: a walk takes ~{:.3g} scattering events on average, ~{:.3g} for "
-        "the {} photons, which would take tens of minutes to hours; "
+        "the {} photons, which would take minutes to hours; "
         "give --time-limit SECONDS to trace what fits in that time, --long-path-roulette N (e.g. "
         "1e4) to end long walks without bias, fewer --photons, a larger --sigma-a or a "
         "--thickness",
