@@ -207,7 +207,7 @@ ModelStudy runModelStudy(const ModelStudyOptions& options, const StudyProgressCa
         row.rd = prof->Rd();
         row.r95 = prof->radiusForFraction(0.95);
         const size_t nb = a.edges.size() - 1;
-        std::vector<double> sign(a.c.size());
+        std::vector<double> sign(a.c.size()), absDiff(a.c.size());
         double l1 = 0.0, inside = 0.0;
         for (size_t i = 0; i <= nb; ++i) {
           double mi;
@@ -219,6 +219,7 @@ ModelStudy runModelStudy(const ModelStudyOptions& options, const StudyProgressCa
           }
           const double d = mi - a.c[i];
           l1 += std::abs(d);
+          absDiff[i] = std::abs(d);
           sign[i] = d > 0.0 ? 1.0 : (d < 0.0 ? -1.0 : 0.0);
         }
         const double L = l1 / a.total;
@@ -226,6 +227,11 @@ ModelStudy runModelStudy(const ModelStudyOptions& options, const StudyProgressCa
         std::vector<double> h(a.c.size());
         for (size_t i = 0; i < h.size(); ++i) h[i] = (-sign[i] - L) / a.total;
         row.l1 = {L, linearStdError(a, h)};
+        double corrected = 0.0;
+        for (size_t i = 0; i < absDiff.size(); ++i)
+          corrected += foldedNormalMeanInverse(absDiff[i], a.se[i]);
+        row.l1_corrected = {corrected / a.total, row.l1.std_error};
+        row.at_noise_floor = L < 2.0 * ref.noise_floor;
         const double q = row.rd / a.total;
         row.rd_error = {q - 1.0, q * ref.rd.std_error / a.total};
         if (std::isfinite(ref.r95.value) && ref.r95.value > 0.0) {
@@ -242,18 +248,38 @@ ModelStudy runModelStudy(const ModelStudyOptions& options, const StudyProgressCa
   return study;
 }
 
+double foldedNormalMeanInverse(double observed, double sigma) {
+  if (!(sigma > 0.0)) return observed;
+  const double floor = sigma * std::sqrt(2.0 / std::numbers::pi);  // F(0)
+  if (observed <= floor) return 0.0;
+  // F(μ) = σ sqrt(2/π) exp(−μ²/2σ²) + μ erf(μ/(σ√2)) rises from F(0) with F'(μ) = erf(μ/(σ√2))
+  // and F(μ) − μ → 0: the root lies in (0, observed]. Bisection to 1e-12 relative (60 halvings).
+  auto F = [sigma](double mu) {
+    const double z = mu / sigma;
+    return sigma * std::sqrt(2.0 / std::numbers::pi) * std::exp(-0.5 * z * z) +
+           mu * std::erf(z / std::numbers::sqrt2);
+  };
+  double lo = 0.0, hi = observed;
+  for (int k = 0; k < 60; ++k) {
+    const double mid = 0.5 * (lo + hi);
+    (F(mid) < observed ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
 std::string modelStudySummaryMarkdown(const ModelStudy& study) {
   std::string out =
-      "| model | mean L1 | max L1 | mean Rd error | mean \\|Rd error\\| | max \\|Rd error\\| | "
-      "R95 ratio (mean, min–max) |\n|---|---:|---:|---:|---:|---:|---|\n";
+      "| model | mean L1 | mean L1, noise bias reduced | max L1 | mean Rd error | mean \\|Rd error\\| | "
+      "max \\|Rd error\\| | R95 ratio (mean, min–max) |\n|---|---:|---:|---:|---:|---:|---:|---|\n";
   for (const auto& name : study.models) {
-    double l1 = 0.0, l1max = 0.0, rd = 0.0, rdabs = 0.0, rdmax = 0.0, r95 = 0.0;
+    double l1 = 0.0, l1c = 0.0, l1max = 0.0, rd = 0.0, rdabs = 0.0, rdmax = 0.0, r95 = 0.0;
     double r95min = std::numeric_limits<double>::infinity(), r95max = 0.0;
     int n = 0, n95 = 0;
     for (const auto& row : study.rows) {
       if (row.model != name) continue;
       ++n;
       l1 += row.l1.value;
+      l1c += row.l1_corrected.value;
       l1max = std::max(l1max, row.l1.value);
       rd += row.rd_error.value;
       rdabs += std::abs(row.rd_error.value);
@@ -266,8 +292,8 @@ std::string modelStudySummaryMarkdown(const ModelStudy& study) {
       }
     }
     if (n == 0) continue;
-    out += fmt::format("| {} | {} | {} | {} | {} | {} | {:.2f} ({:.2f}–{:.2f}) |\n", name,
-                       plainPercent(l1 / n), plainPercent(l1max), percent(rd / n),
+    out += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {:.2f} ({:.2f}–{:.2f}) |\n", name,
+                       plainPercent(l1 / n), plainPercent(l1c / n), plainPercent(l1max), percent(rd / n),
                        plainPercent(rdabs / n), percent(rdmax), n95 ? r95 / n95 : 0.0,
                        n95 ? r95min : 0.0, r95max);
   }
@@ -295,7 +321,10 @@ void writeModelStudyMarkdown(const std::string& path, const ModelStudy& study,
        "rest):\n\n"
        "- **L1** = Σ_i |m_i − c_i| / T: the photon-weighted L1 error of 2πrR(r) (0 = identical, "
        "2 = disjoint). Binning can only lower it. *floor* = sqrt(2/π) Σ_i se(c_i) / T is the L1 "
-       "an exact model would get from the reference noise alone.\n"
+       "an exact model would get from the reference noise alone. L1 is biased upward by that noise "
+       "(each |m_i − c_i| is a folded normal); *L1, noise bias reduced* inverts the folded normal's "
+       "mean per annulus (0 where |m_i − c_i| ≤ sqrt(2/π) se(c_i)); that reduces the bias, it does "
+       "not remove it.\n"
        "- **ΔRd** = Rd_model / T − 1.\n"
        "- **R95 ratio** = R95_model / R95_ref, R95 the radius within which 95% of Rd leaves "
        "(reference: linear interpolation of the cumulative within the crossing annulus).\n"
@@ -310,8 +339,9 @@ void writeModelStudyMarkdown(const std::string& path, const ModelStudy& study,
                      r.preset, kChannelNames[r.channel], r.alpha_prime, r.ld, r.rd.value,
                      r.rd.std_error, r.r95.value, r.r95.std_error, plainPercent(r.noise_floor, 2),
                      r.photons, r.seconds);
-  f << "\n## Per model and channel\n\nEach cell: L1 / ΔRd / R95 ratio (standard errors in the CSV "
-       "and JSON outputs).\n\n| preset | ch |";
+  f << "\n## Per model and channel\n\nEach cell: L1 (L1 with the noise's bias reduced) / ΔRd / R95 "
+       "ratio; *noise*: L1 is below twice the floor, so the model's error is not resolved by this "
+       "reference (standard errors in the CSV and JSON outputs).\n\n| preset | ch |";
   for (const auto& m : study.models) f << " " << m << " |";
   f << "\n|---|---|";
   for (size_t i = 0; i < study.models.size(); ++i) f << "---|";
@@ -321,7 +351,8 @@ void writeModelStudyMarkdown(const std::string& path, const ModelStudy& study,
     f << "| " << ref.preset << " | " << kChannelNames[ref.channel] << " |";
     for (const auto& row : study.rows)
       if (row.reference == r)
-        f << fmt::format(" {} / {} / {:.2f} |", plainPercent(row.l1.value),
+        f << fmt::format(" {} ({}){} / {} / {:.2f} |", plainPercent(row.l1.value),
+                         plainPercent(row.l1_corrected.value), row.at_noise_floor ? " *noise*" : "",
                          percent(row.rd_error.value), row.r95_ratio.value);
     f << "\n";
   }
@@ -331,16 +362,17 @@ void writeModelStudyMarkdown(const std::string& path, const ModelStudy& study,
 void writeModelStudyCsv(const std::string& path, const ModelStudy& study) {
   std::ofstream f = openOut(path);
   f << "model,preset,channel,alpha_prime,eta,photons,rd_ref,rd_ref_se,r95_ref,r95_ref_se,"
-       "l1_floor,rd_model,r95_model,l1,l1_se,rd_error,rd_error_se,r95_ratio,r95_ratio_se\n";
+       "l1_floor,rd_model,r95_model,l1,l1_se,rd_error,rd_error_se,r95_ratio,r95_ratio_se,"
+       "l1_corrected,at_noise_floor\n";
   for (const auto& row : study.rows) {
     const auto& r = study.references[row.reference];
     f << fmt::format("{},{},{},{:.9g},{:.9g},{},{:.9g},{:.3g},{:.9g},{:.3g},{:.4g},{:.9g},{:.9g},"
-                     "{:.6g},{:.3g},{:.6g},{:.3g},{:.6g},{:.3g}\n",
+                     "{:.6g},{:.3g},{:.6g},{:.3g},{:.6g},{:.3g},{:.6g},{}\n",
                      row.model, r.preset, kChannelNames[r.channel], r.alpha_prime, r.eta,
                      r.photons, r.rd.value, r.rd.std_error, r.r95.value, r.r95.std_error,
                      r.noise_floor, row.rd, row.r95, row.l1.value, row.l1.std_error,
                      row.rd_error.value, row.rd_error.std_error, row.r95_ratio.value,
-                     row.r95_ratio.std_error);
+                     row.r95_ratio.std_error, row.l1_corrected.value, row.at_noise_floor ? 1 : 0);
   }
   closeOut(f, path);
 }
@@ -369,7 +401,8 @@ void writeModelStudyJson(const std::string& path, const ModelStudy& study) {
   for (const auto& row : study.rows)
     rows.push_back({{"model", row.model}, {"reference", row.reference}, {"rd", row.rd},
                     {"r95", row.r95}, {"l1", est(row.l1)}, {"rd_error", est(row.rd_error)},
-                    {"r95_ratio", est(row.r95_ratio)}});
+                    {"r95_ratio", est(row.r95_ratio)}, {"l1_corrected", est(row.l1_corrected)},
+                    {"at_noise_floor", row.at_noise_floor}});
   j["rows"] = rows;
   std::ofstream f = openOut(path);
   f << j.dump(2) << "\n";
