@@ -23,6 +23,11 @@ done
 dpkg-deb -c "$deb" >"$T/listing.txt"
 grep -q '\./usr/bin/translucent$' "$T/listing.txt" || fail "no /usr/bin/translucent in the package"
 grep -q '\./usr/share/translucent/shaders/' "$T/listing.txt" || fail "no shaders in the package"
+# The modules that bring OpenImageIO and OpenVDB (dlopen'ed on first use; their libraries reach
+# Depends: through dpkg-shlibdeps on the modules).
+for m in oiio openvdb; do
+  grep -q "\./usr/lib/translucent/libtranslucent_$m\.so\$" "$T/listing.txt" || fail "no libtranslucent_$m.so in the package"
+done
 grep -q '\./usr/share/doc/translucent/LICENSE$' "$T/listing.txt" || fail "no LICENSE in the package"
 grep -q '\./usr/lib/cmake/Translucent/TranslucentConfig.cmake$' "$T/listing.txt" || fail "no CMake package"
 dpkg -x "$deb" "$T/root"

@@ -24,7 +24,8 @@ for f in bin/translucent include/translucent/bssrdf/registry.h include/transluce
          lib/cmake/Translucent/TranslucentConfig.cmake lib/cmake/Translucent/TranslucentConfigVersion.cmake \
          lib/cmake/Translucent/TranslucentTargets.cmake share/translucent/shaders \
          share/translucent/data/bssrdf share/translucent/data/scenes/cube.json \
-         share/doc/translucent/LICENSE; do
+         share/doc/translucent/LICENSE lib/translucent/libtranslucent_oiio.so \
+         lib/translucent/libtranslucent_openvdb.so; do
   [[ -e "$T/prefix/$f" ]] || fail "not installed: $f"
 done
 # No header outside include/translucent/<layer>/ and no source file among the headers.
@@ -32,6 +33,13 @@ if find "$T/prefix/include" -type f ! -path "*/include/translucent/*/*" | grep -
   fail "headers outside include/translucent/<layer>/: $(find "$T/prefix/include" -type f ! -path "*/include/translucent/*/*" | head -3)"
 fi
 find "$T/prefix/include" -name '*.cpp' | grep -q . && fail "source files installed among the headers"
+
+# OpenImageIO and OpenVDB are loaded from the modules in lib/translucent on first use
+# (translucent/io/plugins.h), never linked by the CLI: their ~260 libraries would be mapped into
+# every run (~100 MiB of resident memory).
+if ldd "$T/prefix/bin/translucent" | grep -E "libOpenImageIO|libopenvdb" >"$T/ldd.txt"; then
+  fail "bin/translucent links $(tr '\n' ' ' <"$T/ldd.txt"): expected them only in lib/translucent's modules"
+fi
 
 # Move the prefix: nothing may depend on where it was installed.
 mv "$T/prefix" "$T/moved"
@@ -50,7 +58,7 @@ env -u TRANSLUCENT_SHARE_DIR -u TRANSLUCENT_SHADER_DIR -u TRANSLUCENT_BSSRDF_DIR
   bash -c "$(declare -f run_hidden); T='$T' SRC='$SRC' BUILD='$BUILD'; run_hidden \"'$P/bin/translucent' render '$P/share/translucent/data/scenes/cube.json' --width 48 --height 36 --out '$T/cube.png'\"" \
   >"$T/render.log" 2>&1 || { cat "$T/render.log"; fail "the installed CLI could not render a shipped scene with the source and build trees hidden"; }
 [[ $(head -c 8 "$T/cube.png" | od -An -tx1 | tr -d ' \n') == "89504e470d0a1a0a" ]] || fail "cube.png is not a PNG"
-echo "install_test: the moved prefix renders data/scenes/cube.json with the source and build trees hidden"
+echo "install_test: the moved prefix renders data/scenes/cube.json with the source and build trees hidden (the PNG through the moved prefix's OpenImageIO module)"
 
 # A user's CMake project against the moved prefix.
 cmake -S "$SRC/tests/install/consumer" -B "$T/consumer" -G Ninja -DCMAKE_BUILD_TYPE=Release \

@@ -1,8 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "translucent/analysis/colormap.h"
 
-#include <OpenImageIO/imagebuf.h>
-#include <OpenImageIO/imagebufalgo.h>
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -10,6 +8,7 @@
 #include <numbers>
 
 #include "translucent/analysis/color.h"
+#include "translucent/io/oiio_plugin.h"  // the tick labels' text, through OpenImageIO's module
 #include "translucent/optics/medium.h"  // ParameterError
 
 namespace translucent::analysis {
@@ -125,32 +124,55 @@ ColorBarLayout colorBarLayout(int width, int height, double lo, double hi, int t
   return l;
 }
 
+namespace {
+
+// A value in [0, 1] as an 8-bit value, rounded as OpenImageIO converts float pixels to 8 bits
+// (v * 255 + 0.5, clamped, truncated): the bar and the ticks are filled here, the labels are
+// blended over them by the module.
+uint8_t fill8(float v) {
+  return static_cast<uint8_t>(std::clamp(v * 255.0f + 0.5f, 0.0f, 255.0f));
+}
+
+// Fills columns [x0, x1) of rows [y0, y1) with colour v.
+void fillRect(std::vector<uint8_t>& img, int width, int x0, int x1, int y0, int y1,
+              const float (&v)[3]) {
+  for (int y = y0; y < y1; ++y)
+    for (int x = x0; x < x1; ++x)
+      for (size_t c = 0; c < 3; ++c)
+        img[(static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x)) * 3 +
+            c] = fill8(v[c]);
+}
+
+}  // namespace
+
 std::vector<uint8_t> colorBar(int width, int height, ColorMap map, double lo, double hi,
                               int ticks) {
   const ColorBarLayout l = colorBarLayout(width, height, lo, hi, ticks);
-  OIIO::ImageBuf buf(OIIO::ImageSpec(width, height, 3, OIIO::TypeDesc::UINT8));
+  std::vector<uint8_t> out(static_cast<size_t>(width) * static_cast<size_t>(height) * 3);
   const float white[3] = {1.0f, 1.0f, 1.0f}, ink[3] = {0.1f, 0.1f, 0.1f};
-  OIIO::ImageBufAlgo::fill(buf, white);
+  fillRect(out, width, 0, width, 0, height, white);
   for (int x = 0; x < width; ++x) {
     const auto c = mapColor(map, (x + 0.5) / width);
     const float v[3] = {c[0] / 255.0f, c[1] / 255.0f, c[2] / 255.0f};
-    OIIO::ImageBufAlgo::fill(buf, v, OIIO::ROI(x, x + 1, 0, l.bar_height));
+    fillRect(out, width, x, x + 1, 0, l.bar_height, v);
+  }
+  const io::OiioApi* api = nullptr;
+  try {
+    api = &io::plugin<io::OiioApi>("oiio");
+  } catch (const io::PluginError& e) {
+    throw ImageError(fmt::format("colour bar: cannot draw the tick labels: {}", e.what()));
   }
   const int textTop = l.bar_height + 4;
   for (int k = 0; k < ticks; ++k) {
     const int x = l.tick_x[static_cast<size_t>(k)];
-    OIIO::ImageBufAlgo::fill(buf, ink, OIIO::ROI(x, x + 1, l.bar_height, l.bar_height + 3));
-    const auto align = k == 0           ? OIIO::ImageBufAlgo::TextAlignX::Left
-                       : k == ticks - 1 ? OIIO::ImageBufAlgo::TextAlignX::Right
-                                        : OIIO::ImageBufAlgo::TextAlignX::Center;
+    fillRect(out, width, x, x + 1, l.bar_height, std::min(l.bar_height + 3, height), ink);
+    const int align = k == 0 ? -1 : k == ticks - 1 ? 1 : 0;
     const std::string text = fmt::format("{:.3g}", l.tick_value[static_cast<size_t>(k)]);
-    if (!OIIO::ImageBufAlgo::render_text(buf, x, textTop, text, l.font_size, "DejaVuSans", ink,
-                                         align, OIIO::ImageBufAlgo::TextAlignY::Top))
+    if (std::string error; !api->render_text(out.data(), width, height, x, textTop, text.c_str(),
+                                             l.font_size, "DejaVuSans", ink, align, &error))
       throw ImageError(
-          fmt::format("colour bar: cannot draw the tick label '{}': {}", text, buf.geterror()));
+          fmt::format("colour bar: cannot draw the tick label '{}': {}", text, error));
   }
-  std::vector<uint8_t> out(static_cast<size_t>(width) * static_cast<size_t>(height) * 3);
-  buf.get_pixels(OIIO::ROI(0, width, 0, height, 0, 1, 0, 3), OIIO::TypeDesc::UINT8, out.data());
   return out;
 }
 

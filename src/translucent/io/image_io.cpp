@@ -3,8 +3,6 @@
 
 #include <fmt/format.h>
 
-#include <OpenImageIO/filesystem.h>
-#include <OpenImageIO/imageio.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -17,6 +15,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "translucent/io/oiio_plugin.h"
 #include "translucent/io/output_guard.h"
 
 namespace translucent::analysis {
@@ -44,32 +43,34 @@ std::string temporaryName(const std::string& path) {
 }
 
 
+// OpenImageIO, from its module (oiio_plugin.h), loaded on the first image read or written; a
+// module that cannot be loaded is reported as the failure to read or write `path`.
+const io::OiioApi& oiio(const std::string& path, const char* verb) {
+  try {
+    return io::plugin<io::OiioApi>("oiio");
+  } catch (const io::PluginError& e) {
+    throw ImageError(fmt::format("cannot {} '{}': {}", verb, path, e.what()));
+  }
+}
+
 // The image is encoded in memory (OpenImageIO's PNG writer does not report failed writes, e.g.
 // on a full disk) and the bytes are written with every call checked, to a temporary file that
 // is renamed over `path` only when all of them succeeded: a failed or interrupted write leaves
 // nothing behind and never truncates an existing image. A target that exists and is not a
 // regular file (/dev/stdout, a FIFO, /dev/full) is written in place, since renaming would
 // replace the device node; its errors are reported too.
-void write(const std::string& path, const OIIO::ImageSpec& spec, OIIO::TypeDesc type,
-           const void* data) {
+// `request` describes the pixels; its path is set here.
+void write(const std::string& path, io::OiioEncodeRequest request) {
   namespace fs = std::filesystem;
   std::error_code ec;
   if (fs::is_directory(path, ec))
     throw ImageError(fmt::format("cannot write '{}': it is a folder: expected a file name", path));
-  auto out = OIIO::ImageOutput::create(path);  // the format from the target's extension
-  if (!out) throw ImageError(fmt::format("cannot write '{}': {}", path, OIIO::geterror()));
+  const io::OiioApi& api = oiio(path, "write");
+  request.path = path.c_str();
   std::vector<unsigned char> bytes;
-  OIIO::Filesystem::IOVecOutput memory(bytes);
-  if (!out->supports("ioproxy") || !out->set_ioproxy(&memory))
-    throw ImageError(fmt::format("cannot write '{}': the {} writer cannot write to memory",
-                                 path, out->format_name()));
-  if (!out->open(path, spec)) throw ImageError(fmt::format("cannot write '{}': {}", path, out->geterror()));
-  if (!out->write_image(type, data)) {
-    const std::string message = out->geterror();
-    out->close();
-    throw ImageError(fmt::format("cannot write '{}': {}", path, message));
-  }
-  if (!out->close()) throw ImageError(fmt::format("cannot write '{}': {}", path, out->geterror()));
+  std::string error;
+  if (!api.encode(request, &bytes, &error))
+    throw ImageError(fmt::format("cannot write '{}': {}", path, error));
   if (bytes.empty()) throw ImageError(fmt::format("cannot write '{}': the encoder produced nothing", path));
 
   if (fs::exists(path, ec) && !fs::is_regular_file(path, ec)) {
@@ -118,12 +119,13 @@ void writeExr(const std::string& path, int width, int height, std::span<const fl
   checkSize(path, width, height, rgb.size());
   for (const auto& l : layers) checkSize(path + " (layer " + l.name + ")", width, height, l.rgb.size());
   const int channels = 3 * (1 + static_cast<int>(layers.size()));
-  OIIO::ImageSpec spec(width, height, channels, OIIO::TypeDesc::FLOAT);
-  spec.channelnames = {"R", "G", "B"};
+  std::vector<std::string> names = {"R", "G", "B"};
   for (const auto& l : layers)
-    for (const char* c : {"R", "G", "B"}) spec.channelnames.push_back(l.name + "." + c);
-  spec.attribute("compression", "zip");
-  for (const auto& [key, value] : attributes) spec.attribute(key, value);
+    for (const char* c : {"R", "G", "B"}) names.push_back(l.name + "." + c);
+  std::vector<const char*> nameText;
+  for (const auto& n : names) nameText.push_back(n.c_str());
+  std::vector<io::OiioStringAttribute> attributeText = {{"compression", "zip"}};
+  for (const auto& [key, value] : attributes) attributeText.push_back({key.c_str(), value.c_str()});
   // Interleave the base image and the layers pixel by pixel.
   const size_t pixels = static_cast<size_t>(width) * static_cast<size_t>(height);
   std::vector<float> data(pixels * static_cast<size_t>(channels));
@@ -133,7 +135,8 @@ void writeExr(const std::string& path, int width, int height, std::span<const fl
     for (size_t l = 0; l < layers.size(); ++l)
       for (size_t c = 0; c < 3; ++c) dst[3 * (l + 1) + c] = layers[l].rgb[3 * p + c];
   }
-  write(path, spec, OIIO::TypeDesc::FLOAT, data.data());
+  write(path, {nullptr, width, height, channels, nameText.data(), true, data.data(),
+               attributeText.data(), attributeText.size()});
 }
 
 // Checks before reading an image file: a directory or an empty file gets its own message
@@ -190,7 +193,7 @@ static void checkImageFile(const std::string& path) {
     if (!ec) checkExrHeader(path, size);
   }
 }
-static void checkImageSize(const std::string& path, const OIIO::ImageSpec& spec) {
+static void checkImageSize(const std::string& path, const io::OiioImageInfo& spec) {
   constexpr long long kMaxPixels = 1LL << 28;  // 3 GiB of float RGB
   const long long pixels = static_cast<long long>(spec.width) * spec.height;
   if (spec.width < 1 || spec.height < 1 || spec.depth > 1 || pixels > kMaxPixels)
@@ -199,58 +202,75 @@ static void checkImageSize(const std::string& path, const OIIO::ImageSpec& spec)
                                  spec.depth > 1 ? fmt::format("x{}", spec.depth) : "", kMaxPixels));
 }
 
+namespace {
+
+// An image file opened by the module, closed when it goes out of scope.
+class OpenedImage {
+ public:
+  explicit OpenedImage(const std::string& path) : api_(oiio(path, "read")) {
+    std::string error;
+    image_ = api_.open_image(path.c_str(), &info_, &error);
+    if (image_ == nullptr) throw ImageError(fmt::format("cannot read '{}': {}", path, error));
+  }
+  ~OpenedImage() { api_.close_image(image_); }
+  OpenedImage(const OpenedImage&) = delete;
+  OpenedImage& operator=(const OpenedImage&) = delete;
+
+  const io::OiioImageInfo& info() const { return info_; }
+  // The first `channels` channels as interleaved floats; false with the reason in `error`.
+  bool read(int channels, float* out, std::string& error) const {
+    return api_.read_pixels(image_, channels, out, &error);
+  }
+
+ private:
+  const io::OiioApi& api_;
+  io::OiioImageInfo info_;
+  void* image_ = nullptr;
+};
+
+}  // namespace
+
 RgbImage readRgb(const std::string& path) {
   checkImageFile(path);
-  auto in = OIIO::ImageInput::open(path);
-  if (!in) throw ImageError(fmt::format("cannot read '{}': {}", path, OIIO::geterror()));
-  const OIIO::ImageSpec& spec = in->spec();
+  const OpenedImage in(path);
+  const io::OiioImageInfo& spec = in.info();
   checkImageSize(path, spec);
-  if (spec.nchannels < 3) {
-    in->close();
+  if (spec.channels < 3)
     throw ImageError(fmt::format("cannot read '{}': {} channel(s): expected at least R, G, B",
-                                 path, spec.nchannels));
-  }
+                                 path, spec.channels));
   RgbImage img;
   img.width = spec.width;
   img.height = spec.height;
-  img.channel_names = spec.channelnames;
+  img.channel_names = spec.channel_names;
   img.rgb.resize(static_cast<size_t>(spec.width) * static_cast<size_t>(spec.height) * 3);
-  if (!in->read_image(0, 0, 0, 3, OIIO::TypeDesc::FLOAT, img.rgb.data())) {
-    const std::string message = in->geterror();
-    in->close();
+  if (std::string message; !in.read(3, img.rgb.data(), message))
     throw ImageError(fmt::format("cannot read '{}': {}", path, message));
-  }
-  in->close();
   return img;
 }
 
 LayeredImage readExrLayers(const std::string& path) {
   checkImageFile(path);
-  auto in = OIIO::ImageInput::open(path);
-  if (!in) throw ImageError(fmt::format("cannot read '{}': {}", path, OIIO::geterror()));
-  const OIIO::ImageSpec spec = in->spec();
+  const OpenedImage in(path);
+  const io::OiioImageInfo& spec = in.info();
   checkImageSize(path, spec);
   const size_t pixels = static_cast<size_t>(spec.width) * static_cast<size_t>(spec.height);
-  const auto nc = static_cast<size_t>(spec.nchannels);
+  const auto nc = static_cast<size_t>(spec.channels);
   std::vector<float> data(pixels * nc);
-  const bool ok = in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, data.data());
-  const std::string message = ok ? "" : in->geterror();
-  in->close();
-  if (!ok) throw ImageError(fmt::format("cannot read '{}': {}", path, message));
+  if (std::string message; !in.read(spec.channels, data.data(), message))
+    throw ImageError(fmt::format("cannot read '{}': {}", path, message));
   LayeredImage img;
   img.width = spec.width;
   img.height = spec.height;
-  for (const auto& p : spec.extra_attribs)
-    if (p.type() == OIIO::TypeDesc::STRING) img.attributes[p.name().string()] = p.get_string();
+  for (const auto& [key, value] : spec.string_attributes) img.attributes[key] = value;
   // Channel c of layer `name` ("" for the base image) -> its position in the file.
   auto channel = [&](const std::string& name, const char* c) -> size_t {
     const std::string full = name.empty() ? c : name + "." + c;
     for (size_t i = 0; i < nc; ++i)
-      if (spec.channelnames[i] == full) return i;
+      if (spec.channel_names[i] == full) return i;
     throw ImageError(fmt::format("cannot read '{}': no channel '{}'", path, full));
   };
   std::vector<std::string> names = {""};
-  for (const auto& n : spec.channelnames)
+  for (const auto& n : spec.channel_names)
     if (n.size() > 2 && n.ends_with(".R")) names.push_back(n.substr(0, n.size() - 2));
   for (const std::string& name : names) {
     const size_t idx[3] = {channel(name, "R"), channel(name, "G"), channel(name, "B")};
@@ -285,14 +305,12 @@ void writePng(const std::string& path, int width, int height, std::span<const fl
                                  path, tm.gamma));
   std::vector<unsigned char> data(rgb.size());
   for (size_t i = 0; i < rgb.size(); ++i) data[i] = toneMap(rgb[i], tm);
-  OIIO::ImageSpec spec(width, height, 3, OIIO::TypeDesc::UINT8);
-  write(path, spec, OIIO::TypeDesc::UINT8, data.data());
+  write(path, {nullptr, width, height, 3, nullptr, false, data.data(), nullptr, 0});
 }
 
 void writePng8(const std::string& path, int width, int height, std::span<const uint8_t> rgb8) {
   checkSize(path, width, height, rgb8.size());
-  OIIO::ImageSpec spec(width, height, 3, OIIO::TypeDesc::UINT8);
-  write(path, spec, OIIO::TypeDesc::UINT8, rgb8.data());
+  write(path, {nullptr, width, height, 3, nullptr, false, rgb8.data(), nullptr, 0});
 }
 
 }  // namespace translucent::analysis

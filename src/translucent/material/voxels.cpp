@@ -7,10 +7,12 @@
 #include <cmath>
 #include <limits>
 
+#include <fmt/format.h>
 #include <glm/common.hpp>
 #include <glm/matrix.hpp>
 
-#include <openvdb/openvdb.h>
+#include "translucent/io/plugins.h"
+#include "translucent/material/voxels_openvdb_plugin.h"
 
 namespace translucent::material {
 
@@ -106,100 +108,88 @@ Rgb DenseGrid::mean() const {
 
 namespace {
 
-template <typename GridT>
-void copyValues(const GridT& grid, DenseGrid& d, bool non_negative, const std::string& where) {
-  auto acc = grid.getConstAccessor();
-  const size_t nc = static_cast<size_t>(d.channels);
-  size_t n = 0;
-  for (int z = d.origin.z; z < d.origin.z + d.dims.z; ++z)
-    for (int y = d.origin.y; y < d.origin.y + d.dims.y; ++y)
-      for (int x = d.origin.x; x < d.origin.x + d.dims.x; ++x, ++n) {
-        const auto v = acc.getValue(openvdb::Coord(x, y, z));
-        for (size_t c = 0; c < nc; ++c) {
-          float f;
-          if constexpr (std::is_same_v<GridT, openvdb::FloatGrid>)
-            f = v;
-          else
-            f = v[static_cast<int>(c)];
-          if (!std::isfinite(f) || (non_negative && f < 0.0f))
-            throw ParameterError(fmt::format(
-                "{}: voxel ({}, {}, {}) is {}: expected a finite value{}", where, x, y, z, f,
-                non_negative ? " >= 0" : ""));
-          d.values[nc * n + c] = f;
-        }
-      }
-}
+// A grid read by the OpenVDB module, released when it goes out of scope.
+struct GridHandle {
+  GridHandle(const VdbApi& a, void* g) : api(a), grid(g) {}
+  ~GridHandle() {
+    if (grid != nullptr) api.close_grid(grid);
+  }
+  GridHandle(const GridHandle&) = delete;
+  GridHandle& operator=(const GridHandle&) = delete;
+  const VdbApi& api;
+  void* grid;
+};
 
 }  // namespace
 
+// OpenVDB is reached through its module (voxels_openvdb_plugin.h), loaded on the first grid read
+// (io/plugins.h): a process that reads no .vdb file does not map OpenVDB.
 DenseGrid readVdbGrid(const std::filesystem::path& file, const std::string& name, bool allow_vec3,
                       bool non_negative, const std::string& what) {
-  openvdb::initialize();
   const std::string where = fmt::format("{}: '{}' grid '{}'", what, file.string(), name);
-  openvdb::GridBase::Ptr base;
+  const VdbApi* api = nullptr;
   try {
-    openvdb::io::File f(file.string());
-    f.open(false);
-    if (!f.hasGrid(name)) {
-      std::vector<std::string> names;
-      for (auto it = f.beginName(); it != f.endName(); ++it) names.push_back(*it);
-      f.close();
-      throw ParameterError(fmt::format("{}: no such grid; the file holds {}", where,
-                                       names.empty() ? std::string("none")
-                                                     : fmt::format("{}", fmt::join(names, ", "))));
-    }
-    base = f.readGrid(name);
-    f.close();
-  } catch (const ParameterError&) {
-    throw;
-  } catch (const std::exception& e) {
-    throw ParameterError(fmt::format("{}: cannot be read as OpenVDB: {}", where, e.what()));
+    api = &io::plugin<VdbApi>("openvdb");
+  } catch (const io::PluginError& e) {
+    throw ParameterError(fmt::format("{}: cannot be read: {}", where, e.what()));
   }
+  VdbGridInfo info;
+  std::vector<std::string> names;
+  bool missing = false;
+  std::string error;
+  const GridHandle grid{*api, api->read_grid(file.string().c_str(), name.c_str(), &info, &names,
+                                             &missing, &error)};
+  if (grid.grid == nullptr && missing)
+    throw ParameterError(fmt::format("{}: no such grid; the file holds {}", where,
+                                     names.empty() ? std::string("none")
+                                                   : fmt::format("{}", fmt::join(names, ", "))));
+  if (grid.grid == nullptr)
+    throw ParameterError(fmt::format("{}: cannot be read as OpenVDB: {}", where, error));
   DenseGrid d;
-  const auto fg = openvdb::gridPtrCast<openvdb::FloatGrid>(base);
-  const auto vg = openvdb::gridPtrCast<openvdb::Vec3SGrid>(base);
-  if (!fg && !(allow_vec3 && vg))
-    throw ParameterError(fmt::format("{}: is of type {}: expected float{}", where, base->type(),
+  if (!(info.channels == 1 || (allow_vec3 && info.channels == 3)))
+    throw ParameterError(fmt::format("{}: is of type {}: expected float{}", where, info.type,
                                      allow_vec3 ? " or vec3s" : ""));
-  const openvdb::math::Transform& tr = base->transform();
-  if (!tr.isLinear())
+  if (!info.linear)
     throw ParameterError(fmt::format("{}: its transform ({}) is not linear: expected an affine "
-                                     "index-to-world map", where, tr.mapType()));
-  const openvdb::Vec3d o = tr.indexToWorld(openvdb::Vec3d(0.0, 0.0, 0.0));
-  d.translation = {o.x(), o.y(), o.z()};
-  for (int a = 0; a < 3; ++a) {
-    openvdb::Vec3d e(0.0, 0.0, 0.0);
-    e[a] = 1.0;
-    const openvdb::Vec3d w = tr.indexToWorld(e) - o;
-    d.index_to_world[a] = glm::dvec3(w.x(), w.y(), w.z());  // column a
-  }
+                                     "index-to-world map", where, info.map_type));
+  d.translation = {info.translation[0], info.translation[1], info.translation[2]};
+  for (int a = 0; a < 3; ++a)  // column a
+    d.index_to_world[a] = glm::dvec3(info.index_to_world[a][0], info.index_to_world[a][1],
+                                     info.index_to_world[a][2]);
   const double det = glm::determinant(d.index_to_world);
   if (!(std::abs(det) > 0.0) || !std::isfinite(det))
     throw ParameterError(fmt::format("{}: its transform is singular", where));
   d.world_to_index = glm::inverse(d.index_to_world);
-  const openvdb::CoordBBox bb = base->evalActiveVoxelBoundingBox();
-  if (bb.empty()) throw ParameterError(fmt::format("{}: has no active voxels", where));
-  d.origin = glm::ivec3(bb.min().x() - 1, bb.min().y() - 1, bb.min().z() - 1);
-  const openvdb::Coord ext = bb.dim();
-  d.dims = glm::ivec3(ext.x() + 2, ext.y() + 2, ext.z() + 2);
-  d.channels = fg ? 1 : 3;
+  if (info.empty) throw ParameterError(fmt::format("{}: has no active voxels", where));
+  d.origin = glm::ivec3(info.bbox_min[0] - 1, info.bbox_min[1] - 1, info.bbox_min[2] - 1);
+  d.dims = glm::ivec3(info.bbox_dim[0] + 2, info.bbox_dim[1] + 2, info.bbox_dim[2] + 2);
+  d.channels = info.channels;
   const double count = static_cast<double>(d.dims.x) * d.dims.y * d.dims.z * d.channels;
   constexpr double kMaxValues = 134217728.0;  // 2^27 floats: 512 MiB
   if (count > kMaxValues)
     throw ParameterError(fmt::format("{}: its active bounding box ({} x {} x {} voxels) holds more "
                                      "than 2^27 values: expected a smaller grid", where,
-                                     ext.x(), ext.y(), ext.z()));
+                                     info.bbox_dim[0], info.bbox_dim[1], info.bbox_dim[2]));
   d.values.resize(static_cast<size_t>(count));
-  if (fg) {
-    const double bg = static_cast<double>(fg->background());
-    d.background = {bg, bg, bg};
-    copyValues(*fg, d, non_negative, where);
-  } else {
-    const openvdb::Vec3s bg = vg->background();
-    d.background = {static_cast<double>(bg.x()), static_cast<double>(bg.y()),
-                    static_cast<double>(bg.z())};
-    copyValues(*vg, d, non_negative, where);
-  }
+  d.background = {static_cast<double>(info.background[0]), static_cast<double>(info.background[1]),
+                  static_cast<double>(info.background[2])};
+  const int origin[3] = {d.origin.x, d.origin.y, d.origin.z};
+  const int dims[3] = {d.dims.x, d.dims.y, d.dims.z};
+  if (!api->copy_values(grid.grid, origin, dims, d.values.data(), &error))
+    throw ParameterError(fmt::format("{}: cannot be read as OpenVDB: {}", where, error));
+  // Every value finite (and >= 0 when asked), the first offender named by its index.
+  const size_t nc = static_cast<size_t>(d.channels);
+  size_t n = 0;
+  for (int z = d.origin.z; z < d.origin.z + d.dims.z; ++z)
+    for (int y = d.origin.y; y < d.origin.y + d.dims.y; ++y)
+      for (int x = d.origin.x; x < d.origin.x + d.dims.x; ++x, ++n)
+        for (size_t c = 0; c < nc; ++c) {
+          const float f = d.values[nc * n + c];
+          if (!std::isfinite(f) || (non_negative && f < 0.0f))
+            throw ParameterError(fmt::format(
+                "{}: voxel ({}, {}, {}) is {}: expected a finite value{}", where, x, y, z, f,
+                non_negative ? " >= 0" : ""));
+        }
   for (size_t c = 0; c < 3; ++c)
     if (!std::isfinite(d.background[c]) || (non_negative && d.background[c] < 0.0))
       throw ParameterError(fmt::format("{}: background is {}: expected a finite value{}", where,
