@@ -192,5 +192,38 @@ TEST(Tabulated, RefusesValuesOutOfRangeAndShowsControlBytes) {
   std::filesystem::remove(path);
 }
 
+// Between a subnormal sample and an ordinary one the ratio of the values overflows: R(r) was
+// v0 · (v1 / v0)^t = inf there, and Rd inf (fuzz_tabulated; tests/fuzz/corpus/tabulated/
+// crash_subnormal_next_to_normal.csv). Interpolated in logarithms it stays between the two.
+TEST(Tabulated, InterpolationBetweenSubnormalAndOrdinaryValuesIsFinite) {
+  const std::string path = tempPath("subnormal.csv");
+  writeText(path, "# units: mm\nr,R_r,R_g,R_b\n0.1,1,1e-320,1\n0.2,1,13e-2,11\n");
+  const TabulatedModel model(readProfileSamples(path));
+  std::filesystem::remove(path);
+  for (double r : {0.1, 0.10001, 0.15, 0.19999, 0.2}) {
+    const double R = model.Rmm(1, r);
+    EXPECT_TRUE(std::isfinite(R)) << r;
+    EXPECT_GE(R, 0.0) << r;
+    EXPECT_LE(R, 0.13 * (1 + 1e-12)) << r;
+  }
+  EXPECT_NEAR(model.Rmm(1, 0.2 - 1e-12), 0.13, 1e-9);
+  ScalarMedium m;
+  m.channel = 1;
+  const auto p = model.profile(m);
+  EXPECT_TRUE(std::isfinite(p->Rd()) && p->Rd() > 0.0) << p->Rd();
+}
+
+// A channel that is 0 but for a sliver far out integrated to Rd = 0, which sampling divides by
+// (fuzz_tabulated; corpus/tabulated/crash_zero_but_a_far_sliver.csv): refused with the radii.
+TEST(Tabulated, ChannelTheQuadratureSeesAsZeroIsRefused) {
+  const std::string path = tempPath("sliver.csv");
+  writeText(path, "# Units: M\nR,r_r,r_g,r_b\n1.0012,0,6,7\n1.002,4,6,2\n");
+  const std::string msg = messageOf(path);
+  std::filesystem::remove(path);
+  EXPECT_NE(msg.find(path), std::string::npos) << msg;
+  EXPECT_NE(msg.find("red channel integrates to Rd = 0"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("between r = 1001.2 and 1002 mm"), std::string::npos) << msg;
+}
+
 }  // namespace
 }  // namespace translucent::bssrdf

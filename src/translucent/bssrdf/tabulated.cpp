@@ -240,6 +240,27 @@ ProfileSamples readProfileSamples(const std::string& path) {
   for (auto& r : t.r_mm) r *= f;
   for (auto& ch : t.R_mm)
     for (auto& v : ch) v /= f * f;
+  // What a renderer divides by: Rd, the quadrature of R(r) (RadialProfile::cumulative, panels of
+  // 1/48 decade). A channel that is 0 except near one far sample ("0" at 1001.2 mm, "4" at
+  // 1002 mm) passed the checks above and integrated to Rd = 0, where sampling divides by Rd
+  // (fuzz_tabulated): refused here, with the radii where it is not 0.
+  const TabulatedModel model(t);
+  for (int c = 0; c < 3; ++c) {
+    ScalarMedium m;
+    m.channel = c;
+    const double rd = model.profile(m)->Rd();
+    if (std::isfinite(rd) && rd > 0.0) continue;
+    const auto& ch = t.R_mm[size_t(c)];
+    size_t first = 0, last = ch.size() - 1;
+    while (ch[first] == 0.0) ++first;
+    while (ch[last] == 0.0) --last;
+    throw ParameterError(fmt::format(
+        "{}: the {} channel integrates to Rd = {}: it is 0 except between r = {} and {} mm, too "
+        "narrow a range for the quadrature of Rd; expected a profile that is not 0 over a range "
+        "of radii, or more samples there",
+        path, kChannelNames[c], rd, first > 0 ? t.r_mm[first - 1] : t.r_mm[first],
+        last + 1 < ch.size() ? t.r_mm[last + 1] : t.r_mm[last]));
+  }
   return t;
 }
 
@@ -324,8 +345,11 @@ double TabulatedModel::Rmm(int c, double r) const {
   const size_t i = static_cast<size_t>(std::upper_bound(rs.begin(), rs.end(), r) - rs.begin());
   const double r0 = rs[i - 1], r1 = rs[i], v0 = v[i - 1], v1 = v[i];
   if (r0 > 0.0 && v0 > 0.0 && v1 > 0.0) {
+    // In logarithms: v0 · (v1 / v0)^t overflowed to inf where the ratio does (a subnormal v0
+    // next to an ordinary v1, "1e-320" then "0.13": fuzz_tabulated), and inf · 0 made NaN
+    // pixels. ln v lies in [-745, 710], so this stays between v0 and v1.
     const double t = std::log(r / r0) / std::log(r1 / r0);
-    return v0 * std::pow(v1 / v0, t);
+    return std::exp(std::log(v0) + t * (std::log(v1) - std::log(v0)));
   }
   return v0 + (v1 - v0) * (r - r0) / (r1 - r0);
 }
