@@ -20,6 +20,7 @@
 
 #include "translucent/optics/fresnel.h"
 #include "translucent/reference/layered_slab.h"
+#include "translucent/reference/slab_request.h"
 
 namespace translucent::reference {
 namespace {
@@ -363,6 +364,38 @@ TEST(LayeredSlab, LayersFileErrorsNameFileIndexAndKey) {
   } catch (const ParameterError& e) {
     EXPECT_NE(std::string(e.what()).find("layer 2"), std::string::npos) << e.what();
   }
+}
+
+// Layers whose walks would not end are refused before tracing, also where each layer alone
+// passes the estimate: without absorption a walk ends only by leaving (fuzz_layers).
+TEST(LayeredSlab, EndlessWalksInAStackAreRefusedBeforeTracing) {
+  SlabRequest request;
+  request.eta = 1.4;
+  auto errorOfRun = [&](const std::vector<SlabLayer>& layers) -> std::string {
+    try {
+      makeSlabRun(request, layers, "l.json");
+    } catch (const ParameterError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  // One thick layer without absorption: ~(σt' L)² = 1e12 scattering events to cross it.
+  std::string e = errorOfRun({{1e3, 0.0, 1e3, 0.0}});
+  EXPECT_NE(e.find("l.json: layer [0]: sigma_a is 0"), std::string::npos) << e;
+  EXPECT_NE(e.find("--long-path-roulette"), std::string::npos) << e;
+  // Forty thin ones: each crossed in ~1e5 events, the stack in ~1.6e8 (each of 1e6 photons).
+  e = errorOfRun(std::vector<SlabLayer>(40, SlabLayer{1.0, 0.0, 100.0, 0.0}));
+  EXPECT_NE(e.find("l.json: layers [0] to [39] together"), std::string::npos) << e;
+  // The same stack passes with a time limit (the estimate of the total is what it bounds), and
+  // with the long-path roulette; a thin transparent layer on an absorbing half-space passes.
+  request.time_limited = true;
+  EXPECT_EQ(errorOfRun(std::vector<SlabLayer>(40, SlabLayer{1.0, 0.0, 100.0, 0.0})), "");
+  request.time_limited = false;
+  request.long_path_roulette = 10000;
+  EXPECT_EQ(errorOfRun({{1e3, 0.0, 1e3, 0.0}}), "");
+  request.long_path_roulette = 0;
+  EXPECT_EQ(errorOfRun({{0.5, 0.0, 1e-3, 0.0}, {std::numeric_limits<double>::infinity(), 1.0, 10.0, 0.5}}),
+            "");
 }
 
 }  // namespace
