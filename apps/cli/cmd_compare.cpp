@@ -87,6 +87,9 @@ using analysis::utcNow;
 std::vector<std::string> techniqueList(const std::string& text) {
   const std::vector<std::string> all = techniques::names();
   if (text == "all") return all;
+  // Only the references (the model against the physical truth, e.g. one run per model of
+  // scripts/model-leaderboard).
+  if (text == "none") return {};
   std::vector<std::string> out;
   for (const std::string& n : splitList(text)) {
     if (n == "all") {  // every registered technique, beside variants: all,tsis:mode=hybrid
@@ -102,7 +105,7 @@ std::vector<std::string> techniqueList(const std::string& text) {
     if (std::find(out.begin(), out.end(), n) == out.end()) out.push_back(n);
   }
   if (out.empty())
-    throw ParameterError(fmt::format("--techniques '{}': expected a list of techniques or all", text));
+    throw ParameterError(fmt::format("--techniques '{}': expected a list of techniques, all or none", text));
   return out;
 }
 
@@ -957,7 +960,8 @@ void addCompareCommand(CLI::App& app) {
   cmd->add_option("--techniques", a->techniques,
                   fmt::format("Techniques to compare, comma-separated: {} or all; a variant with "
                               "its own settings is name:key=value:key=value (e.g. "
-                              "all,tsis:mode=hybrid:samples=900), its row named so",
+                              "all,tsis:mode=hybrid:samples=900), its row named so; none: only "
+                              "the references (the model against the physical truth)",
                               fmt::join(techniques::names(), ", ")))
       ->capture_default_str();
   cmd->add_option("--reference", a->references,
