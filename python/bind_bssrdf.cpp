@@ -189,7 +189,7 @@ Models are stateless; model.profiles(medium) makes the per-channel radial profil
       "model",
       [](const std::string& name) {
         return std::unique_ptr<bssrdf::Model, py::nodelete>(
-            const_cast<bssrdf::Model*>(&bssrdf::model(name)));
+            const_cast<bssrdf::Model*>(&bssrdf::model(checkNoNul(name, "name"))));
       },
       py::arg("name"),
       "The registered model of this name, or the tabulated profile a .csv path names (loaded "
@@ -315,6 +315,7 @@ Radial sampling is not bound for .bssrdf models (the CPU models have it: Profile
         if (medium && (preset || !sigma_a.is_none() || !sigma_s.is_none() || g.value_or(0.0) != 0.0 ||
                        eta.value_or(1.3) != 1.3 || scale != 1.0))
           throw ParameterError("medium= excludes preset, sigma_a, sigma_s, g, eta and scale");
+        checkNoNul(model, "model");
         const auto in = radii(r);
         const Medium med = medium ? *medium : mediumFromArgs(preset, sigma_a, sigma_s, g, eta, scale);
         if (isBssrdfFile(model)) {

@@ -13,6 +13,17 @@
 
 namespace translucent::python {
 
+namespace {
+// Applies `set` to a copy of `x` and keeps it if it validates (else ValueError, `x` unchanged).
+template <class F>
+void setChecked(Medium& x, F&& set) {
+  Medium m = x;
+  set(m);
+  m.validate();
+  x = m;
+}
+}  // namespace
+
 void bindOptics(py::module_& m) {
   py::class_<Medium>(m, "Medium", R"doc(
 A homogeneous medium with RGB coefficients.
@@ -55,14 +66,21 @@ The constructor validates (ValueError naming the parameter and channel).
                   py::arg("scale") = 1.0,
                   "Medium from reduced scattering σs' = (1 - g) σs [1/mm], as Jensen 2001 "
                   "tabulates: σs = σs' / (1 - g).")
+      // The setters check the medium they leave, as the constructor does (ValueError naming the
+      // parameter and channel; the medium keeps its old value): they stored a NaN and read it
+      // back silently (tests/python/hostile_check.py).
       .def_property(
           "sigma_a", [](const Medium& x) { return rgbArray(x.sigma_a); },
-          [](Medium& x, const py::object& v) { x.sigma_a = toRgb(v, "sigma_a"); },
+          [](Medium& x, const py::object& v) {
+            setChecked(x, [&](Medium& med) { med.sigma_a = toRgb(v, "sigma_a"); });
+          },
           "Absorption coefficient σa per channel [1/mm] (a copy: assign a new triple to change "
           "it)")
       .def_property(
           "sigma_s", [](const Medium& x) { return rgbArray(x.sigma_s); },
-          [](Medium& x, const py::object& v) { x.sigma_s = toRgb(v, "sigma_s"); },
+          [](Medium& x, const py::object& v) {
+            setChecked(x, [&](Medium& med) { med.sigma_s = toRgb(v, "sigma_s"); });
+          },
           "Scattering coefficient σs per channel [1/mm]")
       .def_property_readonly(
           "sigma_s_prime",
@@ -72,9 +90,18 @@ The constructor validates (ValueError naming the parameter and channel).
             return rgbArray(sp);
           },
           "Reduced scattering coefficient σs' = (1 - g) σs per channel [1/mm]")
-      .def_readwrite("g", &Medium::g, "Henyey-Greenstein mean cosine")
-      .def_readwrite("eta", &Medium::eta, "Relative index of refraction")
-      .def_readwrite("scale", &Medium::scale, "Medium units (mm) per scene unit")
+      .def_property(
+          "g", [](const Medium& x) { return x.g; },
+          [](Medium& x, double v) { setChecked(x, [&](Medium& med) { med.g = v; }); },
+          "Henyey-Greenstein mean cosine")
+      .def_property(
+          "eta", [](const Medium& x) { return x.eta; },
+          [](Medium& x, double v) { setChecked(x, [&](Medium& med) { med.eta = v; }); },
+          "Relative index of refraction")
+      .def_property(
+          "scale", [](const Medium& x) { return x.scale; },
+          [](Medium& x, double v) { setChecked(x, [&](Medium& med) { med.scale = v; }); },
+          "Medium units (mm) per scene unit")
       .def("validate", &Medium::validate,
            "Raises ValueError naming the parameter, channel and value unless the medium is valid")
       .def(
@@ -159,7 +186,7 @@ The constructor validates (ValueError naming the parameter and channel).
           throw ParameterError(
               fmt::format("--eta is {}: expected a positive index of refraction", eta));
         const Rgb rdv = finiteRgb(rd, "rd"), ldv = finiteRgb(ld, "ld");
-        const auto& mod = bssrdf::model(model);
+        const auto& mod = bssrdf::model(checkNoNul(model, "model"));
         return invertMedium([&](double a) { return mod.totalReflectance(a, eta); }, rdv, ldv,
                             eta);
       },

@@ -94,7 +94,7 @@ py::object pathtraceSlab(const reference::SlabRequest& request, const py::object
             reprOf(layersArg)));
       std::string text;
       try {
-        text = fromPython(layersArg).dump();
+        text = fromPython(layersArg, "layers").dump();
       } catch (const py::error_already_set& e) {
         throw py::type_error(fmt::format("layers: {}", e.what()));
       }
@@ -307,6 +307,7 @@ Ctrl-C raises KeyboardInterrupt with the partial result as its `partial_result`.
          const std::string& sampling, double defensive, uint64_t seed, int threads,
          std::optional<double> time_limit) {
         // apps/cli/cmd_render_reference.cpp runIntegrateSphere.
+        checkNoNul(model, "model");
         validatePasses(passes, threads);
         Interruptible stop(time_limit);
         const Medium medium = mediumFromArgs(preset, sigma_a, sigma_s, g, eta, scale);

@@ -6,6 +6,7 @@
 #include <pybind11/stl/filesystem.h>
 
 #include <algorithm>
+#include <cmath>
 #include <nlohmann/json.hpp>
 
 #include "translucent/compare/compare.h"
@@ -41,8 +42,15 @@ std::vector<double> medianRelativeError(const reference::McImage& img) {
   return out;
 }
 
+// An image side for the width and height setters: the range of the scene file's camera.width.
+int imageSide(int pixels, const char* what) {
+  if (pixels < 1 || pixels > 16384)
+    throw ParameterError(fmt::format("{} is {}: expected pixels in [1, 16384]", what, pixels));
+  return pixels;
+}
+
 scene::Scene sceneFromDict(const py::handle& d, const std::filesystem::path& base_dir) {
-  return scene::parseScene(fromPython(d).dump(), base_dir, "scene dict");
+  return scene::parseScene(fromPython(d, "d").dump(), base_dir, "scene dict");
 }
 
 }  // namespace
@@ -98,30 +106,67 @@ search path ($TRANSLUCENT_DATA).
               if (py::isinstance<py::bool_>(v))
                 out[name] = v.cast<bool>();
               else if (py::isinstance<py::int_>(v) || py::isinstance<py::float_>(v))
-                out[name] = v.cast<double>();
+                // A NaN or an infinity would be written as null by to_json (not read back).
+                out[name] = finiteArgument(v.cast<double>(), ("technique." + name).c_str());
               else if (py::isinstance<py::str>(v))
                 out[name] = v.cast<std::string>();
               else
                 throw ParameterError(fmt::format("technique.{}: {} is not a bool, number or str",
-                                                 name, py::str(py::repr(v)).cast<std::string>()));
+                                                 name, reprOf(v)));
             }
             s.settings = std::move(out);
           },
           "Technique settings {name: bool | float | str} (a copy: assign a dict to change them; "
           "validated by the technique when rendering)")
-      .def_readwrite("model", &scene::Scene::model,
-                     "BSSRDF model of the material: a registered name or a .bssrdf file")
-      .def_readwrite("time", &scene::Scene::time, "Time of the mesh deformations [s]")
-      .def_readwrite("exposure", &scene::Scene::exposure, "Display exposure [stops]")
-      .def_readwrite("gamma", &scene::Scene::gamma, "Display gamma")
-      .def_readwrite("cone_angle", &scene::Scene::cone_angle,
-                     "Path tracer: half-angle of the cone-averaged radiance [degrees]")
+      .def_property(
+          "model", [](const scene::Scene& s) { return s.model; },
+          [](scene::Scene& s, const std::string& model) {
+            // As the scene file's material.model (an empty name does not read back).
+            if (model.empty())
+              throw ParameterError("model is '': expected a model name or a .bssrdf file");
+            s.model = checkNoNul(model, "model");
+          },
+          "BSSRDF model of the material: a registered name or a .bssrdf file")
+      // The numbers are checked as the scene file's reader checks them (scene.cpp), so that a
+      // scene edited through them is one that to_json() writes and from_json() reads back: a
+      // NaN was stored and read back silently, and written as null (tests/python/hostile_check.py).
+      .def_property(
+          "time", [](const scene::Scene& s) { return s.time; },
+          [](scene::Scene& s, double t) { s.time = finiteArgument(t, "time"); },
+          "Time of the mesh deformations [s]")
+      .def_property(
+          "exposure", [](const scene::Scene& s) { return s.exposure; },
+          [](scene::Scene& s, double e) {
+            if (!(std::fabs(e) <= 64.0))
+              throw ParameterError(fmt::format("exposure is {}: expected stops in [-64, 64]", e));
+            s.exposure = e;
+          },
+          "Display exposure [stops], in [-64, 64]")
+      .def_property(
+          "gamma", [](const scene::Scene& s) { return s.gamma; },
+          [](scene::Scene& s, double g) {
+            if (!(g >= 0.01 && g <= 100.0))
+              throw ParameterError(
+                  fmt::format("gamma is {}: expected a display gamma in [0.01, 100]", g));
+            s.gamma = g;
+          },
+          "Display gamma, in [0.01, 100]")
+      .def_property(
+          "cone_angle", [](const scene::Scene& s) { return s.cone_angle; },
+          [](scene::Scene& s, double a) {
+            if (!(a > 0.0 && a <= 90.0))
+              throw ParameterError(fmt::format("cone_angle is {}: expected degrees in (0, 90]", a));
+            s.cone_angle = a;
+          },
+          "Path tracer: half-angle of the cone-averaged radiance [degrees], in (0, 90]")
       .def_property(
           "width", [](const scene::Scene& s) { return s.camera.width; },
-          [](scene::Scene& s, int w) { s.camera.width = w; }, "Image width [pixels]")
+          [](scene::Scene& s, int w) { s.camera.width = imageSide(w, "width"); },
+          "Image width [pixels], 1 to 16384")
       .def_property(
           "height", [](const scene::Scene& s) { return s.camera.height; },
-          [](scene::Scene& s, int h) { s.camera.height = h; }, "Image height [pixels]")
+          [](scene::Scene& s, int h) { s.camera.height = imageSide(h, "height"); },
+          "Image height [pixels], 1 to 16384")
       .def_property_readonly(
           "medium", [](const scene::Scene& s) { return s.medium; },
           "The material's medium (a copy; edit the material through to_dict/from_dict)")

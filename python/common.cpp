@@ -51,7 +51,24 @@ py::object result(const char* type, py::dict fields) {
   return py::module_::import("translucent._results").attr(type)(std::move(fields));
 }
 
-std::string reprOf(const py::handle& value) { return py::str(py::repr(value)).cast<std::string>(); }
+std::string reprOf(const py::handle& value) {
+  // For a message about a bad argument, which must not fail itself: repr() of a list nested
+  // deeper than the recursion limit raises RecursionError, a class's __repr__ may raise anything,
+  // and a huge value would bury the message (hostile-argument test, tests/python/hostile_check.py).
+  std::string text;
+  try {
+    text = py::str(py::repr(value)).cast<std::string>();
+  } catch (const py::error_already_set&) {
+    return fmt::format("<{} object>", Py_TYPE(value.ptr())->tp_name);
+  }
+  constexpr size_t kMaxRepr = 200;
+  if (text.size() > kMaxRepr) {
+    size_t cut = kMaxRepr;
+    while (cut > 0 && (static_cast<unsigned char>(text[cut]) & 0xC0) == 0x80) --cut;  // UTF-8
+    text = text.substr(0, cut) + "...";
+  }
+  return text;
+}
 
 Rgb toRgb(const py::handle& value, const std::string& what) {
   const auto typeError = [&] {
@@ -118,10 +135,31 @@ py::array_t<double, py::array::c_style | py::array::forcecast> checkedArray(
 
 std::filesystem::path pathArgument(const py::handle& value, const char* what) {
   if (py::isinstance<py::str>(value) ||
-      py::isinstance(value, py::module_::import("os").attr("PathLike")))
-    return value.cast<std::filesystem::path>();
+      py::isinstance(value, py::module_::import("os").attr("PathLike"))) {
+    // pybind11's caster fails (a RuntimeError "Unable to cast") for a name the file system
+    // cannot hold: one with a NUL, a PathLike whose __fspath__ raises or returns another type.
+    std::filesystem::path p;
+    try {
+      p = value.cast<std::filesystem::path>();
+    } catch (const py::cast_error&) {
+      throw py::type_error(
+          fmt::format("{}={}: expected a file name (str or os.PathLike)", what, reprOf(value)));
+    }
+    checkNoNul(p.native(), what);
+    return p;
+  }
   throw py::type_error(
       fmt::format("{}={}: expected a file name (str or os.PathLike)", what, reprOf(value)));
+}
+
+const std::string& checkNoNul(const std::string& name, const char* what) {
+  // The C++ library passes names to the OS as C strings, which end at the first NUL: "a\0b"
+  // would open "a".
+  if (const size_t nul = name.find('\0'); nul != std::string::npos)
+    throw ParameterError(
+        fmt::format("{}: the name holds a NUL character (at byte {}): expected a file or model "
+                    "name", what, nul));
+  return name;
 }
 
 double finiteArgument(double value, const char* what) {

@@ -46,7 +46,8 @@ std::string pythonMessage(std::string_view message);
 // as attributes, and a mapping with the dict's keys).
 py::object result(const char* type, py::dict fields);
 
-// repr(value), for messages.
+// repr(value), for messages: at most 200 characters, and "<type object>" when repr() raises
+// (a list nested past the recursion limit, a class whose __repr__ fails).
 std::string reprOf(const py::handle& value);
 
 // An RGB triple from a number (grey) or a sequence of three numbers: TypeError naming the
@@ -63,8 +64,13 @@ Rgb finiteRgb(const py::handle& value, const std::string& what);
 py::array_t<double, py::array::c_style | py::array::forcecast> checkedArray(
     const py::object& values, const char* what, double lo, double hi, bool open_hi = false);
 
-// A file name argument: str or os.PathLike; TypeError naming the argument otherwise.
+// A file name argument: str or os.PathLike; TypeError naming the argument otherwise, ValueError
+// for a name with a NUL character.
 std::filesystem::path pathArgument(const py::handle& value, const char* what);
+
+// `name` (a model name or file name the library may open), unless it holds a NUL character:
+// ValueError naming the argument `what` then.
+const std::string& checkNoNul(const std::string& name, const char* what);
 
 // A finite number; ValueError naming the argument otherwise.
 double finiteArgument(double value, const char* what);

@@ -3,7 +3,11 @@
 
 #include <pybind11/pybind11.h>
 
+#include <fmt/format.h>
+
 #include <string>
+
+#include "common.h"
 
 #include "translucent/io/json.h"
 
@@ -33,17 +37,35 @@ py::object toPython(const nlohmann::json& j) {
   }
 }
 
-nlohmann::json fromPython(const py::handle& o) {
+nlohmann::json fromPython(const py::handle& o, const std::string& what) {
   // NumPy arrays and scalars become lists and numbers (tolist), everything else as json.dumps
   // takes it.
   py::object def = py::cpp_function([](const py::object& x) -> py::object {
     if (py::hasattr(x, "tolist")) return x.attr("tolist")();
-    throw py::type_error("not JSON serialisable: " + py::str(py::repr(x)).cast<std::string>());
+    throw py::type_error("not JSON serialisable: " + reprOf(x));
   });
-  const std::string text =
-      py::module_::import("json").attr("dumps")(o, py::arg("default") = def).cast<std::string>();
+  std::string text;
+  try {
+    // allow_nan=False: json.dumps would write NaN and Infinity, which are not JSON; refused here
+    // by name instead of by the reader's "not valid JSON" at some column of the dumped text.
+    text = py::module_::import("json")
+               .attr("dumps")(o, py::arg("default") = def, py::arg("allow_nan") = false)
+               .cast<std::string>();
+  } catch (py::error_already_set& e) {
+    // RecursionError (a RuntimeError) for nesting past Python's limit, ValueError for NaN,
+    // TypeError for another type; the key or index is not known here, the value's kind is.
+    if (e.matches(PyExc_ValueError))
+      throw py::value_error(
+          fmt::format("{}: {}", what, py::str(e.value()).cast<std::string>()));
+    if (e.matches(PyExc_RecursionError))  // as parseJson's depth limit: ValueError
+      throw py::value_error(fmt::format("{}: nested too deeply to be JSON (at most {} levels)",
+                                       what, io::kMaxJsonDepth));
+    if (e.matches(PyExc_TypeError))
+      throw py::type_error(fmt::format("{}: {}", what, py::str(e.value()).cast<std::string>()));
+    throw;
+  }
   // The one JSON reader (its depth limit: toPython() and the readers of the result recurse).
-  return io::parseJson(text, "the Python value");
+  return io::parseJson(text, what);
 }
 
 }  // namespace translucent::python

@@ -11,7 +11,9 @@ namespace translucent::python {
 // null -> None, booleans, integers, floats, strings, arrays -> list, objects -> dict.
 pybind11::object toPython(const nlohmann::json& j);
 // A JSON-serialisable Python object (dicts, lists, numbers, strings, None; NumPy arrays as
-// lists) through Python's json module.
-nlohmann::json fromPython(const pybind11::handle& o);
+// lists) through Python's json module. `what` names the argument in errors: TypeError for a type
+// JSON cannot hold, ValueError for NaN or an infinity (which JSON cannot hold either) and for
+// nesting past Python's recursion limit or io::kMaxJsonDepth.
+nlohmann::json fromPython(const pybind11::handle& o, const std::string& what);
 
 }  // namespace translucent::python
