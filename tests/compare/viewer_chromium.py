@@ -230,7 +230,8 @@ def main():
             [exe, "compare", scene, "--techniques", ",".join(TECHNIQUES), "--width", str(WIDTH),
              "--height", str(HEIGHT), "--photons", "20000", "--samples", "2000", "--frames", "1",
              "--warmup", "0", "--threads", "2", "--budget", "0", "--no-cache", "--out", out],
-            stdout=f, stderr=subprocess.STDOUT)
+            stdout=f, stderr=subprocess.STDOUT,
+            env=dict(os.environ, TRANSLUCENT_CACHE_DIR=os.path.join(work, "cache")))  # not ~/.cache
     if rc != 0:
         fail(f"translucent compare exited {rc}:\n" + open(log).read())
     report = json.load(open(os.path.join(out, "report.json")))
