@@ -176,12 +176,13 @@ TEST_F(CompareCli, ReportRendersInHeadlessChromiumWithImagesShowing) {
   const fs::path shot = kRoot / "screenshot.png";
   const std::string cmd = "chromium --headless --no-sandbox --disable-gpu --hide-scrollbars "
                           "--user-data-dir='" + (kRoot / "chromium").string() + "' --screenshot='" +
-                          shot.string() + "' --window-size=1200,1600 'file://" +
+                          shot.string() + "' --window-size=1200,3000 'file://" +
                           (kRoot / "report" / "index.html").string() + "' > '" +
                           (kRoot / "chromium.log").string() + "' 2>&1";
   ASSERT_EQ(std::system(cmd.c_str()), 0) << readText(kRoot / "chromium.log");
   const auto img = translucent::analysis::readRgb(shot.string());
   ASSERT_EQ(img.width, 1200);
+  // 3000 pixels tall: the summary and the viewer come first, the image tables below them.
   // Images show: the renders have black backgrounds and the masks black outsides, so a large
   // part of the page is near black, which the page's text (#222, thin) and table lines are not;
   // and some pixels are coloured (the renders, the false-colour maps).

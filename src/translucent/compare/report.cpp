@@ -274,6 +274,8 @@ std::string summaryHtml(const json& summary) {
                      pct(jsonNumber(row, "vs_physical_rel_rmse")), num(jsonNumber(row, "frame_ms")),
                      html(status));
   }
+  if (summary.at("rows").empty())
+    h += "<tr><td class=\"l\" colspan=\"6\">no technique was run (the references only)</td></tr>\n";
   for (const json* row : failures)
     h += fmt::format("<tr data-technique=\"{}\"><td>–</td><td class=\"l\">{}</td>"
                      "<td class=\"l warn\" colspan=\"3\">{}</td><td class=\"l warn\">{}</td></tr>\n",
