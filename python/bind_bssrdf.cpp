@@ -40,7 +40,7 @@ class BssrdfModel {
  public:
   BssrdfModel(const py::object& path, const py::kwargs& params)
       : path_(pathArgument(path, "path").string()) {
-    if (!std::filesystem::is_regular_file(path_))
+    if (std::error_code ec; !std::filesystem::is_regular_file(path_, ec))
       throw ParameterError(fmt::format("path={}: no such .bssrdf file", reprOf(path)));
     GlLock lock;
     evaluator_ = gpu::openBssrdf(path_);
@@ -319,7 +319,7 @@ Radial sampling is not bound for .bssrdf models (the CPU models have it: Profile
         const auto in = radii(r);
         const Medium med = medium ? *medium : mediumFromArgs(preset, sigma_a, sigma_s, g, eta, scale);
         if (isBssrdfFile(model)) {
-          if (!std::filesystem::is_regular_file(model))
+          if (std::error_code ec; !std::filesystem::is_regular_file(model, ec))
             throw ParameterError(fmt::format("--model {}: no such .bssrdf file", model));
           BssrdfModel file{py::str(model), py::kwargs()};
           if (!file.evaluator().file().attributes.radial)

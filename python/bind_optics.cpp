@@ -172,7 +172,13 @@ The constructor validates (ValueError naming the parameter and channel).
         if (!std::isfinite(eta) || eta <= 0.0)
           throw ParameterError(
               fmt::format("eta is {}: expected a positive index of refraction", eta));
-        return fdrRational(eta);
+        // The fit (Eq. 2.30) is a reflectance only where it lies in [0, 1] (about 1.0 < η < 4.3,
+        // and -inf or NaN for η near 0): outside, no value is returned rather than a wrong one.
+        const double f = fdrRational(eta);
+        if (!(std::isfinite(f) && f >= 0.0 && f <= 1.0))
+          throw ParameterError(fmt::format("eta is {}: the Egan & Hilgeman fit gives {} there, not a "
+                                           "reflectance in [0, 1] (use η of about 1 to 4)", eta, f));
+        return f;
       },
       py::arg("eta"),
         "Average diffuse Fresnel reflectance Fdr(η), the rational fit of Egan & Hilgeman "

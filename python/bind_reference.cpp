@@ -334,7 +334,7 @@ Ctrl-C raises KeyboardInterrupt with the partial result as its `partial_result`.
         std::unique_ptr<bssrdf::TabulatedModel> table;
         std::string used = sampling;
         if (bssrdf::isPluginFile(model)) {
-          if (!std::filesystem::is_regular_file(model))
+          if (std::error_code ec; !std::filesystem::is_regular_file(model, ec))
             throw ParameterError(fmt::format("--model {}: no such .bssrdf file", model));
           gl.emplace();
           evaluator = gpu::openBssrdf(model);

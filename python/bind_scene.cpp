@@ -132,7 +132,13 @@ search path ($TRANSLUCENT_DATA).
       // NaN was stored and read back silently, and written as null (tests/python/hostile_check.py).
       .def_property(
           "time", [](const scene::Scene& s) { return s.time; },
-          [](scene::Scene& s, double t) { s.time = finiteArgument(t, "time"); },
+          [](scene::Scene& s, double t) {
+            // The scene file's limit (scene.cpp), so that to_json() reads back.
+            if (!(std::fabs(finiteArgument(t, "time")) <= 1e15))
+              throw ParameterError(fmt::format("time is {}: expected a finite number of magnitude "
+                                               "at most 1e15", t));
+            s.time = t;
+          },
           "Time of the mesh deformations [s]")
       .def_property(
           "exposure", [](const scene::Scene& s) { return s.exposure; },

@@ -89,6 +89,9 @@ class BetterDipoleProfile final : public RadialProfile {
   }
 
   double R(double r) const override {
+    // Beyond σtr r = 745, e^{-σtr r} (a bound of both sources' decay) is below the smallest
+    // double: R is 0 there, and r² would overflow (r = 1e308 gave inf · 0 = NaN).
+    if (sigmaTr_ * r > 745.0) return 0.0;
     const double dr = std::sqrt(r * r + zr_ * zr_), dv = std::sqrt(r * r + zv_ * zv_);
     const double er = std::exp(-sigmaTr_ * dr) / dr, ev = std::exp(-sigmaTr_ * dv) / dv;
     // Fluence 4πD φ (Eq. 2.33): er - ev, written as er (1 - (dr/dv) e^{-σtr (dv - dr)}) with
@@ -113,7 +116,9 @@ class BetterDipoleProfile final : public RadialProfile {
 
   double pdf(double r) const override {
     if (r < 0.0 || !std::isfinite(r)) return 0.0;
-    return 2.0 * std::numbers::pi * r * R(r) / rd_;
+    const double value = R(r);  // first: 2π r overflows where R is 0 (inf · 0 = NaN)
+    if (!(value > 0.0)) return 0.0;
+    return r * (2.0 * std::numbers::pi * value / rd_);
   }
 
   double radiusForFraction(double fraction) const override {

@@ -101,8 +101,11 @@ RadialSample RadialProfile::sample(double u) const {
 
 double RadialProfile::pdf(double r) const {
   const auto& c = cumulative();
-  if (r < 0.0 || r > c.edges.back()) return 0.0;
-  return 2.0 * std::numbers::pi * r * R(r) / c.total();
+  if (!(r >= 0.0) || r > c.edges.back()) return 0.0;
+  // R first: far out it is 0 (or tiny) while 2π r can overflow (r = 1e308: inf · 0 = NaN).
+  const double value = R(r);
+  if (!(value > 0.0)) return 0.0;
+  return r * (2.0 * std::numbers::pi * value / c.total());
 }
 
 double RadialProfile::radiusForFraction(double fraction) const {
