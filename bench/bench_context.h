@@ -6,12 +6,16 @@
 // after it (call context() first), so that they are destroyed before it, while it is alive.
 #pragma once
 
+#include <fmt/format.h>
+
 #include <cstdio>
 #include <cstdlib>
+#include <string>
 #include <string_view>
 #include <utility>
 
 #include "translucent/gpu/context.h"
+#include "translucent/techniques/technique.h"
 
 namespace translucent::bench {
 
@@ -36,6 +40,21 @@ inline std::pair<int, int> frameSize(std::pair<int, int> paper) {
   }
   if (small()) return {64, 64};
   return paper;
+}
+
+// A small run also lowers the parameters whose cost does not shrink with the frame: the
+// light-side buffers (shah splats every texel of its 512² buffer over the whole frame: ~36 s a
+// frame at 64² on llvmpipe) and the point count. Returns what it set (", name=value" each), for
+// the benchmark's label; nothing outside a small run.
+inline std::string applySmallSettings(techniques::Technique& t) {
+  std::string settings;
+  if (!small()) return settings;
+  for (const auto& p : t.parameters()) {
+    if (p.name != "irradiance_size" && p.name != "points") continue;
+    t.setParameter(p.name, p.name == "points" ? 10000 : 64);
+    settings += fmt::format(", {}={}", p.name, techniques::toString(t.parameter(p.name)));
+  }
+  return settings;
 }
 
 }  // namespace translucent::bench

@@ -87,9 +87,7 @@ techniques::Technique& prepared(const std::string& technique, int mesh) {
   auto& slot = cache()[technique + "/" + kMeshes[mesh].name];
   if (!slot) {
     slot = techniques::make(technique);
-    // A small run (scripts/device-check --small) lowers the light-side buffers too: shah splats
-    // every texel of its 512² buffer over the frame, ~36 s a frame at 64² on llvmpipe.
-    if (bench::small()) slot->setParameter("irradiance_size", 64);
+    (void)bench::applySmallSettings(*slot);  // the labels name the buffer size
     slot->prepare(benchScene(mesh), gl);
     (void)slot->render({64, 48});  // first use of every program and buffer, off the clock
   }
@@ -101,11 +99,7 @@ void timeFrames(benchmark::State& state, techniques::Technique& t, int mesh, boo
   std::map<std::string, double> sums;
   double total = 0.0;
   for (auto _ : state) {
-    if (relit) {
-      state.PauseTiming();
-      t.prepare(s, context());
-      state.ResumeTiming();
-    }
+    if (relit) t.prepare(s, context());  // off the clock: manual time, the GPU passes
     techniques::FrameRequest request;
     request.readback = false;
     const techniques::Frame f = t.render(request);

@@ -58,29 +58,14 @@ void BM_Frame(benchmark::State& state, const std::string& name, bool relit) {
   s.camera.width = width;
   s.camera.height = height;
   std::unique_ptr<techniques::Technique> t = techniques::make(name);
-  // A small run also lowers the parameters whose cost does not shrink with the frame: the
-  // light-side buffers and the point count (shah splats every irradiance texel over the whole
-  // frame: 36 s a frame at 64x64 with its default 512² on llvmpipe).
-  std::string settings;
-  if (bench::small()) {
-    for (const auto& p : t->parameters()) {
-      if (p.name == "irradiance_size") t->setParameter(p.name, 64);
-      if (p.name == "points") t->setParameter(p.name, 10000);
-      if (p.name == "irradiance_size" || p.name == "points")
-        settings += fmt::format(", {}={}", p.name, techniques::toString(t->parameter(p.name)));
-    }
-  }
+  const std::string settings = bench::applySmallSettings(*t);  // bench_context.h
   t->prepare(s, gl);
   (void)t->render({width, height});  // first use of every program and buffer, off the clock
 
   std::map<std::string, double> sums;
   double wall = 0.0;
   for (auto _ : state) {
-    if (relit) {
-      state.PauseTiming();
-      t->prepare(s, gl);
-      state.ResumeTiming();
-    }
+    if (relit) t->prepare(s, gl);  // off the clock: the time is the frame's GPU passes
     const auto start = std::chrono::steady_clock::now();
     techniques::FrameRequest request;
     request.readback = false;
