@@ -22,18 +22,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The file of the executable or shared object that holds this code (the Python module's, not
-// the interpreter's, when loaded by Python).
-fs::path thisBinary() {
-  Dl_info info{};
-  if (dladdr(reinterpret_cast<void*>(&pluginDirectoryCandidates), &info) == 0 ||
-      info.dli_fname == nullptr)
-    return {};
-  std::error_code ec;
-  auto p = fs::canonical(info.dli_fname, ec);
-  return ec ? fs::path() : p;
-}
-
 // What each module needs, for the error message.
 std::string whatToInstall(const std::string& name) {
   if (name == "oiio") return "OpenImageIO (Debian: libopenimageio2.4)";
@@ -66,7 +54,7 @@ std::vector<fs::path> pluginDirectoryCandidates() {
   } catch (const std::exception&) {
     // No share folder found: the other places may still hold the module.
   }
-  if (const fs::path binary = thisBinary(); !binary.empty()) {
+  if (const fs::path binary = binaryOfThisCode(); !binary.empty()) {
     const fs::path dir = binary.parent_path();
     out.push_back((dir / ".." / libdir / "translucent").lexically_normal());
     out.push_back((dir / ".." / ".." / ".." / ".." / libdir / "translucent").lexically_normal());

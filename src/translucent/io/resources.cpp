@@ -24,17 +24,6 @@ void addBinaryRelative(const std::filesystem::path& binary,
   out.push_back((dir / "share" / "translucent").lexically_normal());
 }
 
-// The file of the executable or shared object that holds this function.
-std::filesystem::path thisBinary() {
-  Dl_info info{};
-  if (dladdr(reinterpret_cast<void*>(&shareDirectoryCandidates), &info) == 0 ||
-      info.dli_fname == nullptr)
-    return {};
-  std::error_code ec;
-  auto p = std::filesystem::canonical(info.dli_fname, ec);
-  return ec ? std::filesystem::path() : p;
-}
-
 std::filesystem::path runningExecutable() {
   std::error_code ec;
   auto p = std::filesystem::read_symlink("/proc/self/exe", ec);
@@ -43,11 +32,20 @@ std::filesystem::path runningExecutable() {
 
 }  // namespace
 
+std::filesystem::path binaryOfThisCode() {
+  Dl_info info{};
+  if (dladdr(reinterpret_cast<void*>(&binaryOfThisCode), &info) == 0 || info.dli_fname == nullptr)
+    return {};
+  std::error_code ec;
+  auto p = std::filesystem::canonical(info.dli_fname, ec);
+  return ec ? std::filesystem::path() : p;
+}
+
 std::vector<std::filesystem::path> shareDirectoryCandidates() {
   std::vector<std::filesystem::path> out;
   if (const char* env = std::getenv("TRANSLUCENT_SHARE_DIR"); env != nullptr && *env != '\0')
     out.emplace_back(env);
-  addBinaryRelative(thisBinary(), out);
+  addBinaryRelative(binaryOfThisCode(), out);
   addBinaryRelative(runningExecutable(), out);
   out.emplace_back(TRANSLUCENT_SOURCE_SHARE_DIR);
   return out;

@@ -24,4 +24,9 @@ std::filesystem::path shareDirectory();
 // The places shareDirectory() looks in, in order (for error messages and `translucent --version`).
 std::vector<std::filesystem::path> shareDirectoryCandidates();
 
+// The file of the executable or shared object that holds the io layer's code (for the Python
+// module, the module's file, not the interpreter's), canonical; empty when dladdr cannot tell.
+// Installed files (share/translucent, the plug-in modules) are found relative to it.
+std::filesystem::path binaryOfThisCode();
+
 }  // namespace translucent::io
