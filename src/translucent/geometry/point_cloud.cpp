@@ -19,6 +19,7 @@
 #include <glm/geometric.hpp>
 
 #include "translucent/geometry/counter_rng.h"
+#include "translucent/geometry/point_grid.h"
 
 namespace translucent::geometry {
 namespace {
@@ -85,101 +86,6 @@ class AreaSampler {
   const TriangleMesh& mesh_;
   std::vector<double> cdf_;  // inclusive prefix sums of triangle areas
   double area_ = 0.0;
-};
-
-// ---- Uniform grid over points, hashed ----------------------------------------------------
-// The points are copied in cell order (cell key, then index: a total order, so the parallel sort
-// is deterministic), and an open-addressing table maps a cell key to its run of slots. Callers
-// work on slots, so neighbours are close in memory; memory is O(points) however thin the surface
-// is inside its bounding box.
-class PointGrid {
- public:
-  PointGrid(std::span<const glm::vec3> points, double cellSize) {
-    glm::dvec3 lo(std::numeric_limits<double>::max()), hi(std::numeric_limits<double>::lowest());
-    for (const auto& p : points) {
-      lo = glm::min(lo, glm::dvec3(p));
-      hi = glm::max(hi, glm::dvec3(p));
-    }
-    origin_ = lo;
-    // Keys hold 21 bits per axis; coarser cells only cost speed, never correctness, since
-    // queries never look farther than the cells next to their own.
-    const double extent = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
-    cell_ = std::max(cellSize, extent / double(1u << 20));
-    if (!(cell_ > 0.0)) cell_ = 1.0;  // all points coincide
-
-    const size_t n = points.size();
-    std::vector<std::pair<uint64_t, uint32_t>> entries(n);
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, n), [&](const auto& r) {
-      for (size_t i = r.begin(); i != r.end(); ++i)
-        entries[i] = {key(cellOf(points[i])), static_cast<uint32_t>(i)};
-    });
-    tbb::parallel_sort(entries.begin(), entries.end());
-    index_.resize(n);
-    position_.resize(n);
-    size_t cells = 0;
-    for (size_t s = 0; s < n; ++s) {
-      index_[s] = entries[s].second;
-      position_[s] = points[entries[s].second];
-      if (s == 0 || entries[s].first != entries[s - 1].first) ++cells;
-    }
-    const size_t capacity = std::bit_ceil(std::max<size_t>(2 * cells, 16));
-    table_.assign(capacity, Slot{});
-    mask_ = capacity - 1;
-    for (size_t i = 0; i < n;) {
-      size_t j = i + 1;
-      while (j < n && entries[j].first == entries[i].first) ++j;
-      size_t h = mix64(entries[i].first) & mask_;
-      while (table_[h].key != kEmpty) h = (h + 1) & mask_;
-      table_[h] = {entries[i].first, static_cast<uint32_t>(i), static_cast<uint32_t>(j)};
-      i = j;
-    }
-  }
-
-  size_t size() const { return index_.size(); }
-  double cellSize() const { return cell_; }
-  const glm::vec3& position(uint32_t slot) const { return position_[slot]; }
-  uint32_t index(uint32_t slot) const { return index_[slot]; }  // the point's input index
-
-  glm::ivec3 cellOf(const glm::vec3& p) const {
-    return glm::ivec3(glm::floor((glm::dvec3(p) - origin_) / cell_));
-  }
-  // Calls f(slot) for every point in cell c, in slot order.
-  template <class F>
-  void forEachInCell(const glm::ivec3& c, F&& f) const {
-    constexpr int kLimit = 1 << 21;
-    if (c.x < 0 || c.y < 0 || c.z < 0 || c.x >= kLimit || c.y >= kLimit || c.z >= kLimit) return;
-    const uint64_t k = key(c);
-    for (size_t h = mix64(k) & mask_; table_[h].key != kEmpty; h = (h + 1) & mask_) {
-      if (table_[h].key != k) continue;
-      for (uint32_t s = table_[h].begin; s < table_[h].end; ++s) f(s);
-      return;
-    }
-  }
-  // Every point in the 27 cells around p's cell, in a fixed order.
-  template <class F>
-  void forEachNear(const glm::vec3& p, F&& f) const {
-    const glm::ivec3 c = cellOf(p);
-    for (int dz = -1; dz <= 1; ++dz)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) forEachInCell(c + glm::ivec3(dx, dy, dz), f);
-  }
-
- private:
-  static constexpr uint64_t kEmpty = ~uint64_t(0);
-  struct Slot {
-    uint64_t key = kEmpty;
-    uint32_t begin = 0, end = 0;
-  };
-  static uint64_t key(const glm::ivec3& c) {
-    return (uint64_t(uint32_t(c.x)) << 42) | (uint64_t(uint32_t(c.y)) << 21) | uint64_t(uint32_t(c.z));
-  }
-
-  glm::dvec3 origin_{0.0};
-  double cell_ = 1.0;
-  std::vector<uint32_t> index_;
-  std::vector<glm::vec3> position_;
-  std::vector<Slot> table_;
-  size_t mask_ = 0;
 };
 
 double distance2(const glm::vec3& a, const glm::vec3& b) {

@@ -14,6 +14,7 @@ add_library(translucent_reference_scenes STATIC
   sphere.cpp
   sphere_integration.cpp
   mesh_tracer.cpp
+  surface_transfer.cpp  # transport from surface entry discs (the transfer technique)
   camera_paths.cpp  # the mesh reference from the camera: backward paths with next-event estimation
   majorant_grid.cpp  # heterogeneous media: delta tracking through a majorant grid
   model_reference.cpp)  # scene files: src/scene (mesh_scene.h maps the old names)

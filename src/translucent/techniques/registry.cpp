@@ -9,6 +9,7 @@
 #include "translucent/techniques/pointcloud/pointcloud_technique.h"
 #include "translucent/techniques/splatting/splatting_technique.h"
 #include "translucent/techniques/tsis/tsis_technique.h"
+#include "translucent/techniques/transfer/transfer_technique.h"
 #include "translucent/techniques/tsm/tsm_technique.h"
 
 namespace translucent::techniques {
@@ -36,6 +37,8 @@ constexpr Entry kTechniques[] = {
      &splatting::makeSplattingTechnique},
     {"shah", "image-space splatting of every irradiance texel with full-size splats (Shah, Kontinen & Pattanaik 2009)",
      &splatting::makeShahTechnique},
+    {"transfer", "precomputed subsurface transfer of a static mesh, path-traced once (in the spirit of Wang et al. 2005 and Hašan et al. 2006)",
+     &transfer::makeTransferTechnique},
 };
 
 const Entry& find(std::string_view name) {

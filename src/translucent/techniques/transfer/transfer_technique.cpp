@@ -1,0 +1,310 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "translucent/techniques/transfer/transfer_technique.h"
+
+#include <fmt/format.h>
+
+#include <optional>
+
+#include <glm/geometric.hpp>
+
+#include "translucent/bssrdf/exit_radiance.h"
+#include "translucent/geometry/point_cloud.h"
+#include "translucent/gpu/compute.h"
+#include "translucent/gpu/pass_timer.h"
+#include "translucent/gpu/program.h"
+#include "translucent/techniques/common/gl_resources.h"
+#include "translucent/techniques/common/light_shadows.h"
+#include "translucent/techniques/common/profile_kernel.h"
+#include "translucent/techniques/common/surface_irradiance.h"
+
+namespace translucent::transfer {
+namespace {
+
+using techniques::ParameterInfo;
+using techniques::ParameterValue;
+
+// SSBO bindings (shaders/transfer/*.comp; 2 and 3 are the irradiance pass's points and output,
+// 12 and 13 the mesh as pointcloud/hetero.glsl reads it).
+enum Binding : GLuint {
+  kPoints = 2,
+  kIrradiance = 3,
+  kRadianceOut = 7,
+  kExitanceOut = 8,
+  kMeshVertices = 12,
+  kMeshTriangles = 13,
+  kMatrix = 20,
+  kNodeExitance = 21,
+  kVertexNodeList = 22,
+  kVertexWeights = 23,
+  kVertexExitance = 24,
+};
+
+std::vector<ParameterInfo> parameterInfos() {
+  std::vector<ParameterInfo> infos{
+      ParameterInfo::integer("nodes", 2048, 64, 4096,
+                             "surface nodes of the transfer matrix (its memory grows as nodes², "
+                             "its detail as sqrt(nodes))")
+          .withSweep({256, 512, 1024, 2048, 4096}),
+      ParameterInfo::integer("photons", 512, 16, 65536,
+                             "path-traced photons per node and colour channel in the "
+                             "preprocessing (its noise falls as 1/sqrt(photons))"),
+      ParameterInfo::integer("seed", 1, 0, 1000000000, "seed of the nodes and of the photons"),
+      techniques::radianceConventionParameter(),
+  };
+  for (ParameterInfo& p : techniques::lightingParameters()) infos.push_back(std::move(p));
+  return infos;
+}
+
+glm::vec3 toVec3(const glm::dvec3& v) { return glm::vec3(v); }
+
+// What the operator depends on: the placed mesh and the material (not the lights, camera or
+// display), and the options.
+std::string operatorKey(const scene::Scene& s, const TransferOptions& o) {
+  scene::Scene k = s;
+  k.lights.clear();
+  k.camera = reference::Camera{};
+  k.clip_near = k.clip_far = 0.0;
+  k.technique = "transfer";
+  k.settings.clear();
+  k.exposure = 0.0;
+  k.gamma = 2.2;
+  k.cone_angle = 5.0;
+  return fmt::format("transfer v1|{}|{}|{}|nodes={}|photons={}|seed={}", scene::meshKey(s),
+                     scene::mediumKey(s), scene::toJson(k), o.nodes, o.photons, o.seed);
+}
+
+}  // namespace
+
+struct TransferTechnique::Impl : techniques::ClosedMeshState {
+  techniques::ParameterSet params{parameterInfos()};
+  std::optional<scene::Scene> scene;
+  std::string opKey;  // the operator on the GPU
+  TransferOperator op;
+  techniques::SurfaceIrradiance lighting;
+  bool lightingDirty = true;
+  gpu::Buffer points, matrix, nodeExitance, vertexNodes, vertexWeights, vertexExitance,
+      meshVertices, meshTriangles, radianceOut, exitanceOut;
+  size_t outPixels = 0;
+  std::optional<gpu::ShaderProgram> gbufferProgram, applyProgram, vertexProgram, radianceProgram;
+  techniques::GBuffer gbuffer;
+  std::optional<gpu::PassTimer> timer;
+  std::vector<std::string> notes;
+
+  TransferOptions options() const {
+    TransferOptions o;
+    o.nodes = params.getInt("nodes");
+    o.photons = static_cast<uint64_t>(params.getInt("photons"));
+    o.seed = static_cast<uint64_t>(params.getInt("seed"));
+    return o;
+  }
+
+  void buildPrograms() {
+    if (gbufferProgram) return;
+    const gpu::Defines hetero{{"PC_HETERO", "1"}, {"PC_PROFILE_NODES", "2"}};
+    gbufferProgram.emplace(
+        gpu::ShaderProgram::graphics("pointcloud/gbuffer.vert", "pointcloud/gbuffer.frag", hetero));
+    applyProgram.emplace(gpu::ShaderProgram::compute("transfer/apply.comp"));
+    vertexProgram.emplace(gpu::ShaderProgram::compute("transfer/vertex.comp"));
+    radianceProgram.emplace(gpu::ShaderProgram::compute("transfer/radiance.comp", hetero));
+    gpu::checkGlError("building the transfer programs");
+  }
+
+  // The operator for the scene and parameters: cached on disk, uploaded once per key.
+  void buildOperator() {
+    const scene::Scene& s = *scene;
+    const TransferOptions o = options();
+    const std::string key = operatorKey(s, o);
+    if (key == opKey) return;
+    opKey.clear();
+    // The largest storage buffer the driver takes must hold the matrix.
+    GLint64 maxBlock = 0;
+    glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &maxBlock);
+    const uint64_t matrixBytes = 3ull * uint64_t(o.nodes) * uint64_t(o.nodes) * sizeof(float);
+    if (maxBlock > 0 && matrixBytes > uint64_t(maxBlock))
+      throw ParameterError(fmt::format(
+          "transfer: nodes {} needs a {:.0f} MiB matrix; the GL driver's storage buffers hold at "
+          "most {:.0f} MiB: use fewer nodes", o.nodes, double(matrixBytes) / 1048576.0,
+          double(maxBlock) / 1048576.0));
+    const material::Material mat = scene::sceneMaterial(s, mesh);
+    CachedTransfer cached = loadOrBuildTransferOperator(mesh, techniques::vertexNormals(mesh), mat,
+                                                        o, key, geometry::defaultCacheDirectory());
+    op = std::move(cached.op);
+    notes.push_back(fmt::format(
+        "transfer: {} nodes, {} photons per node and channel: {:.1f} s of path tracing ({} "
+        "photons), {:.1f} MiB; {} {}", op.nodes, o.photons, op.seconds, op.photons,
+        double(op.bytes()) / 1048576.0, cached.fromCache ? "read from" : "cached in",
+        cached.file.string()));
+    if (!cached.note.empty()) notes.push_back("transfer cache: " + cached.note);
+    if (op.missedEntries > 0)
+      notes.push_back(fmt::format("transfer: {} of {} node discs were not entered by their beam "
+                                  "(their columns are 0)", op.missedEntries, op.nodes));
+
+    std::vector<glm::vec4> pts(2 * op.nodes);
+    for (size_t i = 0; i < op.nodes; ++i) {
+      pts[2 * i] = glm::vec4(op.positions[i], op.areas[i]);
+      pts[2 * i + 1] = glm::vec4(op.normals[i], 0.0f);
+    }
+    points = gpu::makeStorageBuffer(std::span<const glm::vec4>(pts));
+    matrix = gpu::makeStorageBuffer(std::span<const float>(op.matrix));
+    nodeExitance = gpu::makeStorageBuffer(op.nodes * sizeof(glm::vec4));
+    vertexNodes = gpu::makeStorageBuffer(std::span<const uint32_t>(op.vertexNodes));
+    vertexWeights = gpu::makeStorageBuffer(std::span<const float>(op.vertexWeights));
+    vertexExitance = gpu::makeStorageBuffer(mesh.vertexCount() * sizeof(glm::vec4));
+    std::vector<glm::vec4> verts(mesh.vertexCount());
+    for (size_t i = 0; i < verts.size(); ++i) verts[i] = glm::vec4(glm::vec3(mesh.positions[i]), 1.0f);
+    std::vector<glm::uvec4> tris(mesh.triangleCount());
+    for (size_t i = 0; i < tris.size(); ++i) tris[i] = glm::uvec4(mesh.triangles[i], 0u);
+    meshVertices = gpu::makeStorageBuffer(std::span<const glm::vec4>(verts));
+    meshTriangles = gpu::makeStorageBuffer(std::span<const glm::uvec4>(tris));
+    gpu::checkGlError("uploading the transfer operator");
+    lightingDirty = true;
+    opKey = key;
+  }
+
+  techniques::Frame render(const techniques::FrameRequest& request) {
+    if (!scene) throw ParameterError("transfer: render() before prepare(): expected a scene");
+    const scene::Scene& s = *scene;
+    const auto [width, height] = techniques::frameSize(request, s.camera);
+    buildPrograms();
+    buildOperator();
+    if (!timer) timer.emplace();
+    techniques::Frame frame;
+    frame.notes = std::move(notes);
+    notes.clear();
+
+    const bool reuse = !lightingDirty;
+    if (lightingDirty) lighting.restartEnvironment();
+    lightingDirty = false;
+    const bool lit = lighting.update(*gpuMesh, points, op.nodes, static_cast<float>(s.medium.eta),
+                                     techniques::shadowLookup(params),
+                                     techniques::environmentBudget(params, request.converge),
+                                     &*timer, reuse);
+    if (lighting.hasOccludedEnvironment()) frame.converged = lit;
+    {
+      auto t = timer->scope("transfer");
+      gpu::bindStorage(kIrradiance, lighting.irradiance());
+      gpu::bindStorage(kMatrix, matrix);
+      gpu::bindStorage(kNodeExitance, nodeExitance);
+      applyProgram->set("Nodes", static_cast<unsigned>(op.nodes));
+      gpu::dispatch1D(*applyProgram, op.nodes);
+    }
+    {
+      auto t = timer->scope("vertices");
+      gpu::bindStorage(kNodeExitance, nodeExitance);
+      gpu::bindStorage(kVertexNodeList, vertexNodes);
+      gpu::bindStorage(kVertexWeights, vertexWeights);
+      gpu::bindStorage(kVertexExitance, vertexExitance);
+      vertexProgram->set("Vertices", static_cast<unsigned>(mesh.vertexCount()));
+      gpu::dispatch1D(*vertexProgram, mesh.vertexCount());
+    }
+    {
+      auto t = timer->scope("g-buffer");
+      gbuffer.resize(width, height);
+      const glm::mat4 vp = techniques::cameraViewProjection(s.camera, s.clip_near, s.clip_far,
+                                                            center, radius, width, height);
+      gbuffer.render(*gpuMesh, *gbufferProgram, vp);
+    }
+    const size_t pixels = size_t(width) * size_t(height);
+    if (pixels != outPixels) {
+      radianceOut = gpu::makeStorageBuffer(pixels * sizeof(glm::vec4));
+      exitanceOut = gpu::makeStorageBuffer(pixels * sizeof(glm::vec4));
+      outPixels = pixels;
+    }
+    {
+      auto t = timer->scope("radiance");
+      const gpu::ShaderProgram& p = *radianceProgram;
+      gpu::bindStorage(kVertexExitance, vertexExitance);
+      gpu::bindStorage(kMeshVertices, meshVertices);
+      gpu::bindStorage(kMeshTriangles, meshTriangles);
+      gpu::bindStorage(kRadianceOut, radianceOut);
+      gpu::bindStorage(kExitanceOut, exitanceOut);
+      glBindTextureUnit(0, gbuffer.position().id());
+      glBindTextureUnit(1, gbuffer.normal().id());
+      glProgramUniform2ui(p.id(), p.uniformLocation("Size"), unsigned(width), unsigned(height));
+      p.set("Eta", static_cast<float>(s.medium.eta));
+      p.set("ExitScale", glm::vec3(static_cast<float>(bssrdf::exitConventionScale(
+                             bssrdf::parseExitConvention(params.getEnum("radiance_convention")),
+                             s.medium.eta))));
+      p.set("CameraPosition", toVec3(s.camera.position));
+      p.set("CameraForward", toVec3(glm::normalize(s.camera.look_at - s.camera.position)));
+      p.set("Orthographic", s.camera.projection == reference::Camera::Projection::Orthographic);
+      gpu::dispatch(p, {(unsigned(width) + 7u) / 8u, (unsigned(height) + 7u) / 8u, 1u});
+    }
+    gpu::checkGlError("transfer frame");
+    frame.width = width;
+    frame.height = height;
+    if (request.readback) techniques::readRadianceAndExitance(frame, radianceOut, exitanceOut, pixels);
+    techniques::addPasses(frame, *timer);
+    return frame;
+  }
+};
+
+TransferTechnique::TransferTechnique() : impl_(std::make_unique<Impl>()) {}
+TransferTechnique::~TransferTechnique() = default;
+
+std::string_view TransferTechnique::description() const {
+  return "precomputed subsurface transfer of a static mesh, path-traced once (in the spirit of "
+         "Wang et al. 2005 and Hašan et al. 2006)";
+}
+
+const std::vector<ParameterInfo>& TransferTechnique::parameters() const {
+  return impl_->params.infos();
+}
+
+void TransferTechnique::setParameter(std::string_view name, const ParameterValue& value) {
+  if (!impl_->params.set(name, value)) return;
+  if (name == "shadow_map_size" && impl_->scene)
+    impl_->lighting.prepareLights(*impl_->scene, impl_->center, impl_->radius,
+                                  impl_->params.getInt("shadow_map_size"), "transfer");
+  if (name.starts_with("shadow_") || name.starts_with("ibl_")) impl_->lightingDirty = true;
+}
+
+ParameterValue TransferTechnique::parameter(std::string_view name) const {
+  return impl_->params.get(name);
+}
+
+void TransferTechnique::prepare(const scene::Scene& scene, gpu::Context& gl) {
+  gl.makeCurrent();
+  scene.camera.validate();
+  scene.medium.validate();
+  if (!scene.mesh_deform.empty())
+    throw ParameterError(
+        "mesh.deform: the transfer technique precomputes the transport of one shape and renders "
+        "static meshes only: expected no deformation, or the pointcloud or splatting technique");
+  impl_->buildPrograms();
+  if (impl_->loadClosedMesh(scene)) impl_->opKey.clear();
+  impl_->lighting.prepareLights(scene, impl_->center, impl_->radius,
+                                impl_->params.getInt("shadow_map_size"), "transfer");
+  impl_->lightingDirty = true;
+  impl_->scene = scene;
+  impl_->buildOperator();
+}
+
+techniques::Frame TransferTechnique::render(const techniques::FrameRequest& request) {
+  return impl_->render(request);
+}
+
+bool TransferTechnique::setCamera(const reference::Camera& camera) {
+  if (!impl_->scene) return false;
+  camera.validate();
+  impl_->scene->camera = camera;
+  return true;
+}
+
+const TransferOperator& TransferTechnique::transferOperator() const { return impl_->op; }
+const geometry::TriangleMesh& TransferTechnique::mesh() const { return impl_->mesh; }
+
+std::vector<glm::vec3> TransferTechnique::gpuIrradiance() const {
+  const auto v = gpu::download<glm::vec4>(impl_->lighting.irradiance(), impl_->op.nodes);
+  return {v.begin(), v.end()};
+}
+std::vector<glm::vec3> TransferTechnique::gpuNodeExitance() const {
+  const auto v = gpu::download<glm::vec4>(impl_->nodeExitance, impl_->op.nodes);
+  return {v.begin(), v.end()};
+}
+
+std::unique_ptr<techniques::Technique> makeTransferTechnique() {
+  return std::make_unique<TransferTechnique>();
+}
+
+}  // namespace translucent::transfer
