@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 
+#include <array>
 #include <optional>
 
 #include <glm/geometric.hpp>
@@ -32,7 +33,9 @@ enum Binding : GLuint {
   kExitanceOut = 8,
   kMeshVertices = 12,
   kMeshTriangles = 13,
-  kMatrix = 20,
+  kMatrixR = 20,
+  kMatrixG = 25,
+  kMatrixB = 26,
   kNodeExitance = 21,
   kVertexNodeList = 22,
   kVertexWeights = 23,
@@ -82,11 +85,12 @@ struct TransferTechnique::Impl : techniques::ClosedMeshState {
   TransferOperator op;
   techniques::SurfaceIrradiance lighting;
   bool lightingDirty = true;
-  gpu::Buffer points, matrix, nodeExitance, vertexNodes, vertexWeights, vertexExitance,
+  gpu::Buffer points, nodeExitance, vertexNodes, vertexWeights, vertexExitance,
       meshVertices, meshTriangles, radianceOut, exitanceOut;
   size_t outPixels = 0;
   std::optional<gpu::ShaderProgram> gbufferProgram, applyProgram, vertexProgram, radianceProgram;
   techniques::GBuffer gbuffer;
+  std::array<gpu::Buffer, 3> matrix;  // K per channel
   std::optional<gpu::PassTimer> timer;
   std::vector<std::string> notes;
 
@@ -116,15 +120,15 @@ struct TransferTechnique::Impl : techniques::ClosedMeshState {
     const std::string key = operatorKey(s, o);
     if (key == opKey) return;
     opKey.clear();
-    // The largest storage buffer the driver takes must hold the matrix.
+    // The largest storage buffer the driver takes must hold one channel's matrix.
     GLint64 maxBlock = 0;
     glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &maxBlock);
-    const uint64_t matrixBytes = 3ull * uint64_t(o.nodes) * uint64_t(o.nodes) * sizeof(float);
+    const uint64_t matrixBytes = uint64_t(o.nodes) * uint64_t(o.nodes) * sizeof(float);
     if (maxBlock > 0 && matrixBytes > uint64_t(maxBlock))
       throw ParameterError(fmt::format(
-          "transfer: nodes {} needs a {:.0f} MiB matrix; the GL driver's storage buffers hold at "
-          "most {:.0f} MiB: use fewer nodes", o.nodes, double(matrixBytes) / 1048576.0,
-          double(maxBlock) / 1048576.0));
+          "transfer: nodes {} needs a {:.0f} MiB matrix per channel; the GL driver's storage "
+          "buffers hold at most {:.0f} MiB: use fewer nodes", o.nodes,
+          double(matrixBytes) / 1048576.0, double(maxBlock) / 1048576.0));
     const material::Material mat = scene::sceneMaterial(s, mesh);
     CachedTransfer cached = loadOrBuildTransferOperator(mesh, techniques::vertexNormals(mesh), mat,
                                                         o, key, geometry::defaultCacheDirectory());
@@ -145,7 +149,9 @@ struct TransferTechnique::Impl : techniques::ClosedMeshState {
       pts[2 * i + 1] = glm::vec4(op.normals[i], 0.0f);
     }
     points = gpu::makeStorageBuffer(std::span<const glm::vec4>(pts));
-    matrix = gpu::makeStorageBuffer(std::span<const float>(op.matrix));
+    const size_t plane = op.nodes * op.nodes;
+    for (size_t c = 0; c < 3; ++c)
+      matrix[c] = gpu::makeStorageBuffer(std::span<const float>(op.matrix.data() + c * plane, plane));
     nodeExitance = gpu::makeStorageBuffer(op.nodes * sizeof(glm::vec4));
     vertexNodes = gpu::makeStorageBuffer(std::span<const uint32_t>(op.vertexNodes));
     vertexWeights = gpu::makeStorageBuffer(std::span<const float>(op.vertexWeights));
@@ -183,7 +189,9 @@ struct TransferTechnique::Impl : techniques::ClosedMeshState {
     {
       auto t = timer->scope("transfer");
       gpu::bindStorage(kIrradiance, lighting.irradiance());
-      gpu::bindStorage(kMatrix, matrix);
+      gpu::bindStorage(kMatrixR, matrix[0]);
+      gpu::bindStorage(kMatrixG, matrix[1]);
+      gpu::bindStorage(kMatrixB, matrix[2]);
       gpu::bindStorage(kNodeExitance, nodeExitance);
       applyProgram->set("Nodes", static_cast<unsigned>(op.nodes));
       gpu::dispatch1D(*applyProgram, op.nodes);
