@@ -12,6 +12,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
+#include "translucent/bssrdf/exit_radiance.h"
 #include "translucent/gpu/compute.h"
 
 namespace translucent::techniques {
@@ -402,6 +403,21 @@ void readRadianceAndExitance(Frame& frame, const gpu::Buffer& radiance, const gp
       frame.rgb[i * 3 + size_t(c)] = rad[i][c];
       out[i * 3 + size_t(c)] = ex[i][c];
     }
+}
+
+void setExitRadianceUniforms(const gpu::ShaderProgram& p, const GBuffer& gbuffer,
+                             const scene::Scene& s, const ParameterSet& params, int width,
+                             int height) {
+  glBindTextureUnit(0, gbuffer.position().id());
+  glBindTextureUnit(1, gbuffer.normal().id());
+  glProgramUniform2ui(p.id(), p.uniformLocation("Size"), unsigned(width), unsigned(height));
+  p.set("Eta", static_cast<float>(s.medium.eta));
+  p.set("ExitScale", glm::vec3(static_cast<float>(bssrdf::exitConventionScale(
+                         bssrdf::parseExitConvention(params.getEnum("radiance_convention")),
+                         s.medium.eta))));
+  p.set("CameraPosition", glm::vec3(s.camera.position));
+  p.set("CameraForward", glm::vec3(glm::normalize(s.camera.look_at - s.camera.position)));
+  p.set("Orthographic", s.camera.projection == reference::Camera::Projection::Orthographic);
 }
 
 }  // namespace translucent::techniques

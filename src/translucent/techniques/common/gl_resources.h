@@ -228,6 +228,15 @@ FrameSize frameSize(const FrameRequest& request, const reference::Camera& camera
 // techniques that do render it.
 void requireHomogeneousMaterial(const scene::Scene& scene, const char* technique);
 
+// The uniforms every radiance pass over the G-buffer shares (pointcloud, tsis, tsm, splatting,
+// transfer: L = s Ft(η, n·ω_o) B / π per pixel): the G-buffer's position and normal on texture
+// units 0 and 1, Size (width, height), Eta, ExitScale (s of the technique's radiance_convention
+// parameter, bssrdf/exit_radiance.h; one η per medium, so the same factor in every channel),
+// CameraPosition, CameraForward and Orthographic of the scene's camera.
+void setExitRadianceUniforms(const gpu::ShaderProgram& program, const GBuffer& gbuffer,
+                             const scene::Scene& scene, const ParameterSet& params, int width,
+                             int height);
+
 // Every pass the timer ended since its last collect() into frame.passes (waits for the GPU).
 void addPasses(Frame& frame, gpu::PassTimer& timer);
 

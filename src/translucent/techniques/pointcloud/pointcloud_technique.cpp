@@ -522,19 +522,9 @@ struct PointCloudTechnique::Impl : techniques::ClosedMeshState {
       const gpu::ShaderProgram& p = *radianceProgram;
       gpu::bindStorage(kRadianceOut, radianceOut);
       gpu::bindStorage(kExitanceOut, exitanceOut);
-      glBindTextureUnit(0, gbuffer.position().id());
-      glBindTextureUnit(1, gbuffer.normal().id());
-      glProgramUniform2ui(p.id(), p.uniformLocation("Size"), unsigned(width), unsigned(height));
+      techniques::setExitRadianceUniforms(p, gbuffer, s, params, width, height);
       p.set("Epsilon", static_cast<float>(params.getFloat("epsilon")));
       p.set("Criterion", params.getEnum("criterion") == "bbox" ? 0 : 1);
-      p.set("Eta", static_cast<float>(s.medium.eta));
-      // One η per medium, so the same factor in every channel.
-      p.set("ExitScale", glm::vec3(static_cast<float>(bssrdf::exitConventionScale(
-                             bssrdf::parseExitConvention(params.getEnum("radiance_convention")),
-                             s.medium.eta))));
-      p.set("CameraPosition", toVec3(s.camera.position));
-      p.set("CameraForward", toVec3(glm::normalize(s.camera.look_at - s.camera.position)));
-      p.set("Orthographic", s.camera.projection == reference::Camera::Projection::Orthographic);
       p.set("ProfileRMax", static_cast<float>(tables[0].r_max));
       p.set("ProfileCount", static_cast<unsigned>(tables[0].size()));
       if (hetero) p.set("HeteroRadius", static_cast<float>(cloudProfiles.radius()));

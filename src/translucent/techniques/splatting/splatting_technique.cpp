@@ -523,17 +523,8 @@ struct SplattingTechnique::Impl : techniques::ClosedMeshState {
       const gpu::ShaderProgram& p = *radianceProgram;
       gpu::bindStorage(kRadianceOut, radianceOut);
       gpu::bindStorage(kExitanceOut, exitanceOut);
-      glBindTextureUnit(0, gbuffer.position().id());
-      glBindTextureUnit(1, gbuffer.normal().id());
+      techniques::setExitRadianceUniforms(p, gbuffer, s, params, width, height);
       glBindTextureUnit(2, accum.id());
-      glProgramUniform2ui(p.id(), p.uniformLocation("Size"), unsigned(width), unsigned(height));
-      p.set("Eta", static_cast<float>(s.medium.eta));
-      p.set("ExitScale", glm::vec3(static_cast<float>(bssrdf::exitConventionScale(
-                             bssrdf::parseExitConvention(params.getEnum("radiance_convention")),
-                             s.medium.eta))));
-      p.set("CameraPosition", toVec3(s.camera.position));
-      p.set("CameraForward", toVec3(glm::normalize(s.camera.look_at - s.camera.position)));
-      p.set("Orthographic", s.camera.projection == reference::Camera::Projection::Orthographic);
       gpu::dispatch(p, {(unsigned(width) + 7u) / 8u, (unsigned(height) + 7u) / 8u, 1u});
       glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     }

@@ -58,7 +58,6 @@ std::vector<ParameterInfo> parameterInfos() {
   return infos;
 }
 
-glm::vec3 toVec3(const glm::dvec3& v) { return glm::vec3(v); }
 
 // What the operator depends on: the placed mesh and the material (not the lights, camera or
 // display), and the options.
@@ -226,16 +225,7 @@ struct TransferTechnique::Impl : techniques::ClosedMeshState {
       gpu::bindStorage(kMeshTriangles, meshTriangles);
       gpu::bindStorage(kRadianceOut, radianceOut);
       gpu::bindStorage(kExitanceOut, exitanceOut);
-      glBindTextureUnit(0, gbuffer.position().id());
-      glBindTextureUnit(1, gbuffer.normal().id());
-      glProgramUniform2ui(p.id(), p.uniformLocation("Size"), unsigned(width), unsigned(height));
-      p.set("Eta", static_cast<float>(s.medium.eta));
-      p.set("ExitScale", glm::vec3(static_cast<float>(bssrdf::exitConventionScale(
-                             bssrdf::parseExitConvention(params.getEnum("radiance_convention")),
-                             s.medium.eta))));
-      p.set("CameraPosition", toVec3(s.camera.position));
-      p.set("CameraForward", toVec3(glm::normalize(s.camera.look_at - s.camera.position)));
-      p.set("Orthographic", s.camera.projection == reference::Camera::Projection::Orthographic);
+      techniques::setExitRadianceUniforms(p, gbuffer, s, params, width, height);
       gpu::dispatch(p, {(unsigned(width) + 7u) / 8u, (unsigned(height) + 7u) / 8u, 1u});
     }
     gpu::checkGlError("transfer frame");

@@ -105,7 +105,6 @@ std::vector<ParameterInfo> parameterInfos() {
   return infos;
 }
 
-glm::vec3 toVec3(const glm::dvec3& v) { return glm::vec3(v); }
 
 // Rotation of frame k: the golden-ratio additive recurrence, equidistributed in [0, 1), so the
 // frames' stratified sample sets tile the u interval ever more finely as they accumulate.
@@ -404,17 +403,8 @@ struct TsisTechnique::Impl : techniques::ClosedMeshState {
       gpu::bindStorage(kRadianceOut, radianceOut);
       gpu::bindStorage(kExitanceOut, exitanceOut);
       gpu::bindStorage(kAccum, accum);
-      glBindTextureUnit(0, gbuffer.position().id());
-      glBindTextureUnit(1, gbuffer.normal().id());
-      glProgramUniform2ui(p.id(), p.uniformLocation("Size"), unsigned(width), unsigned(height));
+      techniques::setExitRadianceUniforms(p, gbuffer, s, params, width, height);
       p.set("SampleCount", static_cast<unsigned>(sampleCount));
-      p.set("Eta", static_cast<float>(s.medium.eta));
-      p.set("ExitScale", glm::vec3(static_cast<float>(bssrdf::exitConventionScale(
-                             bssrdf::parseExitConvention(params.getEnum("radiance_convention")),
-                             s.medium.eta))));
-      p.set("CameraPosition", toVec3(s.camera.position));
-      p.set("CameraForward", toVec3(glm::normalize(s.camera.look_at - s.camera.position)));
-      p.set("Orthographic", s.camera.projection == reference::Camera::Projection::Orthographic);
       p.set("ProfileRMax", static_cast<float>(tables[0].r_max));
       p.set("ProfileCount", static_cast<unsigned>(tables[0].size()));
       p.set("Accumulate", accumulate);

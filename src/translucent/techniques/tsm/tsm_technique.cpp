@@ -58,7 +58,6 @@ std::vector<ParameterInfo> parameterInfos() {
   };
 }
 
-glm::vec3 toVec3(const glm::dvec3& v) { return glm::vec3(v); }
 glm::vec3 toVec3(const Rgb& c) {
   return {static_cast<float>(c[0]), static_cast<float>(c[1]), static_cast<float>(c[2])};
 }
@@ -263,16 +262,7 @@ struct TsmTechnique::Impl : techniques::ClosedMeshState {
       gpu::bindStorage(kRegions, regions);
       gpu::bindStorage(kRadianceOut, radianceOut);
       gpu::bindStorage(kExitanceOut, exitanceOut);
-      glBindTextureUnit(0, gbuffer.position().id());
-      glBindTextureUnit(1, gbuffer.normal().id());
-      glProgramUniform2ui(p.id(), p.uniformLocation("Size"), unsigned(width), unsigned(height));
-      p.set("Eta", static_cast<float>(s.medium.eta));
-      p.set("ExitScale", glm::vec3(static_cast<float>(bssrdf::exitConventionScale(
-                             bssrdf::parseExitConvention(params.getEnum("radiance_convention")),
-                             s.medium.eta))));
-      p.set("CameraPosition", toVec3(s.camera.position));
-      p.set("CameraForward", toVec3(glm::normalize(s.camera.look_at - s.camera.position)));
-      p.set("Orthographic", s.camera.projection == reference::Camera::Projection::Orthographic);
+      techniques::setExitRadianceUniforms(p, gbuffer, s, params, width, height);
       p.set("ProfileRMax", static_cast<float>(tables[0].r_max));
       p.set("ProfileCount", static_cast<unsigned>(tables[0].size()));
       p.set("RegionH", static_cast<unsigned>(kRegionH));
