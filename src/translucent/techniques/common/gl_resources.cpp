@@ -405,6 +405,16 @@ void readRadianceAndExitance(Frame& frame, const gpu::Buffer& radiance, const gp
     }
 }
 
+void uploadMeshStorage(const geometry::TriangleMesh& mesh, gpu::Buffer& vertices,
+                       gpu::Buffer& triangles) {
+  std::vector<glm::vec4> verts(mesh.vertexCount());
+  for (size_t i = 0; i < verts.size(); ++i) verts[i] = glm::vec4(glm::vec3(mesh.positions[i]), 1.0f);
+  std::vector<glm::uvec4> tris(mesh.triangleCount());
+  for (size_t i = 0; i < tris.size(); ++i) tris[i] = glm::uvec4(mesh.triangles[i], 0u);
+  vertices = gpu::makeStorageBuffer(std::span<const glm::vec4>(verts));
+  triangles = gpu::makeStorageBuffer(std::span<const glm::uvec4>(tris));
+}
+
 void setExitRadianceUniforms(const gpu::ShaderProgram& p, const GBuffer& gbuffer,
                              const scene::Scene& s, const ParameterSet& params, int width,
                              int height) {

@@ -228,6 +228,12 @@ FrameSize frameSize(const FrameRequest& request, const reference::Camera& camera
 // techniques that do render it.
 void requireHomogeneousMaterial(const scene::Scene& scene, const char* technique);
 
+// The mesh as shaders read it from storage buffers (pointcloud/hetero.glsl, bindings 12 and 13:
+// vec4 positions with w = 1, uvec4 triangles with w = 0): the G-buffer's triangle index becomes a
+// point's triangle and its vertices there.
+void uploadMeshStorage(const geometry::TriangleMesh& mesh, gpu::Buffer& vertices,
+                       gpu::Buffer& triangles);
+
 // The uniforms every radiance pass over the G-buffer shares (pointcloud, tsis, tsm, splatting,
 // transfer: L = s Ft(η, n·ω_o) B / π per pixel): the G-buffer's position and normal on texture
 // units 0 and 1, Size (width, height), Eta, ExitScale (s of the technique's radiance_convention

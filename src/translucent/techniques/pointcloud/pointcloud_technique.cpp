@@ -256,12 +256,7 @@ struct PointCloudTechnique::Impl : techniques::ClosedMeshState {
     for (size_t v = 0; v < mesh.vertexCount(); ++v)
       for (const glm::vec4& node : profileNodes(vertexProfiles, v)) vprof.push_back(node);
     vertexProfileBuffer = gpu::makeStorageBuffer(std::span<const glm::vec4>(vprof));
-    std::vector<glm::vec4> verts(mesh.vertexCount());
-    for (size_t i = 0; i < verts.size(); ++i) verts[i] = glm::vec4(vp[i], 1.0f);
-    std::vector<glm::uvec4> tris(mesh.triangleCount());
-    for (size_t i = 0; i < tris.size(); ++i) tris[i] = glm::uvec4(mesh.triangles[i], 0u);
-    meshVertices = gpu::makeStorageBuffer(std::span<const glm::vec4>(verts));
-    meshTriangles = gpu::makeStorageBuffer(std::span<const glm::uvec4>(tris));
+    techniques::uploadMeshStorage(mesh, meshVertices, meshTriangles);
     const int profileNodes = cloudProfiles.segments() + 1;
     if (!gbufferHetero || heteroProgramNodes != profileNodes) {
       const gpu::Defines d{{"PC_HETERO", "1"}, {"PC_PROFILE_NODES", std::to_string(profileNodes)}};

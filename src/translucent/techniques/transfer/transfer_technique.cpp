@@ -155,12 +155,7 @@ struct TransferTechnique::Impl : techniques::ClosedMeshState {
     vertexNodes = gpu::makeStorageBuffer(std::span<const uint32_t>(op.vertexNodes));
     vertexWeights = gpu::makeStorageBuffer(std::span<const float>(op.vertexWeights));
     vertexExitance = gpu::makeStorageBuffer(mesh.vertexCount() * sizeof(glm::vec4));
-    std::vector<glm::vec4> verts(mesh.vertexCount());
-    for (size_t i = 0; i < verts.size(); ++i) verts[i] = glm::vec4(glm::vec3(mesh.positions[i]), 1.0f);
-    std::vector<glm::uvec4> tris(mesh.triangleCount());
-    for (size_t i = 0; i < tris.size(); ++i) tris[i] = glm::uvec4(mesh.triangles[i], 0u);
-    meshVertices = gpu::makeStorageBuffer(std::span<const glm::vec4>(verts));
-    meshTriangles = gpu::makeStorageBuffer(std::span<const glm::uvec4>(tris));
+    techniques::uploadMeshStorage(mesh, meshVertices, meshTriangles);
     gpu::checkGlError("uploading the transfer operator");
     lightingDirty = true;
     opKey = key;
