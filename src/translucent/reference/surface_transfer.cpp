@@ -27,10 +27,10 @@ class EntryBlock final : public ExitTally::Block {
 
 Light entryLight(const SurfaceEntry& e) {
   BeamLight beam;
-  beam.direction = -e.normal;
-  // Above the surface by the disc's radius: a disc that straddled a bump would start some rays
-  // inside the body (they would "enter" where they leave it).
-  beam.origin = e.position + e.radius * e.normal;
+  beam.direction = e.direction == glm::dvec3(0.0) ? -e.normal : e.direction;
+  // Back from the surface by the disc's radius: a disc that straddled a bump would start some
+  // rays inside the body (they would "enter" where they leave it).
+  beam.origin = e.position - e.radius * beam.direction;
   beam.radius = e.radius;
   beam.power = 1.0;
   return Light{beam, Rgb{1.0, 1.0, 1.0}};
@@ -55,11 +55,14 @@ SurfaceTransferStats traceSurfaceEntries(const Body& body, std::span<const Scala
   for (size_t j = 0; j < entries.size(); ++j) {
     const SurfaceEntry& e = entries[j];
     const double len = glm::length(e.normal);
+    const bool along = e.direction == glm::dvec3(0.0) ||
+                       (std::abs(glm::length(e.direction) - 1.0) < 1e-3 && glm::dot(e.direction, e.normal) < 0.0);
     if (!std::isfinite(e.position.x + e.position.y + e.position.z) || !(std::abs(len - 1.0) < 1e-3) ||
-        !(e.radius > 0.0) || !std::isfinite(e.radius))
+        !(e.radius > 0.0) || !std::isfinite(e.radius) || !along)
       throw ParameterError(fmt::format(
-          "surface transfer: entry {}: expected a finite position, a unit normal and a radius > 0 "
-          "(normal length {}, radius {})", j, len, e.radius));
+          "surface transfer: entry {}: expected a finite position, a unit normal, a radius > 0 and "
+          "a unit direction into the surface or none (normal length {}, radius {})", j, len,
+          e.radius));
   }
   const BoundingSphere bounds = body.bounds();
   struct Result {
@@ -76,7 +79,7 @@ SurfaceTransferStats traceSurfaceEntries(const Body& body, std::span<const Scala
     detail::BlockCounters k(nc);
     EntryBlock tally(score, static_cast<size_t>(j));
     for (size_t c = 0; c < nc; ++c) {
-      Rng rng(O.seed, j * nc + c);
+      Rng rng(O.seed, entries[j].stream * nc + c);
       for (uint64_t p = 0; p < O.photons; ++p) {
         if ((p & 63u) == 0 && stop.load(std::memory_order_relaxed)) return false;
         if (volume) {

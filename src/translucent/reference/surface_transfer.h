@@ -9,7 +9,8 @@
 // (thin parts, curvature, re-entry through concavities) rather than a half-space model.
 //
 // Per entry j and colour channel: `photons` photons of a collimated beam of radius r_j that
-// arrives along -n_j at p_j (its origin r_j above the surface along n_j), with the exact walk of
+// arrives at p_j along its direction (-n_j by default; its origin r_j back along it), with the
+// exact walk of
 // tracePhotons: Fresnel transmittance Ft(η, cos θi) and Snell refraction at the first hit,
 // free flights (exponential, or delta tracking through the majorant grid of a heterogeneous
 // medium), internal reflection, exits (each reported to `score`), flight in air and re-entry,
@@ -17,11 +18,7 @@
 // flux actually transmitted in is summed per entry and channel (SurfaceTransferStats::entered),
 // so that score's weights divided by it are the exiting flux per unit entering flux, whatever
 // part of the disc missed or grazed the surface.
-// The beam enters at normal incidence: the light of a scene arrives at other angles, which moves
-// the first collision by at most a mean free path sideways; the transfer assumes this is below
-// the scale of the entries (a caller chooses entries some mean free paths apart).
-//
-// Determinism: channel c of entry j draws from Rng(seed, j · channels + c); the exits of entry j
+// Determinism: channel c of entry j draws from Rng(seed, stream_j · channels + c); the exits of entry j
 // are reported, in photon order, from one thread. Results depend on (body, media, entries,
 // options) only, not on the thread count.
 #pragma once
@@ -42,7 +39,14 @@ namespace translucent::reference {
 struct SurfaceEntry {
   glm::dvec3 position{};  // on the surface
   glm::dvec3 normal{};    // unit, outward
-  double radius = 0.0;    // of the entry disc [scene units], > 0
+  double radius = 0.0;    // of the beam [scene units], > 0
+  // The beam's direction of flight (unit, into the surface: direction · normal < 0); zero: along
+  // -normal (normal incidence).
+  glm::dvec3 direction{0.0};
+  // Photons of channel c draw from Rng(seed, stream · channels + c): entries that share a stream
+  // share their random numbers (common random numbers, for differences between entries that
+  // differ only in direction).
+  uint64_t stream = 0;
 };
 
 struct SurfaceTransferOptions {

@@ -12,6 +12,8 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <sstream>
+#include <string_view>
 #include <numbers>
 #include <optional>
 #include <stdexcept>
@@ -19,8 +21,8 @@
 
 #include <glm/geometric.hpp>
 
+#include "translucent/geometry/atomic_file.h"
 #include "translucent/geometry/point_grid.h"
-#include "translucent/io/output_guard.h"
 #include "translucent/optics/medium.h"
 #include "translucent/reference/majorant_grid.h"
 #include "translucent/reference/mesh_tracer.h"
@@ -45,20 +47,29 @@ uint32_t sameSideNearest(const std::vector<std::pair<double, uint32_t>>& candida
 size_t TransferOperator::bytes() const {
   return matrix.size() * sizeof(float) + vertexNodes.size() * sizeof(uint32_t) +
          vertexWeights.size() * sizeof(float) +
-         nodes * (2 * sizeof(glm::vec3) + sizeof(float));
+         nodes * (3 * sizeof(glm::vec3) + sizeof(float));
 }
 
-std::vector<glm::vec3> TransferOperator::exitance(const std::vector<glm::vec3>& E) const {
-  if (E.size() != nodes)
-    throw ParameterError(fmt::format("transfer: {} irradiance values for {} nodes", E.size(), nodes));
+std::vector<glm::vec3> TransferOperator::exitance(const std::vector<glm::vec3>& E,
+                                                  const std::vector<glm::vec3>& Eu,
+                                                  const std::vector<glm::vec3>& Ev) const {
+  const bool tilted = !Eu.empty() || !Ev.empty();
+  if (E.size() != nodes || (tilted && (matrices != 3 || Eu.size() != nodes || Ev.size() != nodes)))
+    throw ParameterError(fmt::format("transfer: {} irradiance values ({} and {} tilted) for {} "
+                                     "nodes and {} matrices", E.size(), Eu.size(), Ev.size(),
+                                     nodes, matrices));
   std::vector<glm::vec3> B(nodes, glm::vec3(0.0f));
+  const std::vector<glm::vec3>* inputs[3] = {&E, &Eu, &Ev};
   tbb::parallel_for(tbb::blocked_range<size_t>(0, nodes), [&](const auto& r) {
     for (size_t i = r.begin(); i != r.end(); ++i)
-      for (int c = 0; c < 3; ++c) {
-        const float* row = &matrix[(size_t(c) * nodes + i) * nodes];
+      for (size_t c = 0; c < 3; ++c) {
         double s = 0.0;
-        for (size_t j = 0; j < nodes; ++j) s += double(row[j]) * double(E[j][c]);
-        B[i][c] = float(s);
+        for (size_t m = 0; m < (tilted ? 3u : 1u); ++m) {
+          const float* row = &matrix[((c * matrices + m) * nodes + i) * nodes];
+          const std::vector<glm::vec3>& in = *inputs[m];
+          for (size_t j = 0; j < nodes; ++j) s += double(row[j]) * double(in[j][int(c)]);
+        }
+        B[i][int(c)] = float(s);
       }
   });
   return B;
@@ -140,18 +151,43 @@ TransferOperator buildTransferOperator(const geometry::TriangleMesh& mesh,
       op.areas[i] = float(total * std::max(double(counts[i].load()), 0.5) / double(probe.size()));
   }
 
-  std::vector<reference::SurfaceEntry> entries(N);
-  for (size_t j = 0; j < N; ++j)
-    entries[j] = {glm::dvec3(cloud.positions[j]), glm::normalize(glm::dvec3(cloud.normals[j])),
-                  std::sqrt(double(cloud.areas[j]) / std::numbers::pi)};
+  // The beams: per node the normal one and, with first_order, four tilted ones (+u, -u, +v, -v)
+  // on the same random numbers (stream j). Entry e = j · beams + b.
+  const size_t beams = options.first_order ? 5 : 1;
+  op.matrices = options.first_order ? 3 : 1;
+  op.tangents.resize(N);
+  std::vector<reference::SurfaceEntry> entries(N * beams);
+  for (size_t j = 0; j < N; ++j) {
+    const glm::dvec3 n = glm::normalize(glm::dvec3(cloud.normals[j]));
+    // Any unit tangent: the frame only has to be the same here and in the GPU pass (which gets u
+    // and rebuilds v = n × u).
+    const glm::dvec3 u = glm::normalize(glm::cross(n, std::abs(n.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0)));
+    const glm::dvec3 v = glm::cross(n, u);
+    op.tangents[j] = glm::vec3(u);
+    const double radius = std::sqrt(double(cloud.areas[j]) / std::numbers::pi);
+    for (size_t b = 0; b < beams; ++b) {
+      reference::SurfaceEntry& e = entries[j * beams + b];
+      e = {glm::dvec3(cloud.positions[j]), n, radius, glm::dvec3(0.0), j};
+      if (b == 0) continue;
+      // The direction outside whose refraction leans by kTilt towards ±u or ±v: Snell, the
+      // tangential part of the direction scales by η from inside to outside.
+      const glm::dvec3 lean = (b == 1 ? u : b == 2 ? -u : b == 3 ? v : -v);
+      const double sinOut = std::min(kTilt * material.medium.eta, 0.99);
+      e.direction = glm::normalize(sinOut * lean - std::sqrt(1.0 - sinOut * sinOut) * n);
+    }
+  }
+  if (options.first_order && kTilt * material.medium.eta > 0.99)
+    throw ParameterError(fmt::format("transfer: first_order with η = {}: a refracted direction "
+                                     "leaning by {} cannot be reached from outside; use "
+                                     "first_order false", material.medium.eta, kTilt));
 
-  // Exiting flux per entry, column-major while tracing (entry j's column is written only by the
-  // thread tracing it): X[(j · 3 + c) · N + i].
-  std::vector<float> X(N * 3 * N, 0.0f);
-  const reference::SurfaceExitScore score = [&](size_t j, const reference::ExitRecord& e) {
-    const auto near = grid.nearest(glm::vec3(e.position), kExitCandidates);
-    const uint32_t i = sameSideNearest(near, cloud.normals, e.normal);
-    X[(j * 3 + size_t(e.channel)) * N + i] += float(e.weight);
+  // Exiting flux per entry, column-major while tracing (entry e's column is written only by the
+  // thread tracing it): X[(e · 3 + c) · N + i].
+  std::vector<float> X(entries.size() * 3 * N, 0.0f);
+  const reference::SurfaceExitScore score = [&](size_t e, const reference::ExitRecord& x) {
+    const auto near = grid.nearest(glm::vec3(x.position), kExitCandidates);
+    const uint32_t i = sameSideNearest(near, cloud.normals, x.normal);
+    X[(e * 3 + size_t(x.channel)) * N + i] += float(x.weight);
   };
   reference::SurfaceTransferOptions to;
   to.photons = options.photons;
@@ -162,17 +198,26 @@ TransferOperator buildTransferOperator(const geometry::TriangleMesh& mesh,
   if (stats.partial) throw ParameterError("transfer: the preprocessing was stopped");
   op.photons = stats.photons;
 
-  op.matrix.assign(3 * N * N, 0.0f);
+  // K per beam: exiting flux per unit entered flux, times A_j / A_i; 0 for a beam that missed.
+  const auto column = [&](size_t e, size_t c, size_t i) {
+    const double in = stats.entered[e][c];
+    return in > 0.0 ? double(X[(e * 3 + c) * N + i]) / in * double(op.areas[e / beams]) /
+                          double(op.areas[i])
+                    : 0.0;
+  };
+  op.matrix.assign(3 * op.matrices * N * N, 0.0f);
   for (size_t j = 0; j < N; ++j) {
-    if (!(stats.entered[j][0] > 0.0)) ++op.missedEntries;
-    for (size_t c = 0; c < 3; ++c) {
-      const double in = stats.entered[j][c];
-      if (!(in > 0.0)) continue;
-      const float* col = &X[(j * 3 + c) * N];
-      for (size_t i = 0; i < N; ++i)
-        op.matrix[(c * N + i) * N + j] =
-            float(double(col[i]) / in * double(op.areas[j]) / double(op.areas[i]));
-    }
+    if (!(stats.entered[j * beams][0] > 0.0)) ++op.missedEntries;
+    for (size_t c = 0; c < 3; ++c)
+      for (size_t i = 0; i < N; ++i) {
+        const size_t e = j * beams;
+        op.matrix[((c * op.matrices) * N + i) * N + j] = float(column(e, c, i));
+        if (beams == 1) continue;
+        op.matrix[((c * op.matrices + 1) * N + i) * N + j] =
+            float((column(e + 1, c, i) - column(e + 2, c, i)) / (2.0 * kTilt));
+        op.matrix[((c * op.matrices + 2) * N + i) * N + j] =
+            float((column(e + 3, c, i) - column(e + 4, c, i)) / (2.0 * kTilt));
+      }
   }
 
   // Vertex weights: Gaussian of the spacing, same side only, normalised.
@@ -204,114 +249,123 @@ TransferOperator buildTransferOperator(const geometry::TriangleMesh& mesh,
 }
 
 // ---- cache ------------------------------------------------------------------------------------
+// Layout: magic, the key (length + bytes), N, seconds, photons, missed entries, then the arrays
+// (count + values), and last the content hash of everything before it (geometry::contentHash, as
+// the other caches: a truncated or edited file is rebuilt, not used).
 
 namespace {
 
 template <class T>
-void put(std::ofstream& f, const T& v) {
-  f.write(reinterpret_cast<const char*>(&v), sizeof(T));
+void put(std::string& out, const T& v) {
+  out.append(reinterpret_cast<const char*>(&v), sizeof(T));
 }
 template <class T>
-void putVector(std::ofstream& f, const std::vector<T>& v) {
-  put(f, uint64_t(v.size()));
-  f.write(reinterpret_cast<const char*>(v.data()), std::streamsize(v.size() * sizeof(T)));
-}
-template <class T>
-T get(std::ifstream& f, const std::filesystem::path& path) {
-  T v{};
-  if (!f.read(reinterpret_cast<char*>(&v), sizeof(T)))
-    throw std::runtime_error(fmt::format("{}: truncated transfer operator", path.string()));
-  return v;
-}
-template <class T>
-std::vector<T> getVector(std::ifstream& f, const std::filesystem::path& path, uint64_t expected) {
-  const auto n = get<uint64_t>(f, path);
-  if (n != expected)
-    throw std::runtime_error(fmt::format("{}: an array of {} values where {} were expected",
-                                         path.string(), n, expected));
-  std::vector<T> v(n);
-  if (!f.read(reinterpret_cast<char*>(v.data()), std::streamsize(n * sizeof(T))))
-    throw std::runtime_error(fmt::format("{}: truncated transfer operator", path.string()));
-  return v;
+void putVector(std::string& out, const std::vector<T>& v) {
+  put(out, uint64_t(v.size()));
+  out.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
 }
 
-uint64_t fnv1a(const std::string& s) {
-  uint64_t h = 0xcbf29ce484222325ULL;
-  for (unsigned char ch : s) h = (h ^ ch) * 0x100000001b3ULL;
-  return h;
-}
+// Reads the file's fields in order; every read past the end throws naming the file.
+class Reader {
+ public:
+  Reader(std::string_view bytes, const std::filesystem::path& path) : bytes_(bytes), path_(path) {}
+  template <class T>
+  T get() {
+    T v{};
+    std::memcpy(&v, take(sizeof(T)).data(), sizeof(T));
+    return v;
+  }
+  template <class T>
+  std::vector<T> getVector(uint64_t expected) {
+    const auto n = get<uint64_t>();
+    if (n != expected)
+      throw std::runtime_error(fmt::format("{}: an array of {} values where {} were expected",
+                                           path_.string(), n, expected));
+    std::vector<T> v(n);
+    if (n > 0) std::memcpy(v.data(), take(n * sizeof(T)).data(), n * sizeof(T));
+    return v;
+  }
+  std::string_view take(uint64_t n) {
+    if (n > bytes_.size() - pos_)
+      throw std::runtime_error(fmt::format("{}: truncated transfer operator", path_.string()));
+    const std::string_view out = bytes_.substr(pos_, n);
+    pos_ += n;
+    return out;
+  }
+
+ private:
+  std::string_view bytes_;
+  const std::filesystem::path& path_;
+  size_t pos_ = 0;
+};
 
 }  // namespace
 
 void writeTransferOperator(const TransferOperator& op, const std::string& key,
                            const std::filesystem::path& path) {
-  const std::filesystem::path tmp = path.parent_path() / io::temporaryBeside(path, ".part");
-  {
-    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-    if (!f) throw std::runtime_error(fmt::format("{}: cannot be written", tmp.string()));
-    f.write(kMagic, sizeof(kMagic));
-    put(f, uint64_t(key.size()));
-    f.write(key.data(), std::streamsize(key.size()));
-    put(f, uint64_t(op.nodes));
-    put(f, op.seconds);
-    put(f, op.photons);
-    put(f, op.missedEntries);
-    putVector(f, op.positions);
-    putVector(f, op.normals);
-    putVector(f, op.areas);
-    putVector(f, op.matrix);
-    putVector(f, op.vertexNodes);
-    putVector(f, op.vertexWeights);
-    f.flush();
-    if (!f) {
-      std::error_code ec;
-      std::filesystem::remove(tmp, ec);
-      throw std::runtime_error(fmt::format("{}: writing failed (disk full?)", tmp.string()));
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::filesystem::remove(tmp, ec);
-    throw std::runtime_error(fmt::format("{}: cannot be written: {}", path.string(), ec.message()));
-  }
+  std::string out(kMagic, sizeof(kMagic));
+  put(out, uint64_t(key.size()));
+  out += key;
+  put(out, uint64_t(op.nodes));
+  put(out, uint64_t(op.matrices));
+  put(out, op.seconds);
+  put(out, op.photons);
+  put(out, op.missedEntries);
+  putVector(out, op.positions);
+  putVector(out, op.normals);
+  putVector(out, op.tangents);
+  putVector(out, op.areas);
+  putVector(out, op.matrix);
+  putVector(out, op.vertexNodes);
+  putVector(out, op.vertexWeights);
+  put(out, geometry::contentHash(out));
+  if (const std::string why = geometry::writeFileAtomically(path, out); !why.empty())
+    throw std::runtime_error(fmt::format("{}: {}", path.string(), why));
 }
 
 TransferOperator readTransferOperator(const std::filesystem::path& path, const std::string& key) {
   std::ifstream f(path, std::ios::binary);
   if (!f) throw std::runtime_error(fmt::format("{}: cannot be read", path.string()));
-  char magic[sizeof(kMagic)];
-  if (!f.read(magic, sizeof(magic)) || std::memcmp(magic, kMagic, sizeof(kMagic)) != 0)
+  std::ostringstream ss;
+  ss << f.rdbuf();
+  const std::string bytes = std::move(ss).str();
+  if (bytes.size() < sizeof(kMagic) + sizeof(uint64_t) ||
+      bytes.compare(0, sizeof(kMagic), kMagic, sizeof(kMagic)) != 0)
     throw std::runtime_error(fmt::format("{}: not a transfer operator", path.string()));
-  const auto keySize = get<uint64_t>(f, path);
-  if (keySize != key.size())
-    throw std::runtime_error(fmt::format("{}: made for another scene or settings", path.string()));
-  std::string stored(keySize, '\0');
-  if (!f.read(stored.data(), std::streamsize(keySize)) || stored != key)
+  const std::string_view body(bytes.data(), bytes.size() - sizeof(uint64_t));
+  uint64_t stored = 0;
+  std::memcpy(&stored, bytes.data() + body.size(), sizeof(stored));
+  if (stored != geometry::contentHash(body))
+    throw std::runtime_error(fmt::format("{}: truncated or altered transfer operator (its content "
+                                         "hash does not match)", path.string()));
+  Reader r(body, path);
+  (void)r.take(sizeof(kMagic));
+  if (r.take(r.get<uint64_t>()) != key)
     throw std::runtime_error(fmt::format("{}: made for another scene or settings", path.string()));
   TransferOperator op;
-  op.nodes = get<uint64_t>(f, path);
+  op.nodes = r.get<uint64_t>();
   if (op.nodes == 0 || op.nodes > (1u << 16))
     throw std::runtime_error(fmt::format("{}: {} nodes", path.string(), op.nodes));
-  op.seconds = get<double>(f, path);
-  op.photons = get<uint64_t>(f, path);
-  op.missedEntries = get<uint64_t>(f, path);
+  op.matrices = r.get<uint64_t>();
+  if (op.matrices != 1 && op.matrices != 3)
+    throw std::runtime_error(fmt::format("{}: {} matrices", path.string(), op.matrices));
+  op.seconds = r.get<double>();
+  op.photons = r.get<uint64_t>();
+  op.missedEntries = r.get<uint64_t>();
   const uint64_t N = op.nodes;
-  op.positions = getVector<glm::vec3>(f, path, N);
-  op.normals = getVector<glm::vec3>(f, path, N);
-  op.areas = getVector<float>(f, path, N);
-  op.matrix = getVector<float>(f, path, 3 * N * N);
-  const auto vn = get<uint64_t>(f, path);
-  if (vn % kVertexNodes != 0 || vn > (uint64_t(1) << 32))
+  op.positions = r.getVector<glm::vec3>(N);
+  op.normals = r.getVector<glm::vec3>(N);
+  op.tangents = r.getVector<glm::vec3>(N);
+  op.areas = r.getVector<float>(N);
+  op.matrix = r.getVector<float>(3 * op.matrices * N * N);
+  Reader peek = r;
+  const auto vn = peek.get<uint64_t>();
+  if (vn % kVertexNodes != 0)
     throw std::runtime_error(fmt::format("{}: corrupt vertex weights", path.string()));
-  f.seekg(-std::streamoff(sizeof(uint64_t)), std::ios::cur);
-  op.vertexNodes = getVector<uint32_t>(f, path, vn);
-  op.vertexWeights = getVector<float>(f, path, vn);
+  op.vertexNodes = r.getVector<uint32_t>(vn);
+  op.vertexWeights = r.getVector<float>(vn);
   for (uint32_t i : op.vertexNodes)
     if (i >= N) throw std::runtime_error(fmt::format("{}: corrupt vertex weights", path.string()));
-  for (float x : op.matrix)
-    if (!std::isfinite(x) || x < 0.0f)
-      throw std::runtime_error(fmt::format("{}: corrupt matrix", path.string()));
   return op;
 }
 
@@ -322,7 +376,7 @@ CachedTransfer loadOrBuildTransferOperator(const geometry::TriangleMesh& mesh,
                                            const std::filesystem::path& cacheDir,
                                            const reference::ProgressCallback& progress) {
   CachedTransfer out;
-  out.file = cacheDir / fmt::format("transfer-{:016x}.bin", fnv1a(key));
+  out.file = cacheDir / fmt::format("transfer-{:016x}.bin", geometry::contentHash(key));
   std::error_code ec;
   if (std::filesystem::is_regular_file(out.file, ec)) {
     try {

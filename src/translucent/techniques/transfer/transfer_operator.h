@@ -7,26 +7,36 @@
 //   nodes      N area-uniform surface samples (geometry/point_cloud.h, blue noise by sample
 //              elimination), node j with position p_j, normal n_j and area A_j: the area of its
 //              cell (the surface points binned into it by the rule below), by Monte Carlo;
-//   entries    a disc of the mean cell area at each node (radius sqrt(A / (N π))), lit at normal incidence
-//              by `photons` photons per channel;
+//   entries    a beam of the mean cell area (radius sqrt(A / (N π))) at each node, `photons`
+//              photons per channel, at normal incidence; with `first_order`, also four beams
+//              whose refracted direction leans by τ0 = kTilt (the sine of its angle to -n_j)
+//              towards ±u_j and ±v_j (u_j a tangent of the node, v_j = n_j × u_j), with the
+//              same random numbers as the normal beam (common random numbers: the differences
+//              below have far less noise than the beams);
 //   bins       every exit is scored into the exit node: the nearest node whose normal faces the
 //              same side as the exit's (n_i · n_exit > 0; the nearest overall if none of the
 //              kExitCandidates nearest does), so that the two faces of a thin part stay apart;
-//   matrix     K_c[i][j] = X_c[i][j] / Φ_c[j] · A_j / A_i, with X the exiting flux binned into
-//              node i from entry j and Φ the flux that entered there: then, for the irradiance
-//              E_j transmitted into the medium at node j (Ft included, as the techniques'
-//              irradiance pass computes it), the exitance is B_i = Σ_j K_c[i][j] E_j
-//              [W / scene unit²], a Monte Carlo estimate of the exitance the path tracer scores
-//              over node i's cell for that irradiance (a light-side estimator whose photons
-//              start at every node, not only the lit ones);
+//   matrices   K_c[i][j] = X_c[i][j] / Φ_c[j] · A_j / A_i, with X the exiting flux binned into
+//              node i from entry j and Φ the flux that entered there, for the normal beam (K⁰)
+//              and, with first_order, the central differences K^u = (K(+u) - K(-u)) / 2τ0 and
+//              K^v alike: for light transmitted into node j with irradiance E_j (Ft included, as
+//              the techniques' irradiance pass computes it) along a refracted direction whose
+//              tangential part is τ_j (|τ| = sin θ_t),
+//                  B_i = Σ_j K⁰[i][j] E_j + K^u[i][j] (τ_j · u_j) E_j + K^v[i][j] (τ_j · v_j) E_j
+//              [W / scene unit²]: the first-order expansion in the incident direction of the
+//              exitance the path tracer scores over node i's cell (a light-side estimator whose
+//              photons start at every node, not only the lit ones). Oblique light enters less
+//              deep and displaced towards where it travels: on a lit sphere the normal beams
+//              alone leave 5-17% too little light in the bands lit at grazing incidence
+//              (test_transfer);
 //   vertices   B at each vertex from its kVertexNodes nearest nodes, weighted by a Gaussian of
 //              the node spacing h = sqrt(A / N) and by max(n_v · n_i, 0)² (the same thin-part
 //              rule), normalised: a partition of unity, so a constant B is kept exactly.
 //
-// What it does not hold: light that arrives at other angles than the normal enters the same way
-// (the first collision moves by less than a mean free path; the irradiance's Ft uses the true
-// angle), detail of B finer than the node spacing, and deformation (the operator belongs to one
-// shape). Its cost is N² · 3 floats of memory and N · photons · 3 photon walks of preprocessing.
+// What it does not hold: the second order in the incident direction, detail of B finer than the
+// node spacing, and deformation (the operator belongs to one shape). Its cost is N² · 3 floats
+// per matrix (three with first_order) and N · photons · 3 photon walks per beam direction (five
+// with first_order) of preprocessing.
 #pragma once
 
 #include <cstdint>
@@ -45,19 +55,25 @@ namespace translucent::transfer {
 
 inline constexpr int kVertexNodes = 8;     // nodes interpolated per vertex
 inline constexpr int kExitCandidates = 8;  // nearest nodes an exit may be binned into
+// τ0 of the tilted beams: sin θ_t = 0.5 (30° inside; 40.5° outside at η = 1.3, and reachable
+// from outside for every η <= 2).
+inline constexpr double kTilt = 0.5;
 
 struct TransferOptions {
   int nodes = 2048;        // N
   uint64_t photons = 512;  // per node and channel
   uint64_t seed = 1;       // of the node sampling and of the photons
+  bool first_order = false;  // also the derivatives in the incident direction (K^u, K^v)
   int threads = 0;         // 0: all hardware threads
 };
 
 struct TransferOperator {
   size_t nodes = 0;
-  std::vector<glm::vec3> positions, normals;  // per node
-  std::vector<float> areas;                   // per node [scene units²]
-  // K_c[i][j] at matrix[(c · N + i) · N + j] [dimensionless: (W/unit² out) per (W/unit² in)].
+  size_t matrices = 1;  // 1: K⁰; 3: K⁰, K^u, K^v
+  std::vector<glm::vec3> positions, normals, tangents;  // per node (tangents: u_j)
+  std::vector<float> areas;                              // per node [scene units²]
+  // K^m_c[i][j] at matrix[((c · matrices + m) · N + i) · N + j] [dimensionless: (W/unit² out)
+  // per (W/unit² in)]: per channel one block of all matrices.
   std::vector<float> matrix;
   // Per vertex kVertexNodes (node, weight) pairs; weights sum to 1 (unused slots weight 0).
   std::vector<uint32_t> vertexNodes;
@@ -68,9 +84,11 @@ struct TransferOperator {
   uint64_t missedEntries = 0;  // node discs whose beam did not enter the body (columns of 0)
 
   size_t bytes() const;
-  // B_i = Σ_j K_c[i][j] E_j per channel (E: transmitted irradiance per node, RGB), on the CPU:
-  // the oracle of the GPU pass.
-  std::vector<glm::vec3> exitance(const std::vector<glm::vec3>& irradiance) const;
+  // B_i per channel from E (transmitted irradiance per node, RGB) and, with matrices == 3, Eu and
+  // Ev (E times τ·u_j and τ·v_j; empty: normal incidence), on the CPU: the oracle of the GPU pass.
+  std::vector<glm::vec3> exitance(const std::vector<glm::vec3>& irradiance,
+                                  const std::vector<glm::vec3>& tiltU = {},
+                                  const std::vector<glm::vec3>& tiltV = {}) const;
   // The vertices' B from the nodes' (the vertex weights).
   std::vector<glm::vec3> vertexExitance(const std::vector<glm::vec3>& nodeExitance) const;
 };

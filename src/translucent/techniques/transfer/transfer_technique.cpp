@@ -40,6 +40,9 @@ enum Binding : GLuint {
   kVertexNodeList = 22,
   kVertexWeights = 23,
   kVertexExitance = 24,
+  kLightDirections = 14,
+  kTangents = 27,
+  kTilted = 28,
 };
 
 std::vector<ParameterInfo> parameterInfos() {
@@ -52,6 +55,10 @@ std::vector<ParameterInfo> parameterInfos() {
                              "path-traced photons per node and colour channel in the "
                              "preprocessing (its noise falls as 1/sqrt(photons))"),
       ParameterInfo::integer("seed", 1, 0, 1000000000, "seed of the nodes and of the photons"),
+      ParameterInfo::enumeration("incidence", "normal", {"normal", "first-order"},
+                                 "how the transfer depends on the light's incident direction: not "
+                                 "at all (normal incidence, one matrix) or to first order (five "
+                                 "beams per node in the preprocessing, three matrices)"),
       techniques::radianceConventionParameter(),
   };
   for (ParameterInfo& p : techniques::lightingParameters()) infos.push_back(std::move(p));
@@ -71,8 +78,9 @@ std::string operatorKey(const scene::Scene& s, const TransferOptions& o) {
   k.exposure = 0.0;
   k.gamma = 2.2;
   k.cone_angle = 5.0;
-  return fmt::format("transfer v1|{}|{}|{}|nodes={}|photons={}|seed={}", scene::meshKey(s),
-                     scene::mediumKey(s), scene::toJson(k), o.nodes, o.photons, o.seed);
+  return fmt::format("transfer v2|{}|{}|nodes={}|photons={}|seed={}|first_order={}",
+                     scene::meshKey(s), scene::toJson(k), o.nodes, o.photons, o.seed,
+                     o.first_order);
 }
 
 }  // namespace
@@ -81,13 +89,15 @@ struct TransferTechnique::Impl : techniques::ClosedMeshState {
   techniques::ParameterSet params{parameterInfos()};
   std::optional<scene::Scene> scene;
   std::string opKey;  // the operator on the GPU
+  bool operatorDirty = true;  // the scene or nodes, photons or seed changed since opKey was made
   TransferOperator op;
   techniques::SurfaceIrradiance lighting;
   bool lightingDirty = true;
-  gpu::Buffer points, nodeExitance, vertexNodes, vertexWeights, vertexExitance,
+  gpu::Buffer points, tangents, tilted, nodeExitance, vertexNodes, vertexWeights, vertexExitance,
       meshVertices, meshTriangles, radianceOut, exitanceOut;
   size_t outPixels = 0;
-  std::optional<gpu::ShaderProgram> gbufferProgram, applyProgram, vertexProgram, radianceProgram;
+  std::optional<gpu::ShaderProgram> gbufferProgram, applyNormal, applyFirstOrder, tiltProgram,
+      vertexProgram, radianceProgram;
   techniques::GBuffer gbuffer;
   std::array<gpu::Buffer, 3> matrix;  // K per channel
   std::optional<gpu::PassTimer> timer;
@@ -98,6 +108,7 @@ struct TransferTechnique::Impl : techniques::ClosedMeshState {
     o.nodes = params.getInt("nodes");
     o.photons = static_cast<uint64_t>(params.getInt("photons"));
     o.seed = static_cast<uint64_t>(params.getInt("seed"));
+    o.first_order = params.getEnum("incidence") == "first-order";
     return o;
   }
 
@@ -106,23 +117,31 @@ struct TransferTechnique::Impl : techniques::ClosedMeshState {
     const gpu::Defines hetero{{"PC_HETERO", "1"}, {"PC_PROFILE_NODES", "2"}};
     gbufferProgram.emplace(
         gpu::ShaderProgram::graphics("pointcloud/gbuffer.vert", "pointcloud/gbuffer.frag", hetero));
-    applyProgram.emplace(gpu::ShaderProgram::compute("transfer/apply.comp"));
+    applyNormal.emplace(gpu::ShaderProgram::compute("transfer/apply.comp"));
+    applyFirstOrder.emplace(gpu::ShaderProgram::compute("transfer/apply.comp", {{"TX_FIRST_ORDER", "1"}}));
+    tiltProgram.emplace(gpu::ShaderProgram::compute("transfer/tilt.comp"));
     vertexProgram.emplace(gpu::ShaderProgram::compute("transfer/vertex.comp"));
     radianceProgram.emplace(gpu::ShaderProgram::compute("transfer/radiance.comp", hetero));
     gpu::checkGlError("building the transfer programs");
   }
 
-  // The operator for the scene and parameters: cached on disk, uploaded once per key.
+  // The operator for the scene and parameters: cached on disk, uploaded once per key (the key is
+  // made only after prepare() or a change of nodes, photons or seed, not every frame).
   void buildOperator() {
+    if (!operatorDirty) return;
     const scene::Scene& s = *scene;
     const TransferOptions o = options();
     const std::string key = operatorKey(s, o);
-    if (key == opKey) return;
+    if (key == opKey) {
+      operatorDirty = false;
+      return;
+    }
     opKey.clear();
     // The largest storage buffer the driver takes must hold one channel's matrix.
     GLint64 maxBlock = 0;
     glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &maxBlock);
-    const uint64_t matrixBytes = uint64_t(o.nodes) * uint64_t(o.nodes) * sizeof(float);
+    const uint64_t matrixBytes =
+        (o.first_order ? 3u : 1u) * uint64_t(o.nodes) * uint64_t(o.nodes) * sizeof(float);
     if (maxBlock > 0 && matrixBytes > uint64_t(maxBlock))
       throw ParameterError(fmt::format(
           "transfer: nodes {} needs a {:.0f} MiB matrix per channel; the GL driver's storage "
@@ -148,7 +167,11 @@ struct TransferTechnique::Impl : techniques::ClosedMeshState {
       pts[2 * i + 1] = glm::vec4(op.normals[i], 0.0f);
     }
     points = gpu::makeStorageBuffer(std::span<const glm::vec4>(pts));
-    const size_t plane = op.nodes * op.nodes;
+    std::vector<glm::vec4> tan(op.nodes);
+    for (size_t i = 0; i < op.nodes; ++i) tan[i] = glm::vec4(op.tangents[i], 0.0f);
+    tangents = gpu::makeStorageBuffer(std::span<const glm::vec4>(tan));
+    tilted = gpu::makeStorageBuffer(2 * op.nodes * sizeof(glm::vec4));
+    const size_t plane = op.matrices * op.nodes * op.nodes;
     for (size_t c = 0; c < 3; ++c)
       matrix[c] = gpu::makeStorageBuffer(std::span<const float>(op.matrix.data() + c * plane, plane));
     nodeExitance = gpu::makeStorageBuffer(op.nodes * sizeof(glm::vec4));
@@ -159,6 +182,7 @@ struct TransferTechnique::Impl : techniques::ClosedMeshState {
     gpu::checkGlError("uploading the transfer operator");
     lightingDirty = true;
     opKey = key;
+    operatorDirty = false;
   }
 
   techniques::Frame render(const techniques::FrameRequest& request) {
@@ -180,15 +204,29 @@ struct TransferTechnique::Impl : techniques::ClosedMeshState {
                                      techniques::environmentBudget(params, request.converge),
                                      &*timer, reuse);
     if (lighting.hasOccludedEnvironment()) frame.converged = lit;
+    const bool firstOrder = op.matrices == 3;
+    if (firstOrder) {
+      auto t = timer->scope("incidence");
+      gpu::bindStorage(kPoints, points);
+      gpu::bindStorage(kIrradiance, lighting.irradiance());
+      gpu::bindStorage(kLightDirections, lighting.lightDirections());
+      gpu::bindStorage(kTangents, tangents);
+      gpu::bindStorage(kTilted, tilted);
+      tiltProgram->set("Nodes", static_cast<unsigned>(op.nodes));
+      tiltProgram->set("Eta", static_cast<float>(s.medium.eta));
+      gpu::dispatch1D(*tiltProgram, op.nodes);
+    }
     {
       auto t = timer->scope("transfer");
+      const gpu::ShaderProgram& apply = firstOrder ? *applyFirstOrder : *applyNormal;
       gpu::bindStorage(kIrradiance, lighting.irradiance());
+      if (firstOrder) gpu::bindStorage(kTilted, tilted);
       gpu::bindStorage(kMatrixR, matrix[0]);
       gpu::bindStorage(kMatrixG, matrix[1]);
       gpu::bindStorage(kMatrixB, matrix[2]);
       gpu::bindStorage(kNodeExitance, nodeExitance);
-      applyProgram->set("Nodes", static_cast<unsigned>(op.nodes));
-      gpu::dispatch1D(*applyProgram, op.nodes);
+      apply.set("Nodes", static_cast<unsigned>(op.nodes));
+      gpu::dispatch1D(apply, op.nodes);
     }
     {
       auto t = timer->scope("vertices");
@@ -246,6 +284,8 @@ const std::vector<ParameterInfo>& TransferTechnique::parameters() const {
 
 void TransferTechnique::setParameter(std::string_view name, const ParameterValue& value) {
   if (!impl_->params.set(name, value)) return;
+  if (name == "nodes" || name == "photons" || name == "seed" || name == "incidence")
+    impl_->operatorDirty = true;
   if (name == "shadow_map_size" && impl_->scene)
     impl_->lighting.prepareLights(*impl_->scene, impl_->center, impl_->radius,
                                   impl_->params.getInt("shadow_map_size"), "transfer");
@@ -266,6 +306,7 @@ void TransferTechnique::prepare(const scene::Scene& scene, gpu::Context& gl) {
         "static meshes only: expected no deformation, or the pointcloud or splatting technique");
   impl_->buildPrograms();
   if (impl_->loadClosedMesh(scene)) impl_->opKey.clear();
+  impl_->operatorDirty = true;
   impl_->lighting.prepareLights(scene, impl_->center, impl_->radius,
                                 impl_->params.getInt("shadow_map_size"), "transfer");
   impl_->lightingDirty = true;
@@ -290,6 +331,16 @@ const geometry::TriangleMesh& TransferTechnique::mesh() const { return impl_->me
 std::vector<glm::vec3> TransferTechnique::gpuIrradiance() const {
   const auto v = gpu::download<glm::vec4>(impl_->lighting.irradiance(), impl_->op.nodes);
   return {v.begin(), v.end()};
+}
+std::array<std::vector<glm::vec3>, 2> TransferTechnique::gpuTiltedIrradiance() const {
+  std::array<std::vector<glm::vec3>, 2> out;
+  if (impl_->op.matrices != 3) return out;
+  const auto v = gpu::download<glm::vec4>(impl_->tilted, 2 * impl_->op.nodes);
+  for (size_t i = 0; i < impl_->op.nodes; ++i) {
+    out[0].emplace_back(v[2 * i]);
+    out[1].emplace_back(v[2 * i + 1]);
+  }
+  return out;
 }
 std::vector<glm::vec3> TransferTechnique::gpuNodeExitance() const {
   const auto v = gpu::download<glm::vec4>(impl_->nodeExitance, impl_->op.nodes);

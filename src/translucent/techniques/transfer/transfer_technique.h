@@ -10,7 +10,9 @@
 // Per frame (each pass timed on the GPU):
 //   shadow maps, irradiance   the shared irradiance pass at the N nodes (surface_irradiance.h:
 //                             every light type, Ft(η, ω_i) included)
-//   transfer                  B_i = Σ_j K[i][j] E_j (shaders/transfer/apply.comp)
+//   incidence                 (incidence first-order) E times the tangential part of the
+//                             refracted light direction per node (shaders/transfer/tilt.comp)
+//   transfer                  B_i = Σ_j K⁰[i][j] E_j (+ K^u E^u + K^v E^v; apply.comp)
 //   vertices                  B at each vertex from its nodes (vertex.comp)
 //   g-buffer                  position, triangle and normal of the visible surface
 //   radiance                  B interpolated on the triangle, L = s Ft(η, n·ω_o) B / π
@@ -22,11 +24,13 @@
 // Refuses (ParameterError): deformed meshes (the operator belongs to one shape), surface-map
 // materials (no volume to trace), more nodes than the GL driver's largest storage buffer holds.
 //
-// Parameters: nodes 2048 [64, 4096]; photons 512 [16, 65536] per node and channel; seed 1;
-// radiance_convention; the shared shadow and environment settings.
+// Parameters: nodes 2048 [64, 4096]; photons 512 [16, 65536] per node, beam and channel; seed 1;
+// incidence normal | first-order; radiance_convention; the shared shadow and environment settings.
 #pragma once
 
+#include <array>
 #include <memory>
+#include <vector>
 
 #include "translucent/techniques/technique.h"
 #include "translucent/techniques/transfer/transfer_operator.h"
@@ -55,6 +59,8 @@ class TransferTechnique final : public techniques::Technique {
   // The nodes' transmitted irradiance and exitance of the last frame (GPU results), RGB.
   std::vector<glm::vec3> gpuIrradiance() const;
   std::vector<glm::vec3> gpuNodeExitance() const;
+  // With incidence first-order, the nodes' E^u and E^v of the last frame (tilt.comp); else empty.
+  std::array<std::vector<glm::vec3>, 2> gpuTiltedIrradiance() const;
 
  private:
   struct Impl;
