@@ -3,10 +3,10 @@
 // The transfer technique's exitance per node (techniques/transfer/transfer_operator.h):
 //     B_i = Σ_j K⁰_c[i][j] E_j + K^u_c[i][j] E^u_j + K^v_c[i][j] E^v_j     per channel c,
 // K the path-traced transfer matrices (node areas folded in), E_j the irradiance transmitted into
-// the medium at node j (techniques/common/surface_irradiance.h), E^u, E^v its first-order
-// inputs (tilt.comp; only with TX_FIRST_ORDER). One invocation per node.
+// the medium over node j's cell, E^u, E^v its first-order inputs (cells.comp; E^u, E^v only with
+// TX_FIRST_ORDER). One invocation per node.
 layout(local_size_x = 64) in;
-layout(std430, binding = 3) readonly buffer TxIrradiance { vec4 txIrradiance[]; };
+layout(std430, binding = 29) readonly buffer TxNodeIrradiance { vec4 txNodeIrradiance[]; };
 #ifdef TX_FIRST_ORDER
 layout(std430, binding = 28) readonly buffer TxTilted { vec4 txTilted[]; };  // E^u, E^v per node
 const uint TX_MATRICES = 3u;
@@ -27,7 +27,7 @@ void main() {
   for (uint m = 0u; m < TX_MATRICES; ++m) {
     uint row = (m * Nodes + i) * Nodes;
     for (uint j = 0u; j < Nodes; ++j) {
-      vec3 e = m == 0u ? txIrradiance[j].xyz :
+      vec3 e = m == 0u ? txNodeIrradiance[j].xyz :
 #ifdef TX_FIRST_ORDER
                          txTilted[2u * j + m - 1u].xyz;
 #else

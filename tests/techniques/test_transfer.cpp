@@ -259,6 +259,23 @@ TEST_F(TransferGpu, RendersThePathTracersExitanceOfALitSphere) {
   const techniques::Frame f = t->render({});
   auto& tt = dynamic_cast<TransferTechnique&>(*t);
 
+  // Each node's irradiance is the mean over its cell's samples (the sun along +z on a convex
+  // body: E = E0 Ft(η, μ) μ where μ = n·z > 0); within 1% of the largest (the shadow map's
+  // filtered edge at the terminator).
+  const TransferOperator& op = tt.transferOperator();
+  const std::vector<glm::vec3> nodeE = tt.gpuIrradiance();
+  double maxE = 0.0, maxEDiff = 0.0;
+  for (size_t j = 0; j < op.nodes; ++j) {
+    double mean = 0.0;
+    for (uint32_t k = 0; k < kCellSamples; ++k) {
+      const double mu = std::max(0.0, double(op.sampleNormals[j * kCellSamples + k].z));
+      mean += 2.0 * mu * (1.0 - fresnelReflectance(mu, s.medium.eta)) / kCellSamples;
+    }
+    maxE = std::max(maxE, mean);
+    maxEDiff = std::max(maxEDiff, std::abs(double(nodeE[j].y) - mean));
+  }
+  EXPECT_LT(maxEDiff, 0.01 * maxE);
+
   // GPU transfer against the CPU's product with the same irradiance.
   const std::vector<glm::vec3> cpu = tt.transferOperator().exitance(tt.gpuIrradiance());
   const std::vector<glm::vec3> gpuB = tt.gpuNodeExitance();

@@ -6,7 +6,6 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <atomic>
 #include <bit>
 #include <chrono>
 #include <cmath>
@@ -31,7 +30,7 @@
 namespace translucent::transfer {
 namespace {
 
-constexpr char kMagic[8] = {'T', 'L', 'X', 'F', 'E', 'R', '0', '1'};
+constexpr char kMagic[8] = {'T', 'L', 'X', 'F', 'E', 'R', '0', '2'};
 
 // The node of `candidates` (nearest first) nearest to a point with normal n on the same side
 // (n_i · n > 0); the nearest overall when none is.
@@ -47,7 +46,8 @@ uint32_t sameSideNearest(const std::vector<std::pair<double, uint32_t>>& candida
 size_t TransferOperator::bytes() const {
   return matrix.size() * sizeof(float) + vertexNodes.size() * sizeof(uint32_t) +
          vertexWeights.size() * sizeof(float) +
-         nodes * (3 * sizeof(glm::vec3) + sizeof(float));
+         nodes * (3 * sizeof(glm::vec3) + sizeof(float)) +
+         (samplePositions.size() + sampleNormals.size()) * sizeof(glm::vec3);
 }
 
 std::vector<glm::vec3> TransferOperator::exitance(const std::vector<glm::vec3>& E,
@@ -138,17 +138,34 @@ TransferOperator buildTransferOperator(const geometry::TriangleMesh& mesh,
     probes.seed = options.seed ^ 0x9e3779b97f4a7c15ULL;
     probes.method = geometry::SamplingMethod::Random;
     const geometry::PointCloud probe = geometry::samplePointCloud(mesh, probes);
-    std::vector<std::atomic<uint32_t>> counts(N);
+    std::vector<uint32_t> owner(probe.size());
     tbb::parallel_for(tbb::blocked_range<size_t>(0, probe.size()), [&](const auto& r) {
-      for (size_t k = r.begin(); k != r.end(); ++k) {
-        const auto near = grid.nearest(probe.positions[k], kExitCandidates);
-        counts[sameSideNearest(near, cloud.normals, glm::dvec3(probe.normals[k]))].fetch_add(
-            1, std::memory_order_relaxed);
-      }
+      for (size_t k = r.begin(); k != r.end(); ++k)
+        owner[k] = sameSideNearest(grid.nearest(probe.positions[k], kExitCandidates),
+                                   cloud.normals, glm::dvec3(probe.normals[k]));
     });
+    std::vector<uint32_t> counts(N, 0);
+    for (uint32_t i : owner) ++counts[i];
     const double total = cloud.totalArea();
     for (size_t i = 0; i < N; ++i)
-      op.areas[i] = float(total * std::max(double(counts[i].load()), 0.5) / double(probe.size()));
+      op.areas[i] = float(total * std::max(double(counts[i]), 0.5) / double(probe.size()));
+    // The cells' irradiance samples: each cell's first kCellSamples probes (uniform over the
+    // cell, as the probes are over the surface); a cell with fewer is filled up with its node.
+    op.samplePositions.assign(N * kCellSamples, glm::vec3(0.0f));
+    op.sampleNormals.assign(N * kCellSamples, glm::vec3(0.0f));
+    std::vector<uint32_t> taken(N, 0);
+    for (size_t k = 0; k < probe.size(); ++k) {
+      const uint32_t i = owner[k];
+      if (taken[i] == kCellSamples) continue;
+      op.samplePositions[i * kCellSamples + taken[i]] = probe.positions[k];
+      op.sampleNormals[i * kCellSamples + taken[i]] = probe.normals[k];
+      ++taken[i];
+    }
+    for (size_t i = 0; i < N; ++i)
+      for (uint32_t t = taken[i]; t < kCellSamples; ++t) {
+        op.samplePositions[i * kCellSamples + t] = cloud.positions[i];
+        op.sampleNormals[i * kCellSamples + t] = cloud.normals[i];
+      }
   }
 
   // The beams: per node the normal one and, with first_order, four tilted ones (+u, -u, +v, -v)
@@ -311,6 +328,8 @@ void writeTransferOperator(const TransferOperator& op, const std::string& key,
   put(out, op.seconds);
   put(out, op.photons);
   put(out, op.missedEntries);
+  putVector(out, op.samplePositions);
+  putVector(out, op.sampleNormals);
   putVector(out, op.positions);
   putVector(out, op.normals);
   putVector(out, op.tangents);
@@ -352,6 +371,8 @@ TransferOperator readTransferOperator(const std::filesystem::path& path, const s
   op.seconds = r.get<double>();
   op.photons = r.get<uint64_t>();
   op.missedEntries = r.get<uint64_t>();
+  op.samplePositions = r.getVector<glm::vec3>(op.nodes * kCellSamples);
+  op.sampleNormals = r.getVector<glm::vec3>(op.nodes * kCellSamples);
   const uint64_t N = op.nodes;
   op.positions = r.getVector<glm::vec3>(N);
   op.normals = r.getVector<glm::vec3>(N);

@@ -16,6 +16,10 @@
 //   bins       every exit is scored into the exit node: the nearest node whose normal faces the
 //              same side as the exit's (n_i · n_exit > 0; the nearest overall if none of the
 //              kExitCandidates nearest does), so that the two faces of a thin part stay apart;
+//   irradiance E_j is the mean over kCellSamples area-uniform points of node j's cell (probes of
+//              the cell areas), not a point sample at the node: on the backlit bunny with 512
+//              nodes the per-node error against the path tracer falls from 23% to 13% (12% to
+//              10% at 2048 nodes and 4x the photons);
 //   matrices   K_c[i][j] = X_c[i][j] / Φ_c[j] · A_j / A_i, with X the exiting flux binned into
 //              node i from entry j and Φ the flux that entered there, for the normal beam (K⁰)
 //              and, with first_order, the central differences K^u = (K(+u) - K(-u)) / 2τ0 and
@@ -58,6 +62,9 @@ inline constexpr int kExitCandidates = 8;  // nearest nodes an exit may be binne
 // τ0 of the tilted beams: sin θ_t = 0.5 (30° inside; 40.5° outside at η = 1.3, and reachable
 // from outside for every η <= 2).
 inline constexpr double kTilt = 0.5;
+// Irradiance samples per cell: E_j is the mean over them (a point sample at the node puts the
+// whole cell in the light or in the shadow where a shadow edge or terminator crosses it).
+inline constexpr uint32_t kCellSamples = 16;
 
 struct TransferOptions {
   int nodes = 2048;        // N
@@ -72,6 +79,9 @@ struct TransferOperator {
   size_t matrices = 1;  // 1: K⁰; 3: K⁰, K^u, K^v
   std::vector<glm::vec3> positions, normals, tangents;  // per node (tangents: u_j)
   std::vector<float> areas;                              // per node [scene units²]
+  // Per node kCellSamples points of its cell (area-uniform), where the irradiance is sampled:
+  // E_j is their mean.
+  std::vector<glm::vec3> samplePositions, sampleNormals;
   // K^m_c[i][j] at matrix[((c · matrices + m) · N + i) · N + j] [dimensionless: (W/unit² out)
   // per (W/unit² in)]: per channel one block of all matrices.
   std::vector<float> matrix;

@@ -41,8 +41,9 @@ enum Binding : GLuint {
   kVertexWeights = 23,
   kVertexExitance = 24,
   kLightDirections = 14,
-  kTangents = 27,
+  kFrames = 27,
   kTilted = 28,
+  kNodeIrradiance = 29,
 };
 
 std::vector<ParameterInfo> parameterInfos() {
@@ -78,7 +79,7 @@ std::string operatorKey(const scene::Scene& s, const TransferOptions& o) {
   k.exposure = 0.0;
   k.gamma = 2.2;
   k.cone_angle = 5.0;
-  return fmt::format("transfer v2|{}|{}|nodes={}|photons={}|seed={}|first_order={}",
+  return fmt::format("transfer v3|{}|{}|nodes={}|photons={}|seed={}|first_order={}",
                      scene::meshKey(s), scene::toJson(k), o.nodes, o.photons, o.seed,
                      o.first_order);
 }
@@ -93,11 +94,11 @@ struct TransferTechnique::Impl : techniques::ClosedMeshState {
   TransferOperator op;
   techniques::SurfaceIrradiance lighting;
   bool lightingDirty = true;
-  gpu::Buffer points, tangents, tilted, nodeExitance, vertexNodes, vertexWeights, vertexExitance,
+  gpu::Buffer points, frames, nodeIrradiance, tilted, nodeExitance, vertexNodes, vertexWeights, vertexExitance,
       meshVertices, meshTriangles, radianceOut, exitanceOut;
   size_t outPixels = 0;
-  std::optional<gpu::ShaderProgram> gbufferProgram, applyNormal, applyFirstOrder, tiltProgram,
-      vertexProgram, radianceProgram;
+  std::optional<gpu::ShaderProgram> gbufferProgram, applyNormal, applyFirstOrder, cellsNormal,
+      cellsFirstOrder, vertexProgram, radianceProgram;
   techniques::GBuffer gbuffer;
   std::array<gpu::Buffer, 3> matrix;  // K per channel
   std::optional<gpu::PassTimer> timer;
@@ -117,9 +118,11 @@ struct TransferTechnique::Impl : techniques::ClosedMeshState {
     const gpu::Defines hetero{{"PC_HETERO", "1"}, {"PC_PROFILE_NODES", "2"}};
     gbufferProgram.emplace(
         gpu::ShaderProgram::graphics("pointcloud/gbuffer.vert", "pointcloud/gbuffer.frag", hetero));
+    const gpu::Defines firstOrder{{"TX_FIRST_ORDER", "1"}};
     applyNormal.emplace(gpu::ShaderProgram::compute("transfer/apply.comp"));
-    applyFirstOrder.emplace(gpu::ShaderProgram::compute("transfer/apply.comp", {{"TX_FIRST_ORDER", "1"}}));
-    tiltProgram.emplace(gpu::ShaderProgram::compute("transfer/tilt.comp"));
+    applyFirstOrder.emplace(gpu::ShaderProgram::compute("transfer/apply.comp", firstOrder));
+    cellsNormal.emplace(gpu::ShaderProgram::compute("transfer/cells.comp"));
+    cellsFirstOrder.emplace(gpu::ShaderProgram::compute("transfer/cells.comp", firstOrder));
     vertexProgram.emplace(gpu::ShaderProgram::compute("transfer/vertex.comp"));
     radianceProgram.emplace(gpu::ShaderProgram::compute("transfer/radiance.comp", hetero));
     gpu::checkGlError("building the transfer programs");
@@ -161,15 +164,21 @@ struct TransferTechnique::Impl : techniques::ClosedMeshState {
       notes.push_back(fmt::format("transfer: {} of {} node discs were not entered by their beam "
                                   "(their columns are 0)", op.missedEntries, op.nodes));
 
-    std::vector<glm::vec4> pts(2 * op.nodes);
-    for (size_t i = 0; i < op.nodes; ++i) {
-      pts[2 * i] = glm::vec4(op.positions[i], op.areas[i]);
-      pts[2 * i + 1] = glm::vec4(op.normals[i], 0.0f);
+    // The irradiance pass's points (PcPoint: position and area, normal): the cells' samples.
+    const size_t samples = op.samplePositions.size();
+    std::vector<glm::vec4> pts(2 * samples);
+    for (size_t k = 0; k < samples; ++k) {
+      pts[2 * k] = glm::vec4(op.samplePositions[k], op.areas[k / kCellSamples] / float(kCellSamples));
+      pts[2 * k + 1] = glm::vec4(op.sampleNormals[k], 0.0f);
     }
     points = gpu::makeStorageBuffer(std::span<const glm::vec4>(pts));
-    std::vector<glm::vec4> tan(op.nodes);
-    for (size_t i = 0; i < op.nodes; ++i) tan[i] = glm::vec4(op.tangents[i], 0.0f);
-    tangents = gpu::makeStorageBuffer(std::span<const glm::vec4>(tan));
+    std::vector<glm::vec4> frame(2 * op.nodes);
+    for (size_t i = 0; i < op.nodes; ++i) {
+      frame[2 * i] = glm::vec4(op.normals[i], 0.0f);
+      frame[2 * i + 1] = glm::vec4(op.tangents[i], 0.0f);
+    }
+    frames = gpu::makeStorageBuffer(std::span<const glm::vec4>(frame));
+    nodeIrradiance = gpu::makeStorageBuffer(op.nodes * sizeof(glm::vec4));
     tilted = gpu::makeStorageBuffer(2 * op.nodes * sizeof(glm::vec4));
     const size_t plane = op.matrices * op.nodes * op.nodes;
     for (size_t c = 0; c < 3; ++c)
@@ -199,27 +208,29 @@ struct TransferTechnique::Impl : techniques::ClosedMeshState {
     const bool reuse = !lightingDirty;
     if (lightingDirty) lighting.restartEnvironment();
     lightingDirty = false;
-    const bool lit = lighting.update(*gpuMesh, points, op.nodes, static_cast<float>(s.medium.eta),
+    const bool lit = lighting.update(*gpuMesh, points, op.samplePositions.size(),
+                                     static_cast<float>(s.medium.eta),
                                      techniques::shadowLookup(params),
                                      techniques::environmentBudget(params, request.converge),
                                      &*timer, reuse);
     if (lighting.hasOccludedEnvironment()) frame.converged = lit;
     const bool firstOrder = op.matrices == 3;
-    if (firstOrder) {
-      auto t = timer->scope("incidence");
-      gpu::bindStorage(kPoints, points);
+    {
+      auto t = timer->scope("cells");
+      const gpu::ShaderProgram& cells = firstOrder ? *cellsFirstOrder : *cellsNormal;
       gpu::bindStorage(kIrradiance, lighting.irradiance());
       gpu::bindStorage(kLightDirections, lighting.lightDirections());
-      gpu::bindStorage(kTangents, tangents);
+      gpu::bindStorage(kFrames, frames);
+      gpu::bindStorage(kNodeIrradiance, nodeIrradiance);
       gpu::bindStorage(kTilted, tilted);
-      tiltProgram->set("Nodes", static_cast<unsigned>(op.nodes));
-      tiltProgram->set("Eta", static_cast<float>(s.medium.eta));
-      gpu::dispatch1D(*tiltProgram, op.nodes);
+      cells.set("Nodes", static_cast<unsigned>(op.nodes));
+      if (firstOrder) cells.set("Eta", static_cast<float>(s.medium.eta));
+      gpu::dispatch1D(cells, op.nodes);
     }
     {
       auto t = timer->scope("transfer");
       const gpu::ShaderProgram& apply = firstOrder ? *applyFirstOrder : *applyNormal;
-      gpu::bindStorage(kIrradiance, lighting.irradiance());
+      gpu::bindStorage(kNodeIrradiance, nodeIrradiance);
       if (firstOrder) gpu::bindStorage(kTilted, tilted);
       gpu::bindStorage(kMatrixR, matrix[0]);
       gpu::bindStorage(kMatrixG, matrix[1]);
@@ -329,7 +340,7 @@ const TransferOperator& TransferTechnique::transferOperator() const { return imp
 const geometry::TriangleMesh& TransferTechnique::mesh() const { return impl_->mesh; }
 
 std::vector<glm::vec3> TransferTechnique::gpuIrradiance() const {
-  const auto v = gpu::download<glm::vec4>(impl_->lighting.irradiance(), impl_->op.nodes);
+  const auto v = gpu::download<glm::vec4>(impl_->nodeIrradiance, impl_->op.nodes);
   return {v.begin(), v.end()};
 }
 std::array<std::vector<glm::vec3>, 2> TransferTechnique::gpuTiltedIrradiance() const {

@@ -8,10 +8,11 @@
 // preprocessing's Monte Carlo noise, both set by its parameters.
 //
 // Per frame (each pass timed on the GPU):
-//   shadow maps, irradiance   the shared irradiance pass at the N nodes (surface_irradiance.h:
-//                             every light type, Ft(η, ω_i) included)
-//   incidence                 (incidence first-order) E times the tangential part of the
-//                             refracted light direction per node (shaders/transfer/tilt.comp)
+//   shadow maps, irradiance   the shared irradiance pass at kCellSamples points of each node's
+//                             cell (surface_irradiance.h: every light type, Ft(η, ω_i) included)
+//   cells                     E per node, the mean over its cell's points (shaders/transfer/
+//                             cells.comp); with incidence first-order also E times the
+//                             tangential part of the refracted light direction
 //   transfer                  B_i = Σ_j K⁰[i][j] E_j (+ K^u E^u + K^v E^v; apply.comp)
 //   vertices                  B at each vertex from its nodes (vertex.comp)
 //   g-buffer                  position, triangle and normal of the visible surface
@@ -56,10 +57,11 @@ class TransferTechnique final : public techniques::Technique {
   // ---- Inspection (tests; valid after a render) -----------------------------------------------
   const TransferOperator& transferOperator() const;
   const geometry::TriangleMesh& mesh() const;
-  // The nodes' transmitted irradiance and exitance of the last frame (GPU results), RGB.
+  // The nodes' transmitted irradiance (the mean over each cell's samples) and exitance of the
+  // last frame (GPU results), RGB.
   std::vector<glm::vec3> gpuIrradiance() const;
   std::vector<glm::vec3> gpuNodeExitance() const;
-  // With incidence first-order, the nodes' E^u and E^v of the last frame (tilt.comp); else empty.
+  // With incidence first-order, the nodes' E^u and E^v of the last frame (cells.comp); else empty.
   std::array<std::vector<glm::vec3>, 2> gpuTiltedIrradiance() const;
 
  private:
