@@ -140,5 +140,16 @@ constexpr OiioApi kApi{{OiioApi::kAbiVersion}, encode, openImage, readPixels, cl
 }  // namespace
 
 extern "C" __attribute__((visibility("default"))) const void* translucent_oiio_plugin() {
+  // No thread pools, OpenImageIO's or OpenEXR's: their worker threads do not survive a fork(),
+  // and `translucent compare` forks the process that renders each technique after it has read
+  // or written a reference's EXR. A child that then read an EXR (an environment map) queued
+  // its work to a pool whose threads exist only in the parent and waited forever. Reading and
+  // writing stay on the calling thread (the images here are small).
+  static const bool configured = [] {
+    OIIO::attribute("threads", 1);
+    OIIO::attribute("exr_threads", -1);  // -1: no OpenEXR thread pool at all
+    return true;
+  }();
+  (void)configured;
   return &kApi;
 }
