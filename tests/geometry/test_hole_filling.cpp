@@ -10,6 +10,7 @@
 // shallow dome, not a balloon: at most 1.5 times that (a hemisphere would be 2).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <iostream>
 #include <string>
@@ -131,6 +132,28 @@ TEST(HoleFilling, ClosedMeshIsLeftAsItIs) {
   EXPECT_EQ(st.triangles_added, 0u);
   EXPECT_EQ(box.positions, before.positions);
   EXPECT_EQ(box.triangles, before.triangles);
+}
+
+// refineMesh on a thin box (12 triangles, the compare suite's plate): the same closed solid
+// (area and bounding box to rounding: flat faces stay flat, the sharp rims stay), every edge
+// within the isotropic remesher's band around the target ([4/5, 4/3] of it, with room for the
+// split rims' remainders), and many more triangles.
+TEST(RefineMesh, KeepsABoxAndShortensItsEdges) {
+  TriangleMesh box = makeBox({-0.5, -0.5, -0.03}, {0.5, 0.5, 0.03});
+  const double area = box.area();
+  const size_t added = refineMesh(box, 0.05, "box");
+  EXPECT_GT(added, 500u);
+  EXPECT_EQ(box.openEdgeCount(), 0u);
+  EXPECT_NEAR(box.area(), area, 1e-9 * area);
+  const Bounds b = box.bounds();
+  EXPECT_NEAR(b.lower.x, -0.5, 1e-12);
+  EXPECT_NEAR(b.upper.z, 0.03, 1e-12);
+  double longest = 0.0;
+  for (const glm::uvec3& t : box.triangles)
+    for (int k = 0; k < 3; ++k)
+      longest = std::max(longest, glm::length(box.positions[t[k]] - box.positions[t[(k + 1) % 3]]));
+  EXPECT_LT(longest, 0.05 * 4.0 / 3.0 + 1e-9);
+  EXPECT_THROW((void)refineMesh(box, 0.0, "box"), MeshError);
 }
 
 }  // namespace

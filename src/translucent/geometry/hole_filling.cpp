@@ -4,12 +4,15 @@
 #include <fmt/format.h>
 
 #include <array>
+#include <cmath>
 #include <iterator>
 #include <map>
 #include <vector>
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/border.h>
+#include <CGAL/Polygon_mesh_processing/detect_features.h>
+#include <CGAL/Polygon_mesh_processing/remesh.h>
 #include <CGAL/Polygon_mesh_processing/measure.h>
 #include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
@@ -26,6 +29,7 @@ using Mesh = CGAL::Surface_mesh<Point>;
 using Halfedge = boost::graph_traits<Mesh>::halfedge_descriptor;
 using Face = boost::graph_traits<Mesh>::face_descriptor;
 using Vertex = boost::graph_traits<Mesh>::vertex_descriptor;
+using Edge = boost::graph_traits<Mesh>::edge_descriptor;
 
 // The mesh as a CGAL surface: identical positions welded (CGAL needs the connectivity that the
 // file's per-face vertex copies hide), then oriented consistently if the soup is not already an
@@ -60,6 +64,29 @@ Mesh toSurfaceMesh(const TriangleMesh& in, const std::string& what) {
   return m;
 }
 
+// Back to our representation; the mesh's indices must be dense (nothing removed, or collected).
+TriangleMesh fromSurfaceMesh(const Mesh& m, const std::string& what) {
+  TriangleMesh out;
+  out.positions.reserve(m.number_of_vertices());
+  for (const Vertex v : m.vertices()) {
+    const Point& p = m.point(v);
+    out.positions.emplace_back(p.x(), p.y(), p.z());
+  }
+  out.triangles.reserve(m.number_of_faces());
+  for (const Face f : m.faces()) {
+    std::array<uint32_t, 3> t{};
+    size_t k = 0;
+    for (const Vertex v : CGAL::vertices_around_face(m.halfedge(f), m)) {
+      if (k == 3)
+        throw MeshError(fmt::format("{}: a face with more than three corners: expected "
+                                    "triangles", what));
+      t[k++] = static_cast<uint32_t>(v.idx());
+    }
+    out.triangles.emplace_back(t[0], t[1], t[2]);
+  }
+  return out;
+}
+
 }  // namespace
 
 HoleFillStats fillHoles(TriangleMesh& mesh, const std::string& what) {
@@ -87,31 +114,38 @@ HoleFillStats fillHoles(TriangleMesh& mesh, const std::string& what) {
   st.triangles_added = m.number_of_faces() - facesBefore;
   st.vertices_added = m.number_of_vertices() - verticesBefore;
 
-  // Back to our representation. Nothing was removed, so the indices are dense and in insertion
-  // order: the welded input vertices first, then the patches'.
-  TriangleMesh out;
-  out.positions.reserve(m.number_of_vertices());
-  for (const Vertex v : m.vertices()) {
-    const Point& p = m.point(v);
-    out.positions.emplace_back(p.x(), p.y(), p.z());
-  }
-  out.triangles.reserve(m.number_of_faces());
-  for (const Face f : m.faces()) {
-    std::array<uint32_t, 3> t{};
-    size_t k = 0;
-    for (const Vertex v : CGAL::vertices_around_face(m.halfedge(f), m)) {
-      if (k == 3)
-        throw MeshError(fmt::format("{}: hole filling produced a face with more than three "
-                                    "corners: expected triangles", what));
-      t[k++] = static_cast<uint32_t>(v.idx());
-    }
-    out.triangles.emplace_back(t[0], t[1], t[2]);
-  }
+  // Nothing was removed, so the indices are dense and in insertion order: the welded input
+  // vertices first, then the patches'.
+  TriangleMesh out = fromSurfaceMesh(m, what);
   // Welding alone may change the vertex count; normals of the input no longer line up then.
   if (st.triangles_added == 0 && out.positions.size() == mesh.positions.size())
     out.normals = mesh.normals;
   mesh = std::move(out);
   return st;
+}
+
+}  // namespace translucent::geometry
+
+namespace translucent::geometry {
+
+size_t refineMesh(TriangleMesh& mesh, double targetLength, const std::string& what) {
+  if (!(targetLength > 0.0) || !std::isfinite(targetLength))
+    throw MeshError(fmt::format("{}: refinement to an edge length of {}: expected a finite "
+                                "length > 0", what, targetLength));
+  Mesh m = toSurfaceMesh(mesh, what);
+  const size_t before = m.number_of_faces();
+  // Sharp edges (dihedral angle above 60°: a box's, a fin's rim) are constraints: split where
+  // they are long, never flipped or collapsed, so the shape keeps its corners and flat faces stay
+  // flat; everything else is remeshed isotropically and projected back onto the input surface.
+  auto sharp = m.add_property_map<Edge, bool>("e:sharp", false).first;
+  PMP::detect_sharp_edges(m, 60.0, sharp);
+  PMP::isotropic_remeshing(faces(m), targetLength, m,
+                           CGAL::parameters::number_of_iterations(3)
+                               .edge_is_constrained_map(sharp)
+                               .protect_constraints(false));
+  m.collect_garbage();
+  mesh = fromSurfaceMesh(m, what);  // normals of the input no longer line up: dropped
+  return m.number_of_faces() > before ? m.number_of_faces() - before : 0;
 }
 
 }  // namespace translucent::geometry

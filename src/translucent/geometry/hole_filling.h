@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Closing open meshes: every hole (boundary cycle) of a triangle mesh is triangulated, refined
+// Closing open meshes (and refining coarse ones, refineMesh below): every hole (boundary cycle) of a triangle mesh is triangulated, refined
 // to the density of the surrounding triangles and faired (CGAL Polygon Mesh Processing,
 // Liepa 2003, "Filling holes in meshes"). The reference transport needs a closed body with a
 // well-defined interior (TriangleMesh::requireClosed); scanned heads and busts (CGAL's head.off,
@@ -42,5 +42,14 @@ struct HoleFillStats {
 // do not form an orientable manifold surface CGAL can build (e.g. an edge shared by three
 // triangles).
 HoleFillStats fillHoles(TriangleMesh& mesh, const std::string& what);
+
+// Refines `mesh` in place until its edges are about `targetLength` long (CGAL Polygon Mesh
+// Processing isotropic remeshing, three iterations; Botsch & Kobbelt 2004), with the sharp
+// edges (dihedral angle above 60°) kept as constraints, so that corners and flat faces keep their
+// shape. For renderers that interpolate per vertex over a mesh whose triangles are too large for
+// it (a box of 12 triangles). Vertices are welded first (as fillHoles); vertex normals are
+// dropped. Returns the number of triangles added. Throws MeshError naming `what` for a length
+// that is not finite and positive, or a surface CGAL cannot build.
+size_t refineMesh(TriangleMesh& mesh, double targetLength, const std::string& what);
 
 }  // namespace translucent::geometry

@@ -3,12 +3,15 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <optional>
 
 #include <glm/geometric.hpp>
 
 #include "translucent/bssrdf/exit_radiance.h"
+#include "translucent/geometry/hole_filling.h"
 #include "translucent/geometry/point_cloud.h"
 #include "translucent/gpu/compute.h"
 #include "translucent/gpu/pass_timer.h"
@@ -128,6 +131,28 @@ struct TransferTechnique::Impl : techniques::ClosedMeshState {
     gpu::checkGlError("building the transfer programs");
   }
 
+  // The exitance is interpolated over the mesh's triangles from its vertices: a mesh whose edges
+  // are longer than the node spacing (a box of 12 triangles) would blur it to its few vertices
+  // (a thin plate rendered 41% too dark at its 8 corners). Such a mesh is refined to half the
+  // spacing (geometry::refineMesh: isotropic remeshing, sharp edges kept), for the G-buffer, the
+  // shadow maps and the operator alike; the surface, and so the transport, stays the same.
+  void refineCoarseMesh(int nodes) {
+    double longest = 0.0;
+    for (const glm::uvec3& t : mesh.triangles)
+      for (int k = 0; k < 3; ++k)
+        longest = std::max(longest, glm::length(mesh.positions[t[k]] - mesh.positions[t[(k + 1) % 3]]));
+    const double spacing = std::sqrt(mesh.area() / double(nodes));
+    if (longest <= spacing) return;
+    const size_t before = mesh.triangleCount();
+    geometry::refineMesh(mesh, 0.5 * spacing, fmt::format("mesh file '{}'", scene->mesh_file.string()));
+    mesh.orientOutwards();
+    gpuMesh.emplace(mesh);
+    notes.push_back(fmt::format("transfer: the mesh's longest edge ({:.3g}) exceeds the node "
+                                "spacing ({:.3g}): refined from {} to {} triangles for the "
+                                "per-vertex exitance", longest, spacing, before,
+                                mesh.triangleCount()));
+  }
+
   // The operator for the scene and parameters: cached on disk, uploaded once per key (the key is
   // made only after prepare() or a change of nodes, photons or seed, not every frame).
   void buildOperator() {
@@ -150,6 +175,7 @@ struct TransferTechnique::Impl : techniques::ClosedMeshState {
           "transfer: nodes {} needs a {:.0f} MiB matrix per channel; the GL driver's storage "
           "buffers hold at most {:.0f} MiB: use fewer nodes", o.nodes,
           double(matrixBytes) / 1048576.0, double(maxBlock) / 1048576.0));
+    refineCoarseMesh(o.nodes);
     const material::Material mat = scene::sceneMaterial(s, mesh);
     CachedTransfer cached = loadOrBuildTransferOperator(mesh, techniques::vertexNormals(mesh), mat,
                                                         o, key, geometry::defaultCacheDirectory());
