@@ -202,6 +202,7 @@ TransferOperator buildTransferOperator(const geometry::TriangleMesh& mesh,
   // thread tracing it): X[(e · 3 + c) · N + i].
   std::vector<float> X(entries.size() * 3 * N, 0.0f);
   const reference::SurfaceExitScore score = [&](size_t e, const reference::ExitRecord& x) {
+    if (options.exclude_single && x.order == reference::ScatteringOrder::Single) return;
     const auto near = grid.nearest(glm::vec3(x.position), kExitCandidates);
     const uint32_t i = sameSideNearest(near, cloud.normals, x.normal);
     X[(e * 3 + size_t(x.channel)) * N + i] += float(x.weight);

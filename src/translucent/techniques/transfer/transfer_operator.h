@@ -71,6 +71,9 @@ struct TransferOptions {
   uint64_t photons = 512;  // per node and channel
   uint64_t seed = 1;       // of the node sampling and of the photons
   bool first_order = false;  // also the derivatives in the incident direction (K^u, K^v)
+  // Leave single scattering out (exits after exactly one scattering event, ScatteringOrder::
+  // Single): the technique renders it per pixel (techniques/common/single_scattering.h).
+  bool exclude_single = false;
   int threads = 0;         // 0: all hardware threads
 };
 

@@ -19,6 +19,7 @@
 #include "translucent/techniques/common/gl_resources.h"
 #include "translucent/techniques/common/light_shadows.h"
 #include "translucent/techniques/common/profile_kernel.h"
+#include "translucent/techniques/common/single_scattering.h"
 #include "translucent/techniques/common/surface_irradiance.h"
 
 namespace translucent::transfer {
@@ -63,8 +64,14 @@ std::vector<ParameterInfo> parameterInfos() {
                                  "how the transfer depends on the light's incident direction: not "
                                  "at all (normal incidence, one matrix) or to first order (five "
                                  "beams per node in the preprocessing, three matrices)"),
+      ParameterInfo::enumeration(
+          "scattering", "operator", {"operator", "split", "single"},
+          "which light the image holds and how: every order through the transfer operator; "
+          "split, single scattering per pixel along the view ray (traced through the mesh) and "
+          "the other orders through the operator; or single scattering alone"),
       techniques::radianceConventionParameter(),
   };
+  for (ParameterInfo& p : techniques::singleScatteringParameters()) infos.push_back(std::move(p));
   for (ParameterInfo& p : techniques::lightingParameters()) infos.push_back(std::move(p));
   return infos;
 }
@@ -82,9 +89,9 @@ std::string operatorKey(const scene::Scene& s, const TransferOptions& o) {
   k.exposure = 0.0;
   k.gamma = 2.2;
   k.cone_angle = 5.0;
-  return fmt::format("transfer v3|{}|{}|nodes={}|photons={}|seed={}|first_order={}",
+  return fmt::format("transfer v3|{}|{}|nodes={}|photons={}|seed={}|first_order={}{}",
                      scene::meshKey(s), scene::toJson(k), o.nodes, o.photons, o.seed,
-                     o.first_order);
+                     o.first_order, o.exclude_single ? "|single=excluded" : "");
 }
 
 }  // namespace
@@ -106,6 +113,11 @@ struct TransferTechnique::Impl : techniques::ClosedMeshState {
   std::array<gpu::Buffer, 3> matrix;  // K per channel
   std::optional<gpu::PassTimer> timer;
   std::vector<std::string> notes;
+  techniques::SingleScattering single;
+  bool singleDirty = true;  // the scene or the scattering mode changed since single.prepare
+
+  // "operator", "split" or "single" (the scattering parameter).
+  const std::string& scattering() const { return params.getEnum("scattering"); }
 
   TransferOptions options() const {
     TransferOptions o;
@@ -113,6 +125,7 @@ struct TransferTechnique::Impl : techniques::ClosedMeshState {
     o.photons = static_cast<uint64_t>(params.getInt("photons"));
     o.seed = static_cast<uint64_t>(params.getInt("seed"));
     o.first_order = params.getEnum("incidence") == "first-order";
+    o.exclude_single = scattering() == "split";
     return o;
   }
 
@@ -153,6 +166,7 @@ struct TransferTechnique::Impl : techniques::ClosedMeshState {
     geometry::refineMesh(mesh, 0.5 * spacing, fmt::format("mesh file '{}'", scene->mesh_file.string()));
     mesh.orientOutwards();
     gpuMesh.emplace(mesh);
+    singleDirty = true;
     notes.push_back(fmt::format("transfer: the mesh's median edge ({:.3g}) exceeds the node "
                                 "spacing ({:.3g}): refined from {} to {} triangles for the "
                                 "per-vertex exitance", median, spacing, before,
@@ -163,6 +177,12 @@ struct TransferTechnique::Impl : techniques::ClosedMeshState {
   // made only after prepare() or a change of nodes, photons or seed, not every frame).
   void buildOperator() {
     if (!operatorDirty) return;
+    if (scattering() == "single") {  // no operator: the mesh for the G-buffer pass only
+      if (opKey != "single") techniques::uploadMeshStorage(mesh, meshVertices, meshTriangles);
+      opKey = "single";
+      operatorDirty = false;
+      return;
+    }
     const scene::Scene& s = *scene;
     const TransferOptions o = options();
     const std::string key = operatorKey(s, o);
@@ -237,6 +257,12 @@ struct TransferTechnique::Impl : techniques::ClosedMeshState {
     frame.notes = std::move(notes);
     notes.clear();
 
+    const std::string mode = scattering();
+    if (mode != "operator" && singleDirty) {
+      single.prepare(mesh, fmt::format("{}|{}", meshKey, mesh.triangleCount()), s, "transfer");
+      singleDirty = false;
+    }
+    if (mode == "single") return renderSingle(request, width, height, std::move(frame));
     const bool reuse = !lightingDirty;
     if (lightingDirty) lighting.restartEnvironment();
     lightingDirty = false;
@@ -304,12 +330,53 @@ struct TransferTechnique::Impl : techniques::ClosedMeshState {
       techniques::setExitRadianceUniforms(p, gbuffer, s, params, width, height);
       gpu::dispatch(p, {(unsigned(width) + 7u) / 8u, (unsigned(height) + 7u) / 8u, 1u});
     }
+    const techniques::SingleScatteringOptions so = techniques::singleScatteringOptions(params);
+    if (mode == "split")
+      single.render(gbuffer, meshVertices, meshTriangles, s, so, radianceOut, exitanceOut, &*timer);
     gpu::checkGlError("transfer frame");
+    return finish(frame, request, width, height, mode == "split" && so.directions == 0);
+  }
+
+  // scattering single: the G-buffer and single scattering alone (no operator, no lighting pass).
+  techniques::Frame renderSingle(const techniques::FrameRequest& request, int width, int height,
+                                 techniques::Frame frame) {
+    const scene::Scene& s = *scene;
+    {
+      auto t = timer->scope("g-buffer");
+      gbuffer.resize(width, height);
+      const glm::mat4 vp = techniques::cameraViewProjection(s.camera, s.clip_near, s.clip_far,
+                                                            center, radius, width, height);
+      gbuffer.render(*gpuMesh, *gbufferProgram, vp);
+    }
+    const size_t pixels = size_t(width) * size_t(height);
+    if (pixels != outPixels) {
+      radianceOut = gpu::makeStorageBuffer(pixels * sizeof(glm::vec4));
+      exitanceOut = gpu::makeStorageBuffer(pixels * sizeof(glm::vec4));
+      outPixels = pixels;
+    }
+    const float zero = 0.0f;
+    glClearNamedBufferData(radianceOut.id(), GL_R32F, GL_RED, GL_FLOAT, &zero);
+    glClearNamedBufferData(exitanceOut.id(), GL_R32F, GL_RED, GL_FLOAT, &zero);
+    const techniques::SingleScatteringOptions so = techniques::singleScatteringOptions(params);
+    single.render(gbuffer, meshVertices, meshTriangles, s, so, radianceOut, exitanceOut, &*timer);
+    gpu::checkGlError("transfer frame (single scattering)");
+    return finish(frame, request, width, height, so.directions == 0);
+  }
+
+  techniques::Frame finish(techniques::Frame& frame, const techniques::FrameRequest& request,
+                           int width, int height, bool noSingleExitance) {
     frame.width = width;
     frame.height = height;
+    const size_t pixels = size_t(width) * size_t(height);
     if (request.readback) techniques::readRadianceAndExitance(frame, radianceOut, exitanceOut, pixels);
+    if (noSingleExitance) {
+      // single_directions 0: the exitance would lack single scattering (a silently wrong layer).
+      frame.layers.erase("exitance");
+      frame.notes.push_back("transfer: single_directions 0: no exitance layer (single "
+                            "scattering's exitance is not computed)");
+    }
     techniques::addPasses(frame, *timer);
-    return frame;
+    return std::move(frame);
   }
 };
 
@@ -327,8 +394,10 @@ const std::vector<ParameterInfo>& TransferTechnique::parameters() const {
 
 void TransferTechnique::setParameter(std::string_view name, const ParameterValue& value) {
   if (!impl_->params.set(name, value)) return;
-  if (name == "nodes" || name == "photons" || name == "seed" || name == "incidence")
+  if (name == "nodes" || name == "photons" || name == "seed" || name == "incidence" ||
+      name == "scattering")
     impl_->operatorDirty = true;
+  if (name == "scattering") impl_->singleDirty = true;
   if (name == "shadow_map_size" && impl_->scene)
     impl_->lighting.prepareLights(*impl_->scene, impl_->center, impl_->radius,
                                   impl_->params.getInt("shadow_map_size"), "transfer");
@@ -354,6 +423,11 @@ void TransferTechnique::prepare(const scene::Scene& scene, gpu::Context& gl) {
                                 impl_->params.getInt("shadow_map_size"), "transfer");
   impl_->lightingDirty = true;
   impl_->scene = scene;
+  impl_->singleDirty = true;
+  if (impl_->scattering() != "operator")
+    if (const std::string why = techniques::singleScatteringRefusal(scene); !why.empty())
+      throw ParameterError(fmt::format("{}: expected the transfer technique's scattering "
+                                       "'operator'", why));
   impl_->buildOperator();
 }
 
