@@ -269,9 +269,19 @@ TEST_F(TransferGpu, RendersThePathTracersExitanceOfALitSphere) {
   auto t = techniques::make("transfer");
   t->setParameter("nodes", 1024);
   t->setParameter("photons", 256);
+  t->setParameter("scattering", std::string("operator"));
   t->prepare(s, gpu::testing::context());
   const techniques::Frame f = t->render({});
   auto& tt = dynamic_cast<TransferTechnique&>(*t);
+  // split: the operator without single scattering, and single scattering per pixel (its
+  // exitance over 8 exit directions); the same scene and nodes.
+  auto split = techniques::make("transfer");
+  split->setParameter("nodes", 1024);
+  split->setParameter("photons", 256);
+  split->setParameter("scattering", std::string("split"));
+  split->setParameter("single_directions", 8);
+  split->prepare(s, gpu::testing::context());
+  const techniques::Frame fs = split->render({});
 
   // Each node's irradiance is the mean over its cell's samples (the sun along +z on a convex
   // body: E = E0 Ft(η, μ) μ where μ = n·z > 0); within 1% of the largest (the shadow map's
@@ -302,10 +312,8 @@ TEST_F(TransferGpu, RendersThePathTracersExitanceOfALitSphere) {
   reference::MeshPathTracer pt(tt.mesh(), s.medium, {sun}, s.camera, 5.0, po);
   pt.addPass(600'000);
   const auto& ref = pt.images().exitance;
-  const auto& img = f.layers.at("exitance");
   const int n = 32;
   std::array<std::vector<uint32_t>, 4> rings;
-  std::array<std::array<double, 3>, 4> sum{};
   for (int y = 0; y < n; ++y)
     for (int x = 0; x < n; ++x) {
       // Pixel centre in units of the sphere's radius (view height 2.2).
@@ -314,17 +322,22 @@ TEST_F(TransferGpu, RendersThePathTracersExitanceOfALitSphere) {
       if (r >= 0.9) continue;  // silhouette pixels: partial coverage
       const size_t k = size_t(r / 0.9 * 4.0);
       rings[k].push_back(uint32_t(y * n + x));
-      for (int c = 0; c < 3; ++c) sum[k][size_t(c)] += double(img[(size_t(y) * n + x) * 3 + size_t(c)]);
     }
-  for (size_t k = 0; k < 4; ++k)
-    for (int c = 0; c < 3; ++c) {
-      ASSERT_FALSE(rings[k].empty());
-      const reference::Estimate e = ref.average(rings[k], c);
-      const double mine = sum[k][size_t(c)] / double(rings[k].size());
-      // 3% for the discretisation (node cells, the vertex interpolation, normal-incidence
-      // entries) and the operator's noise (1024 nodes x 256 photons), plus 4 standard errors.
-      EXPECT_NEAR(mine, e.value, 0.03 * e.value + 4.0 * e.std_error) << "ring " << k << ", channel " << c;
-    }
+  for (const techniques::Frame* frame : {&f, &fs}) {
+    const auto& img = frame->layers.at("exitance");
+    for (size_t k = 0; k < 4; ++k)
+      for (int c = 0; c < 3; ++c) {
+        ASSERT_FALSE(rings[k].empty());
+        const reference::Estimate e = ref.average(rings[k], c);
+        double mine = 0.0;
+        for (uint32_t i : rings[k]) mine += double(img[size_t(i) * 3 + size_t(c)]);
+        mine /= double(rings[k].size());
+        // 3% for the discretisation (node cells, the vertex interpolation, normal-incidence
+        // entries) and the operator's noise (1024 nodes x 256 photons), plus 4 standard errors.
+        EXPECT_NEAR(mine, e.value, 0.03 * e.value + 4.0 * e.std_error)
+            << (frame == &f ? "operator" : "split") << ", ring " << k << ", channel " << c;
+      }
+  }
 }
 
 TEST_F(TransferGpu, FirstOrderInputsAndProductMatchTheCpu) {

@@ -46,12 +46,12 @@ glm::vec3 rgb(const Rgb& color, double value) {
 
 std::vector<ParameterInfo> singleScatteringParameters() {
   return {
-      ParameterInfo::integer("single_samples", 8, 1, 64,
+      ParameterInfo::integer("single_samples", 4, 1, 64,
                              "single scattering: distances per colour channel along each view ray "
                              "(midpoints of equal-probability strata; the error falls as 1/samples²)"),
-      ParameterInfo::integer("single_directions", 8, 0, 256,
-                             "single scattering: exit directions per pixel for the exitance layer "
-                             "(0: radiance only)"),
+      ParameterInfo::integer("single_directions", 0, 0, 256,
+                             "single scattering: exit directions per pixel for its exitance "
+                             "(the exitance layer; 0: radiance only, no exitance layer)"),
   };
 }
 

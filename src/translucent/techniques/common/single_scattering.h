@@ -29,7 +29,7 @@
 namespace translucent::techniques {
 
 struct SingleScatteringOptions {
-  int samples = 8;     // distances per channel along each line (3 × samples in all)
+  int samples = 4;     // distances per channel along each line (3 × samples in all)
   int directions = 0;  // exit directions for the exitance (0: radiance only)
 };
 

@@ -65,10 +65,11 @@ std::vector<ParameterInfo> parameterInfos() {
                                  "at all (normal incidence, one matrix) or to first order (five "
                                  "beams per node in the preprocessing, three matrices)"),
       ParameterInfo::enumeration(
-          "scattering", "operator", {"operator", "split", "single"},
-          "which light the image holds and how: every order through the transfer operator; "
-          "split, single scattering per pixel along the view ray (traced through the mesh) and "
-          "the other orders through the operator; or single scattering alone"),
+          "scattering", "auto", {"auto", "split", "operator", "single"},
+          "which light the image holds and how: split, single scattering per pixel along the "
+          "view ray (traced through the mesh) and the other orders through the transfer "
+          "operator; operator, every order through the operator; single, single scattering "
+          "alone; auto, split where every light is directional, point or beam, else operator"),
       techniques::radianceConventionParameter(),
   };
   for (ParameterInfo& p : techniques::singleScatteringParameters()) infos.push_back(std::move(p));
@@ -116,8 +117,13 @@ struct TransferTechnique::Impl : techniques::ClosedMeshState {
   techniques::SingleScattering single;
   bool singleDirty = true;  // the scene or the scattering mode changed since single.prepare
 
-  // "operator", "split" or "single" (the scattering parameter).
-  const std::string& scattering() const { return params.getEnum("scattering"); }
+  // "operator", "split" or "single": the scattering parameter, with auto resolved for the scene
+  // (split unless a light is one that single scattering cannot trace).
+  std::string scattering() const {
+    const std::string& m = params.getEnum("scattering");
+    if (m != "auto") return m;
+    return scene && !techniques::singleScatteringRefusal(*scene).empty() ? "operator" : "split";
+  }
 
   TransferOptions options() const {
     TransferOptions o;
@@ -424,6 +430,9 @@ void TransferTechnique::prepare(const scene::Scene& scene, gpu::Context& gl) {
   impl_->lightingDirty = true;
   impl_->scene = scene;
   impl_->singleDirty = true;
+  if (impl_->params.getEnum("scattering") == "auto" && impl_->scattering() == "operator")
+    impl_->notes.push_back("transfer: scattering auto: " + techniques::singleScatteringRefusal(scene) +
+                           "; every order goes through the operator");
   if (impl_->scattering() != "operator")
     if (const std::string why = techniques::singleScatteringRefusal(scene); !why.empty())
       throw ParameterError(fmt::format("{}: expected the transfer technique's scattering "
