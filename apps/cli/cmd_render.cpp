@@ -448,6 +448,15 @@ void runRender(const RenderArgs& a) {
                                              : "Ft(eta, w_o) B / (pi 4 C_phi(1/eta))",
                                c);
       }
+    // transfer's scattering: single scattering is a true radiance, added per pixel.
+    for (const auto& p : t->parameters())
+      if (p.name == "scattering") {
+        const std::string m = std::get<std::string>(t->parameter(p.name));
+        if (m == "single")
+          quantity = "single-scattering radiance L1 (RGB, per pixel along the view ray), per unit light flux";
+        else if (m != "operator")
+          quantity += fmt::format(", plus single scattering's radiance per pixel (scattering {})", m);
+      }
     const std::pair<std::string, std::string> attrs[] = {
         {"translucent:quantity", quantity},
         {"translucent:layers", "exitance: radiant exitance B (RGB)"},
