@@ -23,6 +23,7 @@
 #include <set>
 #include <thread>
 
+#include <oneapi/tbb/global_control.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -375,6 +376,16 @@ Isolated runIsolated(const std::string& name, const scene::Scene& s, const Compa
   } cleanup{path};
   std::fflush(stdout);
   std::fflush(stderr);
+  // oneTBB's worker threads (the parent's reference, metrics and point clouds ran parallel
+  // algorithms) do not survive a fork, and oneTBB does not support forking while they run: a
+  // child whose scheduler still counts them, or that forked while one held a lock, can wait for
+  // ever. finalize() waits until they have ended (oneTBB's task_scheduler_handle); the next
+  // parallel algorithm, in the parent or the child, starts new ones. It returns false where
+  // something still holds the scheduler (an arena in use): nothing is lost then.
+  {
+    oneapi::tbb::task_scheduler_handle handle{oneapi::tbb::attach{}};
+    (void)oneapi::tbb::finalize(handle, std::nothrow);
+  }
   const auto t0 = std::chrono::steady_clock::now();
   const pid_t pid = ::fork();
   if (pid < 0) throw std::runtime_error(fmt::format("fork: {}", std::strerror(errno)));
