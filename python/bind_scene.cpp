@@ -158,6 +158,23 @@ search path ($TRANSLUCENT_DATA).
           },
           "Display gamma, in [0.01, 100]")
       .def_property(
+          "tonemap", [](const scene::Scene& s) { return std::string(analysis::toString(s.tonemap)); },
+          [](scene::Scene& s, const std::string& op) {
+            if (op != "clamp" && op != "reinhard")
+              throw ParameterError(fmt::format("tonemap '{}': expected clamp or reinhard", op));
+            s.tonemap = analysis::parseToneOperator(op, "tonemap");
+          },
+          "Display tone map: 'clamp' (exposure, clamped to white) or 'reinhard' (s/(1+s), s = "
+          "key x exposure / the rendered pixels' average; Reinhard et al. 2002)")
+      .def_property(
+          "tonemap_key", [](const scene::Scene& s) { return s.tonemap_key; },
+          [](scene::Scene& s, double k) {
+            if (!(k > 0.0 && k <= 100.0))
+              throw ParameterError(fmt::format("tonemap_key is {}: expected a key in (0, 100]", k));
+            s.tonemap_key = k;
+          },
+          "Reinhard tone map: the rendered pixels' average displays as key/(1+key), in (0, 100]")
+      .def_property(
           "cone_angle", [](const scene::Scene& s) { return s.cone_angle; },
           [](scene::Scene& s, double a) {
             if (!(a > 0.0 && a <= 90.0))

@@ -57,7 +57,8 @@ struct RenderArgs {
   std::string out, exr;
   std::string debug_dir;  // every frame layer as <layer>.exr (linear) and <layer>.png (scaled),
                           // every view as view-<name>.exr/.png
-  std::optional<double> exposure, gamma;
+  std::optional<double> exposure, gamma, key;
+  std::string tonemap;
   int frames = 1;
   std::optional<double> time;  // of the first frame (default: the scene's)
   double fps = 24.0;
@@ -228,6 +229,14 @@ void runRender(const RenderArgs& a) {
   a.material.apply(s);
   if (a.exposure) s.exposure = *a.exposure;
   if (a.gamma) s.gamma = *a.gamma;
+  if (!a.tonemap.empty()) {
+    if (a.tonemap != "clamp" && a.tonemap != "reinhard")
+      throw ParameterError(fmt::format("--tonemap '{}': expected clamp or reinhard", a.tonemap));
+    s.tonemap = analysis::parseToneOperator(a.tonemap, "--tonemap");
+  }
+  if (a.key) s.tonemap_key = *a.key;
+  if (!(s.tonemap_key > 0.0 && s.tonemap_key <= 100.0))
+    throw ParameterError(fmt::format("--key is {}: expected a tone map key in (0, 100]", s.tonemap_key));
   if (a.time) s.time = *a.time;
   const double time0 = s.time;
   auto frameTime = [&](int i) { return time0 + i / a.fps; };
@@ -330,10 +339,10 @@ void runRender(const RenderArgs& a) {
   auto writeFrame = [&](const techniques::Frame& f, int i) {
     if (!outPattern.text.empty())
       out.file("--out", outPattern.file(i), [&](const std::string& p) {
-        analysis::writePng(p, f.width, f.height, f.rgb, {s.exposure, s.gamma});
+        analysis::writePng(p, f.width, f.height, f.rgb, scene::displayToneMap(s));
       });
     if (!framePattern.text.empty())  // ffmpeg's input
-      analysis::writePng(framePattern.file(i), f.width, f.height, f.rgb, {s.exposure, s.gamma});
+      analysis::writePng(framePattern.file(i), f.width, f.height, f.rgb, scene::displayToneMap(s));
     if (!exrPattern.text.empty()) {
       std::vector<analysis::ExrLayer> layers;
       for (const auto& [name, data] : f.layers) layers.push_back({name, data});
@@ -469,7 +478,7 @@ void runRender(const RenderArgs& a) {
   }
   if (!a.out.empty()) {
     out.file("--out", outFile, [&](const std::string& p) {
-      analysis::writePng(p, frame.width, frame.height, frame.rgb, {s.exposure, s.gamma});
+      analysis::writePng(p, frame.width, frame.height, frame.rgb, scene::displayToneMap(s));
     });
     wrote.push_back(fmt::format("wrote {}\n", outFile));
   }
@@ -572,6 +581,13 @@ void addRenderCommand(CLI::App& app) {
                   "thickness, ao): <layer>.exr linear, <layer>.png scaled to the layer's maximum");
   cmd->add_option("--exposure", a->exposure, "PNG exposure in stops (default: the scene's, 0)");
   cmd->add_option("--gamma", a->gamma, "PNG display gamma (default: the scene's, 2.2)");
+  cmd->add_option("--tonemap", a->tonemap,
+                  "PNG tone map: clamp (x 2^exposure, clamped) or reinhard (s/(1+s), s = key x "
+                  "2^exposure / the rendered pixels' average; Reinhard et al. 2002) (default: the "
+                  "scene's, clamp)");
+  cmd->add_option("--key", a->key,
+                  "reinhard tone map: the rendered pixels' average maps to key/(1+key) (default: "
+                  "the scene's, 1)");
   cmd->add_option("--frames", a->frames,
                   "Frames of an animation, frame i at time --time + i/--fps (--out and --exr then "
                   "take a pattern such as frame_%04d.png)")

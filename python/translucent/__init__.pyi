@@ -158,6 +158,8 @@ class Scene:
     time: float
     exposure: float
     gamma: float
+    tonemap: str
+    tonemap_key: float
     cone_angle: float
     width: int
     height: int

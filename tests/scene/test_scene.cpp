@@ -63,7 +63,7 @@ const char* kFull = R"({
              "fov": 30, "width": 64, "height": 48, "near": 0.5, "far": 20},
   "technique": {"name": "pointcloud", "points": 5000, "epsilon": 0.05, "specular": true,
                 "criterion": "centroid"},
-  "display": {"exposure": -1, "gamma": 2.0},
+  "display": {"exposure": -1, "gamma": 2.0, "tonemap": "reinhard", "key": 0.18},
   "cone_angle": 4
 })";
 
@@ -114,6 +114,8 @@ TEST(Scene, ParsesEveryKey) {
   EXPECT_EQ(std::get<std::string>(s.settings.at("criterion")), "centroid");
   EXPECT_EQ(s.exposure, -1.0);
   EXPECT_EQ(s.gamma, 2.0);
+  EXPECT_EQ(s.tonemap, analysis::ToneOperator::Reinhard);
+  EXPECT_EQ(s.tonemap_key, 0.18);
   EXPECT_EQ(s.cone_angle, 4.0);
 }
 
@@ -209,6 +211,11 @@ TEST(Scene, RejectsBadInputNamingTheKey) {
                 .find("technique.points"),
             std::string::npos);
   EXPECT_NE(parseError(scene(mesh, mat, light, cam, R"(, "display": {"gamma": 0})")).find("display.gamma"),
+            std::string::npos);
+  EXPECT_NE(parseError(scene(mesh, mat, light, cam, R"(, "display": {"tonemap": "aces"})"))
+                .find("display.tonemap"),
+            std::string::npos);
+  EXPECT_NE(parseError(scene(mesh, mat, light, cam, R"(, "display": {"key": 0})")).find("display.key"),
             std::string::npos);
   EXPECT_NE(parseError(scene(mesh, mat, light, cam, R"(, "displya": {})")).find("valid keys"),
             std::string::npos);

@@ -350,6 +350,18 @@ void ViewportDock::buildControls(QWidget* panel) {
   df->addRow(QStringLiteral("Render scale"), scale_);
   df->addRow(QStringLiteral("Exposure"), exposure_);
   df->addRow(QStringLiteral("Gamma"), gamma_);
+  tonemap_ = new QComboBox;
+  tonemap_->setObjectName(QStringLiteral("tonemap"));
+  tonemap_->addItems({QStringLiteral("clamp"), QStringLiteral("Reinhard")});
+  tonemap_->setToolTip(QStringLiteral(
+      "clamp: exposure, clamped to white; Reinhard: s/(1+s) with s = key x exposure / the "
+      "rendered pixels' average (Reinhard et al. 2002, as Chang 2007 applies it): nothing "
+      "burns out"));
+  key_ = spin(0.01, 100.0, 1.0, 2, 0.1);
+  key_->setObjectName(QStringLiteral("tonemap_key"));
+  key_->setToolTip(QStringLiteral("Reinhard: the average maps to key/(1+key)"));
+  df->addRow(QStringLiteral("Tone map"), tonemap_);
+  df->addRow(QStringLiteral("Key"), key_);
   auto* box = new QCheckBox(QStringLiteral("bounding box"));
   box->setObjectName(QStringLiteral("show_bounding_box"));
   auto* axes = new QCheckBox(QStringLiteral("axes (x red, y green, z blue)"));
@@ -360,9 +372,16 @@ void ViewportDock::buildControls(QWidget* panel) {
   connect(box, &QCheckBox::toggled, this, overlay);
   connect(axes, &QCheckBox::toggled, this, overlay);
   v->addWidget(disp);
-  auto display = [this] { state_.setDisplay(exposure_->value(), gamma_->value()); };
+  auto display = [this] {
+    state_.setDisplay(exposure_->value(), gamma_->value(),
+                      tonemap_->currentIndex() == 1 ? analysis::ToneOperator::Reinhard
+                                                    : analysis::ToneOperator::Clamp,
+                      key_->value());
+  };
   connect(exposure_, &QDoubleSpinBox::valueChanged, this, display);
   connect(gamma_, &QDoubleSpinBox::valueChanged, this, display);
+  connect(tonemap_, &QComboBox::currentIndexChanged, this, display);
+  connect(key_, &QDoubleSpinBox::valueChanged, this, display);
 
   auto* timing = new QGroupBox(QStringLiteral("GPU time per pass"));
   auto* tl = new QVBoxLayout(timing);
@@ -416,9 +435,14 @@ void ViewportDock::syncControls() {
   }
   for (auto [box, value] : {std::pair{fov_, s.camera.fov}, std::pair{near_, s.clip_near},
                             std::pair{far_, s.clip_far}, std::pair{exposure_, s.exposure},
-                            std::pair{gamma_, s.gamma}, std::pair{time_, s.time}}) {
+                            std::pair{gamma_, s.gamma}, std::pair{time_, s.time},
+                            std::pair{key_, s.tonemap_key}}) {
     QSignalBlocker b(box);
     box->setValue(value);
+  }
+  {
+    QSignalBlocker b(tonemap_);
+    tonemap_->setCurrentIndex(s.tonemap == analysis::ToneOperator::Reinhard ? 1 : 0);
   }
   {
     QSignalBlocker b(zoom_);

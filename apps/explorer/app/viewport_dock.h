@@ -140,6 +140,8 @@ class ViewportDock : public QDockWidget {
   QComboBox* scale_ = nullptr;
   QDoubleSpinBox* exposure_ = nullptr;
   QDoubleSpinBox* gamma_ = nullptr;
+  QComboBox* tonemap_ = nullptr;
+  QDoubleSpinBox* key_ = nullptr;
   QLabel* passes_ = nullptr;
 };
 

@@ -103,7 +103,7 @@ void ViewportWidget::paintGL() {
       }
       upload_ = false;
       const auto& s = state_.scene();
-      display_->draw(defaultFramebufferObject(), w, h, s.exposure, s.gamma);
+      display_->draw(defaultFramebufferObject(), w, h, scene::displayToneMap(s));
     } catch (const std::exception& e) {
       message_ = QString::fromUtf8(e.what());
     }

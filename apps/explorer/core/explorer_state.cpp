@@ -49,10 +49,14 @@ void ExplorerState::setLights(std::vector<scene::Light> lights) {
   emit sceneChanged();
 }
 
-void ExplorerState::setDisplay(double exposure, double gamma) {
+void ExplorerState::setDisplay(double exposure, double gamma, analysis::ToneOperator tonemap,
+                               double key) {
   if (!(gamma > 0.0)) throw ParameterError("display gamma must be > 0, got " + std::to_string(gamma));
+  if (!(key > 0.0)) throw ParameterError("tone map key must be > 0, got " + std::to_string(key));
   scene_.exposure = exposure;
   scene_.gamma = gamma;
+  scene_.tonemap = tonemap;
+  scene_.tonemap_key = key;
   emit sceneChanged();
 }
 

@@ -40,7 +40,8 @@ class ExplorerState : public QObject {
   void setTechniqueSetting(const std::string& name, const scene::Setting& value);
   void setCamera(const reference::Camera& camera);
   void setLights(std::vector<scene::Light> lights);
-  void setDisplay(double exposure, double gamma);
+  void setDisplay(double exposure, double gamma,
+                  analysis::ToneOperator tonemap = analysis::ToneOperator::Clamp, double key = 1.0);
 
   // The shared medium (scene().medium) and its preset name ("" for custom coefficients).
   // The medium is validated first: an invalid one throws ParameterError and nothing changes.

@@ -22,7 +22,8 @@ void main() {
 }
 )";
 
-// The tone map of analysis::toneMap: scale by 2^exposure, clamp to [0, 1], then ^(1/gamma).
+// The tone map of analysis::toneMap: scale by 2^exposure, clamp to [0, 1] (or Reinhard's
+// s/(1 + s), s = key v / average), then ^(1/gamma).
 // Image rows are stored from the top, so v is flipped.
 constexpr const char* kFragment = R"(#version 450 core
 in vec2 uv;
@@ -30,8 +31,14 @@ out vec4 color;
 layout(binding = 0) uniform sampler2D image;
 uniform float scale;     // 2^exposure
 uniform float invGamma;  // 1/gamma
+uniform bool reinhard;
+uniform float reinhardScale;  // key / average
 void main() {
   vec3 v = texture(image, vec2(uv.x, 1.0 - uv.y)).rgb * scale;
+  if (reinhard) {
+    v *= reinhardScale;
+    v = v / (1.0 + v);
+  }
   // NaN and negative values fail v > 0 and map to 0, as on the CPU.
   v = mix(vec3(0.0), min(v, vec3(1.0)), greaterThan(v, vec3(0.0)));
   color = vec4(pow(v, vec3(invGamma)), 1.0);
@@ -75,6 +82,7 @@ struct FrameDisplay::Impl {
   VertexArray vao = VertexArray::create();
   Texture texture;
   int width = 0, height = 0;
+  double average = 0.0;  // of the uploaded image (analysis::withImageAverage)
 };
 
 FrameDisplay::FrameDisplay() : impl_(std::make_unique<Impl>()) {}
@@ -105,11 +113,18 @@ void FrameDisplay::upload(std::span<const float> rgb, int width, int height) {
   glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
   glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
   glTextureSubImage2D(m.texture.id(), 0, 0, 0, width, height, GL_RGB, GL_FLOAT, rgb.data());
+  m.average = analysis::withImageAverage({}, rgb).average;
   checkGlError("FrameDisplay::upload");
 }
 
 void FrameDisplay::draw(unsigned framebuffer, int width, int height, double exposure,
                         double gamma) const {
+  draw(framebuffer, width, height, analysis::ToneMap{exposure, gamma});
+}
+
+void FrameDisplay::draw(unsigned framebuffer, int width, int height,
+                        const analysis::ToneMap& tm) const {
+  const double exposure = tm.exposure, gamma = tm.gamma;
   const Impl& m = *impl_;
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
   glViewport(0, 0, width, height);
@@ -130,6 +145,10 @@ void FrameDisplay::draw(unsigned framebuffer, int width, int height, double expo
   m.program.use();
   m.program.set("scale", static_cast<float>(std::exp2(e)));
   m.program.set("invGamma", static_cast<float>(1.0 / g));
+  const bool reinhard = tm.op == analysis::ToneOperator::Reinhard;
+  const double average = tm.average > 0.0 ? tm.average : (m.average > 0.0 ? m.average : 1.0);
+  m.program.set("reinhard", reinhard);
+  m.program.set("reinhardScale", static_cast<float>(reinhard ? tm.key / average : 1.0));
   glBindTextureUnit(0, m.texture.id());
   glBindVertexArray(m.vao.id());
   glDrawArrays(GL_TRIANGLES, 0, 3);

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Showing a linear RGB image on screen: the image is uploaded to a float texture and drawn over a
 // whole framebuffer (any FBO, e.g. a QOpenGLWidget's), tone mapped exactly like the CLI's PNG
-// output (analysis::toneMap): v -> clamp(v 2^exposure, 0, 1)^(1/gamma), NaN and negative -> 0.
+// output (analysis::toneMap): v -> clamp(v 2^exposure, 0, 1)^(1/gamma), or Reinhard's
+// s/(1 + s) with s = key v 2^exposure / average; NaN and negative -> 0.
 // A smaller image is stretched with bilinear filtering (the explorer's half-resolution frames
 // while the view moves, seed 3.6.4).
 //
@@ -13,6 +14,8 @@
 #include <memory>
 #include <span>
 #include <string>
+
+#include "translucent/io/image_io.h"
 
 namespace translucent::gpu {
 
@@ -42,6 +45,9 @@ class FrameDisplay {
   // Draws the uploaded image over the viewport (0, 0, width, height) of `framebuffer`, tone
   // mapped; clears to black when no image was uploaded. Leaves the framebuffer bound and the program and vertex array unbound.
   void draw(unsigned framebuffer, int width, int height, double exposure, double gamma) const;
+  // The same with any tone map (analysis::ToneMap: clamp or reinhard; a reinhard map without an
+  // average takes the uploaded image's, analysis::withImageAverage).
+  void draw(unsigned framebuffer, int width, int height, const analysis::ToneMap& tm) const;
 
  private:
   struct Impl;

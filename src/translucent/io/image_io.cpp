@@ -282,10 +282,41 @@ LayeredImage readExrLayers(const std::string& path) {
   return img;
 }
 
+const char* toString(ToneOperator op) {
+  return op == ToneOperator::Reinhard ? "reinhard" : "clamp";
+}
+
+std::vector<std::string> toneOperatorNames() { return {"clamp", "reinhard"}; }
+
+ToneOperator parseToneOperator(std::string_view name, std::string_view what) {
+  if (name == "clamp") return ToneOperator::Clamp;
+  if (name == "reinhard") return ToneOperator::Reinhard;
+  throw ImageError(fmt::format("{} '{}': expected a tone map operator: clamp or reinhard", what, name));
+}
+
+ToneMap withImageAverage(ToneMap tm, std::span<const float> rgb) {
+  double sum = 0.0;
+  size_t values = 0;
+  for (size_t p = 0; p + 2 < rgb.size(); p += 3) {
+    const float r = rgb[p], g = rgb[p + 1], b = rgb[p + 2];
+    if (!(r > 0.0f || g > 0.0f || b > 0.0f)) continue;  // background (or NaN)
+    for (const float v : {r, g, b})
+      if (std::isfinite(v) && v > 0.0f) sum += double(v);
+    values += 3;
+  }
+  tm.average = values > 0 ? sum / double(values) : 0.0;
+  return tm;
+}
+
 double toneMapValue(double value, const ToneMap& tm) {
   double v = value * std::exp2(tm.exposure);
   if (!(v > 0.0)) return 0.0;  // also NaN
-  v = std::min(v, 1.0);
+  if (tm.op == ToneOperator::Reinhard) {
+    const double s = tm.key * v / (tm.average > 0.0 ? tm.average : 1.0);
+    v = std::isinf(s) ? 1.0 : s / (1.0 + s);
+  } else {
+    v = std::min(v, 1.0);
+  }
   return std::pow(v, 1.0 / tm.gamma);
 }
 
@@ -303,8 +334,12 @@ void writePng(const std::string& path, int width, int height, std::span<const fl
   if (!(std::isfinite(tm.gamma) && tm.gamma > 0.0))
     throw ImageError(fmt::format("cannot write '{}': gamma is {}: expected a finite value > 0",
                                  path, tm.gamma));
+  if (!(std::isfinite(tm.key) && tm.key > 0.0))
+    throw ImageError(fmt::format("cannot write '{}': tone map key is {}: expected a finite value > 0",
+                                 path, tm.key));
+  const ToneMap t = tm.op == ToneOperator::Reinhard && !(tm.average > 0.0) ? withImageAverage(tm, rgb) : tm;
   std::vector<unsigned char> data(rgb.size());
-  for (size_t i = 0; i < rgb.size(); ++i) data[i] = toneMap(rgb[i], tm);
+  for (size_t i = 0; i < rgb.size(); ++i) data[i] = toneMap(rgb[i], t);
   write(path, {nullptr, width, height, 3, nullptr, false, data.data(), nullptr, 0});
 }
 

@@ -38,15 +38,39 @@ void writeExr(const std::string& path, int width, int height, std::span<const fl
               std::span<const ExrLayer> layers = {},
               std::span<const std::pair<std::string, std::string>> attributes = {});
 
+// How linear values become display values in [0, 1], before the gamma:
+//   clamp     v 2^exposure clamped to [0, 1] (what a camera's sensor does);
+//   reinhard  s / (1 + s) per channel, s = key v 2^exposure / average: the global operator of
+//             Reinhard, Stark, Shirley & Ferwerda 2002 (Eq. 3, L/(1 + L)), scaled by the average
+//             of the rendered pixels as Chang 2007 (section 3.3.3, "DirectX's HDR lighting")
+//             applies it to translucent renderings (the thesis prints the operator inverted,
+//             (1 + s)/s, which is not in [0, 1]). An image's average maps to key / (1 + key)
+//             (0.5 at the default key 1), and no value reaches white.
+enum class ToneOperator { Clamp, Reinhard };
+const char* toString(ToneOperator op);
+std::vector<std::string> toneOperatorNames();
+// "clamp" or "reinhard"; ImageError naming `what` and the valid names otherwise.
+ToneOperator parseToneOperator(std::string_view name, std::string_view what);
+
 struct ToneMap {
   double exposure = 0.0;  // stops: values are multiplied by 2^exposure
-  double gamma = 2.2;     // display gamma: v -> v^(1/gamma), after clamping to [0, 1]
+  double gamma = 2.2;     // display gamma: v -> v^(1/gamma), after the operator
+  ToneOperator op = ToneOperator::Clamp;
+  double key = 1.0;       // reinhard: the display value of the average is key / (1 + key)
+  // reinhard: the average linear value of the rendered pixels (withImageAverage); <= 0: 1.
+  double average = 0.0;
 };
 
-// Display value in [0, 1] of one linear value under a tone map: v 2^exposure, clamped to [0, 1]
-// (NaN to 0), to the power 1/gamma. The perceptual metrics (metrics.h) see images through it.
+// The tone map with `average` set to the mean of the values of the pixels that hold light (any
+// channel > 0: the rendered pixels, not the empty background), before the exposure; 0 when none
+// does. Only the reinhard operator reads it.
+ToneMap withImageAverage(ToneMap tm, std::span<const float> rgb);
+
+// Display value in [0, 1] of one linear value under a tone map: the operator (NaN and negative
+// values to 0), then the power 1/gamma. The perceptual metrics (metrics.h) see images through it.
 double toneMapValue(double value, const ToneMap& tm);
-// The same as an 8-bit value (rounded), as written to PNG files.
+// The same as an 8-bit value (rounded), as written to PNG files (writePng sets the average of a
+// reinhard tone map from the image when it is not set).
 unsigned char toneMap(float value, const ToneMap& tm);
 
 // Reads the first three channels of an image file (any format OpenImageIO reads) as linear

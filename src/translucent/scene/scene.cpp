@@ -453,9 +453,18 @@ Scene parseScene(const std::string& text, const std::filesystem::path& base_dir,
   // Display.
   if (doc.contains("display")) {
     const json& d = doc["display"];
-    r.onlyKeys(d, "display", {"exposure", "gamma"});
+    r.onlyKeys(d, "display", {"exposure", "gamma", "tonemap", "key"});
     s.exposure = r.number(d, "exposure", "display", 0.0);
     s.gamma = r.number(d, "gamma", "display", 2.2);
+    if (d.contains("tonemap")) {
+      const std::string op = r.string(d, "tonemap", "display");
+      if (op != "clamp" && op != "reinhard")
+        r.fail("display.tonemap", fmt::format("'{}': expected clamp or reinhard", op));
+      s.tonemap = analysis::parseToneOperator(op, "display.tonemap");
+    }
+    s.tonemap_key = r.number(d, "key", "display", 1.0);
+    if (!(s.tonemap_key > 0.0 && s.tonemap_key <= 100.0))
+      r.fail("display.key", fmt::format("is {}: expected a tone map key in (0, 100]", s.tonemap_key));
     requirePositive(r, s.gamma, "display.gamma");
     // Legal numbers that map every pixel to black or white (x^(1/1e-300), 2^1000 x).
     if (!(s.gamma >= 0.01 && s.gamma <= 100.0))
@@ -556,7 +565,8 @@ std::string toJson(const Scene& s) {
   for (const auto& [k, v] : s.settings)
     std::visit([&, key = k](const auto& x) { t[key] = x; }, v);
   doc["technique"] = t;
-  doc["display"] = {{"exposure", s.exposure}, {"gamma", s.gamma}};
+  doc["display"] = {{"exposure", s.exposure}, {"gamma", s.gamma},
+                    {"tonemap", analysis::toString(s.tonemap)}, {"key", s.tonemap_key}};
   doc["cone_angle"] = s.cone_angle;
   return doc.dump(2);
 }

@@ -98,6 +98,7 @@
 #include "translucent/geometry/deform.h"
 #include "translucent/geometry/hole_filling.h"
 #include "translucent/geometry/mesh.h"
+#include "translucent/io/image_io.h"
 #include "translucent/material/material.h"
 #include "translucent/material/material_desc.h"
 #include "translucent/optics/medium.h"
@@ -175,6 +176,8 @@ struct Scene {
 
   double exposure = 0.0;  // stops
   double gamma = 2.2;
+  analysis::ToneOperator tonemap = analysis::ToneOperator::Clamp;  // display.tonemap
+  double tonemap_key = 1.0;                                          // display.key
 
   double cone_angle = 5.0;  // path tracer only
 
@@ -192,6 +195,11 @@ Scene loadScene(const std::filesystem::path& path);
 Scene parseScene(const std::string& text, const std::filesystem::path& base_dir,
                  const std::string& what);
 // The scene as JSON text (paths as stored). parseScene(toJson(s)) == s.
+// The scene's display settings as a tone map (PNG output, the explorer's view).
+inline analysis::ToneMap displayToneMap(const Scene& s) {
+  return {s.exposure, s.gamma, s.tonemap, s.tonemap_key, 0.0};
+}
+
 std::string toJson(const Scene& scene);
 // Every file the scene reads besides its own, with what it is (for messages): the mesh, the
 // .bssrdf model, the lights' filter textures and environment maps, the material's maps and

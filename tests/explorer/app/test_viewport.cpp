@@ -7,6 +7,7 @@
 #include <QtCore/QTemporaryDir>
 #include <QtTest/QtTest>
 #include <QtWidgets/QCheckBox>
+#include <QtWidgets/QComboBox>
 #include <QtWidgets/QDoubleSpinBox>
 #include <QtWidgets/QMainWindow>
 #include <QtWidgets/QSlider>
@@ -144,6 +145,43 @@ class Viewport : public QObject {
                std::abs(qBlue(p) - ref[2]) > 1;
       }
     QVERIFY2(bad == 0, qPrintable(QStringLiteral("%1 pixels differ by more than one level").arg(bad)));
+  }
+
+  void reinhardToneMapMatchesThePngWriters() {
+    // The dock's tone map set to Reinhard (key 0.5): the display shader against analysis::toneMap
+    // with the frame's own average (what writePng uses), pixel by pixel within one 8-bit level;
+    // then back to clamp.
+    QVERIFY(full_ != nullptr);
+    auto* op = dock_->findChild<QComboBox*>(QStringLiteral("tonemap"));
+    auto* key = dock_->findChild<QDoubleSpinBox*>(QStringLiteral("tonemap_key"));
+    QVERIFY(op != nullptr && key != nullptr);
+    const std::string technique = full_->technique;
+    key->setValue(0.5);
+    op->setCurrentIndex(1);
+    QCOMPARE(state_->scene().tonemap, analysis::ToneOperator::Reinhard);
+    QCOMPARE(state_->scene().tonemap_key, 0.5);
+    const auto shown = nextFull(technique);  // a display change renders the view again
+    QVERIFY(shown != nullptr);
+    const QImage img = dock_->view()->grabFramebuffer();
+    const auto& f = shown->frame;
+    const analysis::ToneMap tm = analysis::withImageAverage(scene::displayToneMap(state_->scene()), f.rgb);
+    QVERIFY(tm.average > 0.0);
+    int bad = 0, bright = 0;
+    for (int y = 0; y < f.height; ++y)
+      for (int x = 0; x < f.width; ++x) {
+        const QRgb p = img.pixel(x, y);
+        const float* v = &f.rgb[(size_t(y) * f.width + x) * 3];
+        const int ref[3] = {analysis::toneMap(v[0], tm), analysis::toneMap(v[1], tm),
+                            analysis::toneMap(v[2], tm)};
+        bad += std::abs(qRed(p) - ref[0]) > 1 || std::abs(qGreen(p) - ref[1]) > 1 ||
+               std::abs(qBlue(p) - ref[2]) > 1;
+        bright += ref[1] > 64;
+      }
+    op->setCurrentIndex(0);
+    key->setValue(1.0);
+    QVERIFY(nextFull(technique) != nullptr);
+    QVERIFY2(bad == 0, qPrintable(QStringLiteral("%1 pixels differ by more than one level").arg(bad)));
+    QVERIFY2(bright > 0, "no pixel brighter than a quarter of white: the test would pass on black");
   }
 
   void savedSceneRendersTheSameThroughTheCli() {

@@ -252,6 +252,24 @@ struct TransferTechnique::Impl : techniques::ClosedMeshState {
     operatorDirty = false;
   }
 
+  // The camera's G-buffer, and the per-pixel outputs sized for the image.
+  void gbufferAndOutputs(int width, int height) {
+    const scene::Scene& s = *scene;
+    {
+      auto t = timer->scope("g-buffer");
+      gbuffer.resize(width, height);
+      const glm::mat4 vp = techniques::cameraViewProjection(s.camera, s.clip_near, s.clip_far,
+                                                            center, radius, width, height);
+      gbuffer.render(*gpuMesh, *gbufferProgram, vp);
+    }
+    const size_t pixels = size_t(width) * size_t(height);
+    if (pixels != outPixels) {
+      radianceOut = gpu::makeStorageBuffer(pixels * sizeof(glm::vec4));
+      exitanceOut = gpu::makeStorageBuffer(pixels * sizeof(glm::vec4));
+      outPixels = pixels;
+    }
+  }
+
   techniques::Frame render(const techniques::FrameRequest& request) {
     if (!scene) throw ParameterError("transfer: render() before prepare(): expected a scene");
     const scene::Scene& s = *scene;
@@ -312,19 +330,7 @@ struct TransferTechnique::Impl : techniques::ClosedMeshState {
       vertexProgram->set("Vertices", static_cast<unsigned>(mesh.vertexCount()));
       gpu::dispatch1D(*vertexProgram, mesh.vertexCount());
     }
-    {
-      auto t = timer->scope("g-buffer");
-      gbuffer.resize(width, height);
-      const glm::mat4 vp = techniques::cameraViewProjection(s.camera, s.clip_near, s.clip_far,
-                                                            center, radius, width, height);
-      gbuffer.render(*gpuMesh, *gbufferProgram, vp);
-    }
-    const size_t pixels = size_t(width) * size_t(height);
-    if (pixels != outPixels) {
-      radianceOut = gpu::makeStorageBuffer(pixels * sizeof(glm::vec4));
-      exitanceOut = gpu::makeStorageBuffer(pixels * sizeof(glm::vec4));
-      outPixels = pixels;
-    }
+    gbufferAndOutputs(width, height);
     {
       auto t = timer->scope("radiance");
       const gpu::ShaderProgram& p = *radianceProgram;
@@ -347,19 +353,7 @@ struct TransferTechnique::Impl : techniques::ClosedMeshState {
   techniques::Frame renderSingle(const techniques::FrameRequest& request, int width, int height,
                                  techniques::Frame frame) {
     const scene::Scene& s = *scene;
-    {
-      auto t = timer->scope("g-buffer");
-      gbuffer.resize(width, height);
-      const glm::mat4 vp = techniques::cameraViewProjection(s.camera, s.clip_near, s.clip_far,
-                                                            center, radius, width, height);
-      gbuffer.render(*gpuMesh, *gbufferProgram, vp);
-    }
-    const size_t pixels = size_t(width) * size_t(height);
-    if (pixels != outPixels) {
-      radianceOut = gpu::makeStorageBuffer(pixels * sizeof(glm::vec4));
-      exitanceOut = gpu::makeStorageBuffer(pixels * sizeof(glm::vec4));
-      outPixels = pixels;
-    }
+    gbufferAndOutputs(width, height);
     const float zero = 0.0f;
     glClearNamedBufferData(radianceOut.id(), GL_R32F, GL_RED, GL_FLOAT, &zero);
     glClearNamedBufferData(exitanceOut.id(), GL_R32F, GL_RED, GL_FLOAT, &zero);
