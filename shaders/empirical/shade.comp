@@ -29,6 +29,11 @@ uniform float Threshold;     // Eq. C.1 deviation at which a weight reaches 0 [d
 uniform vec3 CameraPosition;
 uniform vec3 CameraForward;
 uniform bool Orthographic;
+// Gascons 2011, A.1.1 (the fixed-function light model's controls, OpenGL 2.1 section 2.14.1):
+uniform bool LocalViewer;     // V towards the camera per point; else -CameraForward
+uniform float SpotCosCutoff;  // point lights: cos of the cutoff angle (-2: no spot)
+uniform float SpotExponent;   // (cos of the angle from the spot axis)^SpotExponent
+uniform vec3 SpotTarget;      // the spot axis runs from the light to this point (mesh centre)
 const int kMaxLights = 4;
 uniform int LightCount;
 uniform bool LightIsPoint[kMaxLights];
@@ -83,7 +88,7 @@ void main() {
   const vec3 N = normalize(na.xyz);
   const float ao = na.w;
   const vec3 position = texelFetch(FrontPosition, p, 0).xyz;
-  const vec3 V = Orthographic ? -CameraForward : normalize(CameraPosition - position);
+  const vec3 V = Orthographic || !LocalViewer ? -CameraForward : normalize(CameraPosition - position);
 
 #ifdef EMP_VERTEX_COLOUR
   const vec3 kd = Kd * texelFetch(FrontColour, p, 0).rgb;
@@ -98,6 +103,11 @@ void main() {
       const vec3 d = LightDirection[i] - position;
       L = normalize(d);
       I /= dot(d, d);
+      if (SpotCosCutoff > -1.5) {  // a spotlight aimed at the mesh's centre
+        const float c = dot(-L, normalize(SpotTarget - LightDirection[i]));
+        // (pow(0, 0) is undefined in GLSL: an exponent of 0 is a factor of 1 inside the cone.)
+        I *= c >= SpotCosCutoff ? (SpotExponent > 0.0 ? pow(max(c, 0.0), SpotExponent) : 1.0) : 0.0;
+      }
     }
     const float NdotL = max(dot(N, L), 0.0);
     if (NdotL > 0.0) {  // as computeLight (C.2.3)

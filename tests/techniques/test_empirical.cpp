@@ -301,6 +301,87 @@ TEST_F(EmpiricalGpu, PointLightFallsOffWithTheSquaredDistance) {
   }
 }
 
+// Gascons 2011, A.1.1: a point light as a spotlight aimed at the mesh's centre (OpenGL's
+// GL_SPOT_CUTOFF and GL_SPOT_EXPONENT). The box's top face (z = 0.2) under a light 1 above it:
+// at distance r from the axis, cos α = 1/sqrt(1 + r²) = n·L, so the diffuse term is
+// Kd I cos α · cos^e α / (1 + r²) inside the cone and 0 beyond it.
+TEST_F(EmpiricalGpu, SpotlightCutsOffAndFallsOffAsOpenGl) {
+  TempDir dir;
+  const int n = 33;
+  scene::Scene s = testScene(
+      writeObj(flatBox({-0.5, -0.5, -0.2}, {0.5, 0.5, 0.2}), dir.path() / "box.obj"), n);
+  s.lights[0].emitter = reference::PointLight{{0.0, 0.0, 1.2}, 3.0};
+  auto t = technique();
+  for (const char* zero : {"ka", "specular_contribution", "backlight", "diffuse_weight"})
+    t->setParameter(zero, 0.0);
+  t->setParameter("diffuse_contribution", 1.0);
+  t->setParameter("spot_cutoff", 20.0);
+  t->setParameter("spot_exponent", 4.0);
+  t->prepare(s, gpu::testing::context());
+  const techniques::Frame f = t->render({});
+  const ShadingParameters p;
+  const double cosCut = std::cos(20.0 * std::numbers::pi / 180.0);
+  int inside = 0, outside = 0;
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x) {
+      const double u = ((x + 0.5) / n - 0.5) * 2.2, v = ((y + 0.5) / n - 0.5) * 2.2;
+      if (std::abs(u) > 0.45 || std::abs(v) > 0.45) continue;  // the top face only
+      const double r2 = u * u + v * v, c = 1.0 / std::sqrt(1.0 + r2);
+      if (std::abs(c - cosCut) < 0.01) continue;  // the cutoff's edge falls between pixels
+      const double expected = c >= cosCut ? p.Kd[1] * 3.0 * c * std::pow(c, 4.0) / (1.0 + r2) : 0.0;
+      (c >= cosCut ? inside : outside) += 1;
+      EXPECT_NEAR(double(f.rgb[(size_t(y) * n + size_t(x)) * 3 + 1]), expected, 1e-5 + 1e-4 * expected)
+          << "pixel " << x << ", " << y;
+    }
+  EXPECT_GT(inside, 20);
+  EXPECT_GT(outside, 20);
+}
+
+// The local viewer (Gascons 2011, A.1.1): with it off, the half vector uses the view axis, so a
+// flat face under a directional light has one specular value through a pinhole camera (the
+// closed form Ws Ks I (n·H)^shininess); with it on, H follows each point's direction to the
+// camera and the highlight varies over the face (equal to the closed form where the pixel looks
+// along the axis).
+TEST_F(EmpiricalGpu, LocalViewerOffUsesTheViewAxis) {
+  TempDir dir;
+  const int n = 33;
+  scene::Scene s = testScene(
+      writeObj(flatBox({-0.5, -0.5, -0.2}, {0.5, 0.5, 0.2}), dir.path() / "box.obj"), n);
+  s.camera.projection = reference::Camera::Projection::Pinhole;
+  s.camera.position = {0.0, 0.0, 3.0};
+  s.camera.fov = 40.0;
+  const glm::dvec3 L = glm::normalize(glm::dvec3(0.4, 0.0, 1.0));
+  s.lights[0].emitter = reference::DirectionalLight{L, 2.0};
+  auto t = technique();
+  for (const char* zero : {"ka", "diffuse_contribution", "backlight", "diffuse_weight"})
+    t->setParameter(zero, 0.0);
+  t->setParameter("specular_contribution", 1.0);
+  t->setParameter("shininess", 20.0);
+  t->setParameter("ks", 0.5);
+  const glm::dvec3 H = glm::normalize(L + glm::dvec3(0.0, 0.0, 1.0));
+  const double expected = 1.0 * 0.5 * 2.0 * std::pow(H.z, 20.0);  // Ws Ks I (n·H)^n, white
+  for (bool local : {false, true}) {
+    t->setParameter("local_viewer", local);
+    t->prepare(s, gpu::testing::context());
+    const techniques::Frame f = t->render({});
+    double lo = 1e300, hi = 0.0;
+    for (int y = n / 2 - 5; y <= n / 2 + 5; ++y)
+      for (int x = n / 2 - 5; x <= n / 2 + 5; ++x) {
+        const double g = double(f.rgb[(size_t(y) * n + size_t(x)) * 3 + 1]);
+        lo = std::min(lo, g);
+        hi = std::max(hi, g);
+        if (!local) {
+          EXPECT_NEAR(g, expected, 1e-4 * expected) << "pixel " << x << ", " << y;
+        }
+      }
+    const double centre = double(f.rgb[(size_t(n / 2) * n + size_t(n / 2)) * 3 + 1]);
+    EXPECT_NEAR(centre, expected, 1e-4 * expected) << (local ? "local" : "infinite");
+    if (local) {
+      EXPECT_GT(hi - lo, 0.05 * expected) << "the local viewer's highlight should vary";
+    }
+  }
+}
+
 TEST_F(EmpiricalGpu, RunsThroughTheRegistryWithPresetsAndAo) {
   TempDir dir;
   useTestCache();

@@ -96,6 +96,18 @@ std::vector<ParameterInfo> parameterInfos() {
       ParameterInfo::integer("ao_rays", 320, 1, 100000, "ambient occlusion rays per vertex"),
       ParameterInfo::boolean("ao_cosine", false,
                              "cosine-weighted ambient occlusion rays (Gascons 2011: uniform)"),
+      ParameterInfo::boolean("local_viewer", true,
+                             "specular half vector towards the camera from each point (OpenGL's "
+                             "local viewer); off: the viewer at infinity along the view axis "
+                             "(Gascons 2011, A.1.1)"),
+      ParameterInfo::floating("spot_cutoff", 180.0, 0.0, 180.0,
+                              "point lights as spotlights aimed at the mesh's centre: no direct "
+                              "light beyond this angle from the axis; 180: no spot (OpenGL's "
+                              "GL_SPOT_CUTOFF, Gascons 2011, A.1.1)",
+                              "degrees"),
+      ParameterInfo::floating("spot_exponent", 0.0, 0.0, 128.0,
+                              "spotlight falloff: direct light × cos(angle from the axis)^exponent "
+                              "inside the cutoff (OpenGL's GL_SPOT_EXPONENT)"),
       ParameterInfo::boolean("random_lighting", false,
                              "move every light along a smooth random path, one step per frame "
                              "(Gascons 2011, A.1.1, Random Lighting)"),
@@ -416,6 +428,12 @@ struct EmpiricalTechnique::Impl {
       p.set("CameraPosition", glm::vec3(s.camera.position));
       p.set("CameraForward", glm::vec3(glm::normalize(s.camera.look_at - s.camera.position)));
       p.set("Orthographic", s.camera.projection == reference::Camera::Projection::Orthographic);
+      p.set("LocalViewer", params.getBool("local_viewer"));
+      const double cutoff = params.getFloat("spot_cutoff");
+      // cos of the cutoff; -2 (below any cosine): no spot at 180°, as OpenGL.
+      p.set("SpotCosCutoff", cutoff >= 180.0 ? -2.0f : static_cast<float>(std::cos(cutoff * std::numbers::pi / 180.0)));
+      p.set("SpotExponent", static_cast<float>(params.getFloat("spot_exponent")));
+      p.set("SpotTarget", glm::vec3(center));
       int count = 0;
       const bool randomLighting = params.getBool("random_lighting");
       for (const scene::Light& l : s.lights) {  // directional or point: checked in prepare()
