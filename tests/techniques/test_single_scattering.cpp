@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <memory>
 #include <cmath>
 #include <cstdlib>
 #include <string>
@@ -149,6 +150,22 @@ double expectBlocksAgree(const techniques::Frame& f, const reference::McImage& r
   return worst;
 }
 
+// The camera path tracer (η = 1) on the scene's mesh, medium, first (directional) light and
+// camera, with the images split by scattering order: `samples` per pixel and channel.
+std::unique_ptr<reference::CameraPathTracer> cameraMethod(const geometry::TriangleMesh& mesh,
+                                                          const scene::Scene& s, uint64_t seed,
+                                                          bool exitance, uint64_t samples) {
+  reference::CameraPathOptions o;
+  o.seed = seed;
+  o.threads = 2;
+  o.split_orders = true;
+  o.exitance = exitance;
+  const reference::Light sun{std::get<reference::DirectionalLight>(s.lights[0].emitter), Rgb{1, 1, 1}};
+  auto cam = std::make_unique<reference::CameraPathTracer>(mesh, s.medium, std::vector{sun}, s.camera, o);
+  cam->addPass(samples);
+  return cam;
+}
+
 TEST_F(SingleScatteringGpu, MatchesTheCameraMethodOnASphereAtEtaOne) {
   // A sun from the side (45°) and the orthographic camera along +z: the phase function, the
   // light's path through the sphere to every point of the view ray and the view ray's own
@@ -160,15 +177,8 @@ TEST_F(SingleScatteringGpu, MatchesTheCameraMethodOnASphereAtEtaOne) {
   s.lights[0].emitter = reference::DirectionalLight{glm::normalize(glm::dvec3(1.0, 0.0, 1.0)), 2.0};
   const Rendered r = renderSingle(s);
 
-  reference::CameraPathOptions o;
-  o.seed = 3;
-  o.threads = 2;
-  o.split_orders = true;
-  o.exitance = true;
-  const reference::Light sun{std::get<reference::DirectionalLight>(s.lights[0].emitter), Rgb{1, 1, 1}};
-  reference::CameraPathTracer cam(r.mesh, s.medium, {sun}, s.camera, o);
-  cam.addPass(1024);
-  const auto& single = cam.orderImages(reference::ScatteringOrder::Single);
+  const auto cam = cameraMethod(r.mesh, s, 3, true, 1024);
+  const auto& single = cam->orderImages(reference::ScatteringOrder::Single);
   const double worst = expectBlocksAgree(r.frame, single.cone_radiance, 3, 0.02, 0.95, "sphere radiance");
   std::printf("sphere, eta 1: radiance blocks within %.2f%% of the camera method\n", 100.0 * worst);
   // The exitance over 8 cosine-weighted exit directions (a coarse quadrature of a smooth
@@ -203,16 +213,9 @@ TEST_F(SingleScatteringGpu, MatchesTheCameraMethodOnTheBunnyAtEtaOne) {
   s.camera.look_at = {mid.x, mid.y, 0.0};
   r = renderSingle(s, 0);
 
-  reference::CameraPathOptions o;
-  o.seed = 4;
-  o.threads = 2;
-  o.split_orders = true;
-  o.exitance = false;
-  const reference::Light sun{std::get<reference::DirectionalLight>(s.lights[0].emitter), Rgb{1, 1, 1}};
-  reference::CameraPathTracer cam(r.mesh, s.medium, {sun}, s.camera, o);
-  cam.addPass(2048);
+  const auto cam = cameraMethod(r.mesh, s, 4, false, 2048);
   const double worst = expectBlocksAgree(
-      r.frame, cam.orderImages(reference::ScatteringOrder::Single).cone_radiance, 2, 0.04, 0.9, "bunny radiance");
+      r.frame, cam->orderImages(reference::ScatteringOrder::Single).cone_radiance, 2, 0.04, 0.9, "bunny radiance");
   std::printf("bunny, eta 1: radiance blocks within %.2f%% of the camera method\n", 100.0 * worst);
 }
 

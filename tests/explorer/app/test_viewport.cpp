@@ -60,6 +60,22 @@ class Viewport : public QObject {
   std::shared_ptr<const RenderedFrame> full_;
   QTemporaryDir dir_;
 
+  // Pixels of the screen image that differ by more than one 8-bit level from the frame tone
+  // mapped on the CPU (analysis::toneMap, as the CLI's PNG).
+  static int pixelsOffTheToneMap(const QImage& img, const techniques::Frame& f, const analysis::ToneMap& tm) {
+    int bad = 0;
+    for (int y = 0; y < f.height; ++y)
+      for (int x = 0; x < f.width; ++x) {
+        const QRgb p = img.pixel(x, y);
+        const float* v = &f.rgb[(size_t(y) * f.width + x) * 3];
+        const int ref[3] = {analysis::toneMap(v[0], tm), analysis::toneMap(v[1], tm),
+                            analysis::toneMap(v[2], tm)};
+        bad += std::abs(qRed(p) - ref[0]) > 1 || std::abs(qGreen(p) - ref[1]) > 1 ||
+               std::abs(qBlue(p) - ref[2]) > 1;
+      }
+    return bad;
+  }
+
   // Waits for the next full-resolution frame of technique `technique` after the call.
   std::shared_ptr<const RenderedFrame> nextFull(const std::string& technique) {
     const int before = full_frames_;
@@ -134,16 +150,7 @@ class Viewport : public QObject {
     const QImage img = dock_->view()->grabFramebuffer();
     const auto& f = full_->frame;
     const analysis::ToneMap tm{state_->scene().exposure, state_->scene().gamma};
-    int bad = 0;
-    for (int y = 0; y < f.height; ++y)
-      for (int x = 0; x < f.width; ++x) {
-        const QRgb p = img.pixel(x, y);
-        const float* v = &f.rgb[(size_t(y) * f.width + x) * 3];
-        const int ref[3] = {analysis::toneMap(v[0], tm), analysis::toneMap(v[1], tm),
-                            analysis::toneMap(v[2], tm)};
-        bad += std::abs(qRed(p) - ref[0]) > 1 || std::abs(qGreen(p) - ref[1]) > 1 ||
-               std::abs(qBlue(p) - ref[2]) > 1;
-      }
+    const int bad = pixelsOffTheToneMap(img, f, tm);
     QVERIFY2(bad == 0, qPrintable(QStringLiteral("%1 pixels differ by more than one level").arg(bad)));
   }
 
@@ -166,17 +173,9 @@ class Viewport : public QObject {
     const auto& f = shown->frame;
     const analysis::ToneMap tm = analysis::withImageAverage(scene::displayToneMap(state_->scene()), f.rgb);
     QVERIFY(tm.average > 0.0);
-    int bad = 0, bright = 0;
-    for (int y = 0; y < f.height; ++y)
-      for (int x = 0; x < f.width; ++x) {
-        const QRgb p = img.pixel(x, y);
-        const float* v = &f.rgb[(size_t(y) * f.width + x) * 3];
-        const int ref[3] = {analysis::toneMap(v[0], tm), analysis::toneMap(v[1], tm),
-                            analysis::toneMap(v[2], tm)};
-        bad += std::abs(qRed(p) - ref[0]) > 1 || std::abs(qGreen(p) - ref[1]) > 1 ||
-               std::abs(qBlue(p) - ref[2]) > 1;
-        bright += ref[1] > 64;
-      }
+    const int bad = pixelsOffTheToneMap(img, f, tm);
+    int bright = 0;
+    for (size_t i = 1; i < f.rgb.size(); i += 3) bright += analysis::toneMap(f.rgb[i], tm) > 64;
     op->setCurrentIndex(0);
     key->setValue(1.0);
     QVERIFY(nextFull(technique) != nullptr);
