@@ -39,6 +39,8 @@ uniform int IrrLevels;
 uniform float Z0;     // z0 [scene units]
 uniform float Alpha;  // α
 uniform float Rw;     // R_w: the bounding-sphere diameter
+uniform bool UseDiscontinuity;  // the geometric terms (Fig. 5's ablation; splatting::SelectionParams)
+uniform bool UseOrientation;
 layout(binding = 4) uniform sampler2D HierA;
 layout(binding = 5) uniform sampler2D HierB;
 layout(binding = 6) uniform sampler2D HierC;
@@ -47,8 +49,8 @@ bool spPasses(ivec2 t, int k) {
   vec4 c = texelFetch(HierC, t, k);
   if (c.w == 0.0) return false;
   float cosNL = texelFetch(HierB, t, k).w;
-  float m = Alpha * Rw / (c.z * max(abs(cosNL), 1e-3));  // Eq. 11
-  return c.y - c.x < Z0 && float(textureSize(HierA, k).x) > m;
+  float m = Alpha * Rw / (c.z * (UseOrientation ? max(abs(cosNL), 1e-3) : 1.0));  // Eq. 11
+  return (!UseDiscontinuity || c.y - c.x < Z0) && float(textureSize(HierA, k).x) > m;
 }
 
 flat out vec3 vXi;

@@ -155,6 +155,17 @@ TEST(SplattingSelection, Eq10AndEq11) {
   EXPECT_FALSE(passesEq10(p, 1.0, 1.04, 64.0, 0.5, 1.0));  // depth discontinuity
   EXPECT_FALSE(passesEq10(p, 1.0, 1.02, 32.0, 0.5, 1.0));  // too coarse for the material
   EXPECT_FALSE(passesEq10(p, 1.0, 1.02, 64.0, 0.5, 0.5));  // grazing: needs twice the rate
+  // Fig. 5's ablation: without the orientation term the grazing sample passes (M = 60 < 64);
+  // without the discontinuity term the sample across the depth step does.
+  SelectionParams q = p;
+  q.orientation = false;
+  EXPECT_DOUBLE_EQ(materialSamplingRate(q, 0.5, 0.5), 60.0);
+  EXPECT_TRUE(passesEq10(q, 1.0, 1.02, 64.0, 0.5, 0.5));
+  EXPECT_FALSE(passesEq10(q, 1.0, 1.04, 64.0, 0.5, 1.0));
+  q = p;
+  q.discontinuity = false;
+  EXPECT_TRUE(passesEq10(q, 1.0, 1.04, 64.0, 0.5, 1.0));
+  EXPECT_FALSE(passesEq10(q, 1.0, 1.02, 64.0, 0.5, 0.5));
 }
 
 TEST(SplattingMipmaps, MedianPicksTheLowerMiddleDepth) {

@@ -137,12 +137,13 @@ std::vector<std::pair<double, double>> splatRanges(const RbarTable& table, doubl
 // ---- Eqs. 10-11 ------------------------------------------------------------------------------
 
 double materialSamplingRate(const SelectionParams& p, double effectiveRadius, double cosNL) {
-  return p.alpha * p.rw / (effectiveRadius * std::max(std::abs(cosNL), 1e-3));
+  const double orientation = p.orientation ? std::max(std::abs(cosNL), 1e-3) : 1.0;
+  return p.alpha * p.rw / (effectiveRadius * orientation);
 }
 
 bool passesEq10(const SelectionParams& p, double zMin, double zMax, double levelResolution,
                 double effectiveRadius, double cosNL) {
-  return zMax - zMin < p.z0 &&
+  return (!p.discontinuity || zMax - zMin < p.z0) &&
          levelResolution > materialSamplingRate(p, effectiveRadius, cosNL);
 }
 

@@ -87,6 +87,11 @@ struct SelectionParams {
   double z0 = 0.0;     // depth threshold: 0.03 × the bounding-sphere radius
   double alpha = 15.0; // α
   double rw = 0.0;     // R_w: the bounding-sphere diameter
+  // The two geometric terms, for the ablation of Chen et al. 2012's Fig. 5: without the
+  // discontinuity term a sample spanning a depth step passes Eq. 10; without the orientation
+  // term Eq. 11 takes |n·L| = 1.
+  bool discontinuity = true;
+  bool orientation = true;
 };
 
 // Eq. 11: M(x) = α R_w / (R_P |n·L|) (|n·L| clamped at 1e-3: grazing samples need full rate).

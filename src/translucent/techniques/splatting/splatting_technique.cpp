@@ -63,6 +63,10 @@ std::vector<ParameterInfo> parameterInfos(bool shah) {
                                           "sphere's radius", "radius"));
     out.push_back(ParameterInfo::floating("alpha", 15.0, 0.0, 1000.0,
                                           "α of the material sampling rate (Eq. 11)", ""));
+    out.push_back(ParameterInfo::enumeration(
+        "selection_terms", "both", {"both", "discontinuity", "orientation"},
+        "geometric terms of the adaptive selection (Eqs. 10-11): both, the depth discontinuity "
+        "only, or the surface orientation |n·L| only (the ablation of Chen et al. 2012, Fig. 5)"));
     out.push_back(ParameterInfo::floating("epsilon", 0.001, 1e-6, 0.5,
                                           "ε of the minimal effective rendering radius (Eq. 14)", ""));
     out.push_back(ParameterInfo::floating("lambda_z", 8.0, 0.0, 100.0,
@@ -466,6 +470,9 @@ struct SplattingTechnique::Impl : techniques::ClosedMeshState {
       p.set("IrrLevels", irrLevels);
       p.set("Z0", static_cast<float>(shah ? 0.0 : params.getFloat("z0") * radius));
       p.set("Alpha", static_cast<float>(shah ? 15.0 : params.getFloat("alpha")));
+      const std::string terms = shah ? std::string("both") : params.getEnum("selection_terms");
+      p.set("UseDiscontinuity", terms != "orientation");
+      p.set("UseOrientation", terms != "discontinuity");
       p.set("Rw", static_cast<float>(2.0 * radius));
       glBindVertexArray(emptyVao.id());
       for (auto& st : lights) {
