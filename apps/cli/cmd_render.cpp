@@ -29,6 +29,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <memory>
 #include <optional>
@@ -37,6 +38,7 @@
 #include "translucent/io/image_io.h"
 #include "commands.h"
 #include "options.h"
+#include "plot/profile_plot.h"
 #include "output_guard.h"
 #include "progress.h"
 #include "safe_print.h"
@@ -483,7 +485,7 @@ void runRender(const RenderArgs& a) {
     wrote.push_back(fmt::format("wrote {}\n", outFile));
   }
   if (!a.debug_dir.empty()) {
-    if (frame.layers.empty() && frame.views.empty())
+    if (frame.layers.empty() && frame.views.empty() && frame.plots.empty())
       wrote.push_back(fmt::format("--debug-dir: technique {} has no debug layers\n", s.technique));
     // The technique's inspection views: display-ready [0, 1], written as they are.
     // (Named references, not structured bindings: clang 14 cannot capture those in the lambdas.)
@@ -498,6 +500,32 @@ void runRender(const RenderArgs& a) {
         analysis::writePng(p, view.width, view.height, view.rgb, {0.0, 1.0});
       });
       wrote.push_back(fmt::format("wrote {}.exr/.png: {}\n", base, view.description));
+    }
+    // The technique's plots: SVG and CSV (series, x, y).
+    for (const auto& entry : frame.plots) {
+      const std::string& name = entry.first;
+      const techniques::FramePlot& fp = entry.second;
+      const std::string base = (std::filesystem::path(a.debug_dir) / ("plot-" + name)).string();
+      std::vector<plot::XySeries> series;
+      for (const auto& sr : fp.series) series.push_back({sr.label, sr.x, sr.y});
+      plot::XyPlotOptions po;
+      po.title = fp.title;
+      po.x_label = fp.x_label;
+      po.y_label = fp.y_label;
+      po.log_x = fp.log_x;
+      po.log_y = fp.log_y;
+      out.file("--debug-dir", base + ".svg",
+               [&](const std::string& p) { plot::writeXyPlot(p, series, po); });
+      out.file("--debug-dir", base + ".csv", [&](const std::string& p) {
+        std::ofstream f(p);
+        f << "series,x,y\n";
+        f.precision(9);
+        for (const auto& sr : fp.series)
+          for (size_t i = 0; i < sr.x.size() && i < sr.y.size(); ++i)
+            f << '"' << sr.label << "\"," << sr.x[i] << ',' << sr.y[i] << '\n';
+        if (!f) throw std::runtime_error(fmt::format("cannot write '{}'", p));
+      });
+      wrote.push_back(fmt::format("wrote {}.svg/.csv: {}\n", base, fp.title));
     }
     for (const auto& entry : frame.layers) {
       const std::string& name = entry.first;

@@ -119,6 +119,19 @@ struct FrameView {
   std::string description;
 };
 
+// A curve plot a technique shows about its own state (e.g. splatting: the minimal effective
+// rendering radius over resolution, Chen et al. 2012 Fig. 3b): written by `translucent render
+// --debug-dir` as SVG and CSV.
+struct FramePlot {
+  std::string title, x_label, y_label;
+  bool log_x = false, log_y = false;
+  struct Series {
+    std::string label;
+    std::vector<double> x, y;
+  };
+  std::vector<Series> series;
+};
+
 // One rendered frame: linear RGB radiance [W/(unit² sr) per unit light flux], rows from the top.
 struct Frame {
   int width = 0, height = 0;
@@ -127,6 +140,7 @@ struct Frame {
   std::map<std::string, std::vector<float>> layers;
   // Inspection views (only when FrameRequest::views; none for most techniques).
   std::map<std::string, FrameView> views;
+  std::map<std::string, FramePlot> plots;  // as views (FrameRequest::views)
   std::vector<PassTime> passes;
   // False while a progressive technique is still accumulating (render again to refine).
   bool converged = true;

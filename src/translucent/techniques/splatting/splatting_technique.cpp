@@ -98,7 +98,9 @@ struct SplattingTechnique::Impl : techniques::ClosedMeshState {
   gpu::Buffer vertexProfileBuffer, triangleBuffer, vertexRpBuffer;
   std::vector<float> vertexRp;  // R_P per vertex: the 95% radius of its widest channel
   MeanProfile meanProfile{1024};
+  MeanProfile firstProfile{1024};  // vertex 0's normalised profile alone (Fig. 3b's second plot)
   std::optional<RbarTable> rbar;
+  std::optional<techniques::FramePlot> radiusPlot;  // Fig. 3b for the current profiles and ε
   double rbarEpsilon = -1.0;
   int programNodes = 0;
 
@@ -221,6 +223,8 @@ struct SplattingTechnique::Impl : techniques::ClosedMeshState {
     vertexRp.assign(profiles.size(), 0.0f);
     const double rc = profiles.cutRadius(), dr = rc / kRpSteps;
     meanProfile = MeanProfile(1024);
+    firstProfile = MeanProfile(1024);
+    radiusPlot.reset();
     const size_t stride = std::max<size_t>(1, profiles.size() / kMeanProfiles);
     for (size_t v = 0; v < profiles.size(); ++v) {
       std::array<std::vector<double>, 3> cum;
@@ -245,6 +249,7 @@ struct SplattingTechnique::Impl : techniques::ClosedMeshState {
       vertexRp[v] = float(rp);
       if (v % stride == 0)
         meanProfile.add([&, v, widest](double r) { return profiles.at(v, r)[widest]; }, rp);
+      if (v == 0) firstProfile.add([&, widest](double r) { return profiles.at(0, r)[widest]; }, rp);
     }
     vertexRpBuffer = gpu::makeStorageBuffer(std::span<const float>(vertexRp));
     rbarEpsilon = -1.0;
@@ -354,6 +359,30 @@ struct SplattingTechnique::Impl : techniques::ClosedMeshState {
     accumH = h;
   }
 
+  // Chen et al. 2012, Fig. 3b: the minimal effective rendering radius R̄ (Eq. 14, a fraction of
+  // R_P) against the splatting resolution T across R_P, for the mean normalised profile P̄ (the
+  // table the frames use) and for one point's profile (vertex 0's).
+  techniques::FramePlot effectiveRadiusPlot(double eps) const {
+    techniques::FramePlot plot;
+    plot.title = fmt::format("Minimal effective rendering radius (Eq. 14, ε = {})", eps);
+    plot.x_label = "T: splatting-buffer samples across the scattering range R_P";
+    plot.y_label = "R̄ / R_P";
+    plot.log_x = true;
+    const RbarTable single = RbarTable::build(firstProfile, eps);
+    for (const auto& [label, table] :
+         {std::pair<std::string, const RbarTable*>{"mean profile P̄ (the lookup table)", &*rbar},
+          std::pair<std::string, const RbarTable*>{"the profile of vertex 0", &single}}) {
+      techniques::FramePlot::Series series;
+      series.label = label;
+      for (int j = 0; j < int(table->rbar.size()); ++j) {
+        series.x.push_back(table->tAt(j));
+        series.y.push_back(table->rbar[size_t(j)]);
+      }
+      plot.series.push_back(std::move(series));
+    }
+    return plot;
+  }
+
   techniques::Frame render(const techniques::FrameRequest& request) {
     if (!scene) throw ParameterError(fmt::format("{}: render() before prepare(): expected a scene", techniqueName()));
     const scene::Scene& s = *scene;
@@ -401,9 +430,14 @@ struct SplattingTechnique::Impl : techniques::ClosedMeshState {
     const int levels = (!shah && params.getBool("multires")) ? params.getInt("levels") : 1;
     resizeLevels(width, height, levels);
     const double eps = shah ? 0.001 : params.getFloat("epsilon");
-    if (levels > 1 && (!rbar || rbarEpsilon != eps)) {
+    if ((levels > 1 || (request.views && !shah)) && (!rbar || rbarEpsilon != eps)) {
       rbar = RbarTable::build(meanProfile, eps);
       rbarEpsilon = eps;
+      radiusPlot.reset();
+    }
+    if (request.views && !shah) {
+      if (!radiusPlot) radiusPlot = effectiveRadiusPlot(eps);
+      frame.plots["effective_radius"] = *radiusPlot;
     }
     const glm::vec3 camPos = toVec3(s.camera.position);
     const glm::vec3 camFwd = toVec3(glm::normalize(s.camera.look_at - s.camera.position));
