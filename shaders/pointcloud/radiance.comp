@@ -9,7 +9,8 @@
 //     B(x_o) = Σ_c R(x_o, x_c) Φ_c     [W / scene unit², RGB]
 // over single points (x_c = p_i, Φ_c = E_i A_i) and clusters (octree nodes, x_c = P_v,
 // Φ_c = Φ_v), by a stack-bounded traversal of the octree; then the radiance
-//     L = s Ft(η, n·ω_o) B / π  (+ an optional specular reflection of the directional lights),
+//     L = s Ft(η, n·ω_o) B / π  (the optional specular reflection is added afterwards by
+//     shaders/common/specular.comp),
 // s = ExitScale, the exit-radiance convention of seed Eq. 2.16 (bssrdf/exit_radiance.h): 1 for
 // Jensen et al. 2001, 1/(4Cφ(1/η)) = 1/(1 - 2 C1_ext) for the normalized form. The exitance
 // output stays B.
@@ -73,13 +74,6 @@ uniform vec3 ExitScale;        // L / (Ft B/π) per channel (radiance_convention
 uniform vec3 CameraPosition;   // pinhole centre
 uniform vec3 CameraForward;    // orthographic viewing direction
 uniform bool Orthographic;
-
-// Optional specular reflection (GGX, exact Fresnel reflectance) of up to 4 directional lights,
-// without shadows: a highlight aid, not part of the subsurface transport.
-uniform int SpecularLights;    // 0: none
-uniform vec3 SpecularDirection[4];  // unit, towards the light
-uniform vec3 SpecularValue[4];      // irradiance · colour [W/unit²] (not shadowed)
-uniform float Roughness;            // GGX α
 
 // Traversals the driver cut (llvmpipe ends every loop of an invocation after 65535 iterations:
 // gpu/compute.h, LoopLimit): one up when a traversal starts, one down where it ends by its own
@@ -188,29 +182,6 @@ vec3 radiantExitance(vec3 x, vec3 n) {
   return b;
 }
 
-float fresnelReflectance(float cosI, float eta) { return 1.0 - pcFresnelTransmittance(cosI, eta); }
-
-vec3 specular(vec3 n, vec3 v) {
-  vec3 sum = vec3(0.0);
-  float a2 = Roughness * Roughness;
-  float nv = max(dot(n, v), 1e-4);
-  for (int k = 0; k < SpecularLights; ++k) {
-    vec3 l = SpecularDirection[k];
-    float nl = dot(n, l);
-    if (nl <= 0.0) continue;
-    vec3 h = normalize(l + v);
-    float nh = max(dot(n, h), 0.0);
-    float t = nh * nh * (a2 - 1.0) + 1.0;
-    float D = a2 / (PC_PI * t * t);
-    // Smith G for GGX (separable form).
-    float gl = 2.0 * nl / (nl + sqrt(a2 + (1.0 - a2) * nl * nl));
-    float gv = 2.0 * nv / (nv + sqrt(a2 + (1.0 - a2) * nv * nv));
-    float f = fresnelReflectance(dot(v, h), Eta);
-    sum += SpecularValue[k] * (D * gl * gv * f / (4.0 * nl * nv)) * nl;
-  }
-  return sum;
-}
-
 void main() {
   uvec2 px = gl_GlobalInvocationID.xy;
   if (px.x >= Size.x || px.y >= Size.y) return;
@@ -231,7 +202,6 @@ void main() {
   vec3 b = radiantExitance(x, n);
   vec3 v = Orthographic ? -CameraForward : normalize(CameraPosition - x);
   vec3 l = ExitScale * (pcFresnelTransmittance(dot(n, v), Eta) * b / PC_PI);
-  if (SpecularLights > 0) l += specular(n, v);
   pcRadiance[out_] = vec4(l, 1.0);
   pcExitance[out_] = vec4(b, 1.0);
 }

@@ -17,6 +17,7 @@
 #include "translucent/gpu/compute.h"
 #include "translucent/gpu/pass_timer.h"
 #include "translucent/techniques/common/gl_resources.h"
+#include "translucent/techniques/common/specular.h"
 #include "translucent/techniques/common/light_shadows.h"  // shadowLookup
 #include "translucent/techniques/common/profile_kernel.h"
 #include "translucent/techniques/common/surface_irradiance.h"
@@ -61,6 +62,7 @@ std::vector<ParameterInfo> parameterInfos() {
                                      "(uniform in r up to the radius holding 99.9% of Rd)"),
       techniques::radianceConventionParameter(),
   };
+  for (ParameterInfo& p : techniques::specularParameters()) infos.push_back(std::move(p));
   // The shared irradiance pass's shadow and environment settings (surface_irradiance.h).
   for (ParameterInfo& p : techniques::lightingParameters()) infos.push_back(std::move(p));
   return infos;
@@ -100,6 +102,7 @@ struct LssTechnique::Impl : techniques::ClosedMeshState {
   uint64_t frameSeed = 0;   // every frame rendered (seeds the sequences)
   bool accumulationDirty = true;
   std::optional<gpu::PassTimer> timer;
+  techniques::SpecularPass specular;
   std::vector<std::string> notes;
 
   void buildPrograms() {
@@ -269,6 +272,7 @@ struct LssTechnique::Impl : techniques::ClosedMeshState {
       for (uint64_t f = 0; f < count; ++f) radiancePass(vp, width, height, accumulate);
     }
     frame.converged = (!accumulate || frameIndex >= target) && irradianceFinal;
+    specular.add(gbuffer, *scene, params, radianceOut, &*timer);
     gpu::checkGlError("lss frame");
 
     frame.width = width;

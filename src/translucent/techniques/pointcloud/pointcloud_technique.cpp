@@ -25,6 +25,7 @@
 #include "translucent/techniques/common/gl_resources.h"
 #include "translucent/techniques/common/light_shadows.h"
 #include "translucent/techniques/common/profile_kernel.h"
+#include "translucent/techniques/common/specular.h"
 #include "translucent/techniques/common/surface_irradiance.h"
 
 namespace translucent::pointcloud {
@@ -87,16 +88,13 @@ std::vector<ParameterInfo> parameterInfos() {
                                  "the direction of the light that lit each point)"),
       techniques::tableSizeParameter(),
       techniques::radianceConventionParameter(),
-      ParameterInfo::boolean("specular", false,
-                             "add a GGX specular reflection of the directional lights (unshadowed)"),
-      ParameterInfo::floating("roughness", 0.3, 0.01, 1.0, "GGX roughness α of the specular term"),
   };
+  for (ParameterInfo& p : techniques::specularParameters()) infos.push_back(std::move(p));
   // The shared irradiance pass's shadow and environment settings (surface_irradiance.h).
   for (ParameterInfo& p : techniques::lightingParameters()) infos.push_back(std::move(p));
   return infos;
 }
 
-glm::vec3 toVec3(const glm::dvec3& v) { return glm::vec3(v); }
 glm::vec3 toVec3(const Rgb& c) {
   return {static_cast<float>(c[0]), static_cast<float>(c[1]), static_cast<float>(c[2])};
 }
@@ -163,6 +161,7 @@ struct PointCloudTechnique::Impl : techniques::ClosedMeshState {
   gpu::Buffer cutCounter;  // radiance.comp: traversals the driver cut
   size_t outPixels = 0;
   std::optional<gpu::PassTimer> timer;
+  techniques::SpecularPass specular;
   std::vector<std::string> notes;
 
   // ---- preparation ----------------------------------------------------------------------------
@@ -524,35 +523,13 @@ struct PointCloudTechnique::Impl : techniques::ClosedMeshState {
       p.set("ProfileCount", static_cast<unsigned>(tables[0].size()));
       if (hetero) p.set("HeteroRadius", static_cast<float>(cloudProfiles.radius()));
       if (shaderKernel) setBssrdfUniforms(p);
-      int spec = 0;
-      if (params.getBool("specular")) {
-        std::vector<glm::vec3> dirs, values;
-        for (const auto& light : lighting.lights()) {
-          if (spec == 4) break;
-          const glm::vec3 color = toVec3(light.color);
-          if (const auto* d = std::get_if<reference::DirectionalLight>(&light.emitter)) {
-            dirs.push_back(toVec3(d->direction));
-            values.push_back(color * float(d->irradiance));
-            ++spec;
-          } else if (const auto* f = std::get_if<scene::FilteredDirectionalLight>(&light.emitter)) {
-            dirs.push_back(toVec3(f->direction));
-            values.push_back(color * float(f->irradiance));
-            ++spec;
-          }
-        }
-        if (spec > 0) {
-          glProgramUniform3fv(p.id(), p.uniformLocation("SpecularDirection"), spec, glm::value_ptr(dirs[0]));
-          glProgramUniform3fv(p.id(), p.uniformLocation("SpecularValue"), spec, glm::value_ptr(values[0]));
-        }
-        p.set("Roughness", static_cast<float>(params.getFloat("roughness")));
-      }
-      p.set("SpecularLights", spec);
       if (!cutCounter) cutCounter = gpu::makeStorageBuffer(sizeof(uint32_t));
       const uint32_t zero = 0;
       gpu::uploadBytes(cutCounter, 0, sizeof(zero), &zero);
       gpu::bindStorage(kCut, cutCounter);
       gpu::dispatch(p, {(unsigned(width) + 7u) / 8u, (unsigned(height) + 7u) / 8u, 1u});
     }
+    specular.add(gbuffer, s, params, radianceOut, &*timer);
     gpu::checkGlError("point-cloud frame");
     // Where the driver ends long loops (llvmpipe), a traversal of many clusters per pixel (a
     // small epsilon over many points) stops half-way and its pixel comes out dark or black: an

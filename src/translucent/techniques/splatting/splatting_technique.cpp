@@ -21,6 +21,7 @@
 #include <fmt/ranges.h>
 #include "translucent/scene/scene.h"
 #include "translucent/techniques/common/profile_kernel.h"
+#include "translucent/techniques/common/specular.h"
 #include "translucent/techniques/splatting/splatting_math.h"
 
 namespace translucent::splatting {
@@ -75,6 +76,7 @@ std::vector<ParameterInfo> parameterInfos(bool shah) {
                                           "λm of the bilateral upsampling (Eq. 17)", ""));
   }
   out.push_back(techniques::radianceConventionParameter());
+  for (ParameterInfo& p : techniques::specularParameters()) out.push_back(std::move(p));
   return out;
 }
 
@@ -139,6 +141,7 @@ struct SplattingTechnique::Impl : techniques::ClosedMeshState {
   gpu::Buffer radianceOut, exitanceOut;
   size_t outPixels = 0;
   std::optional<gpu::PassTimer> timer;
+  techniques::SpecularPass specular;
 
   void buildPrograms(int nodes) {
     if (splatProgram && programNodes == nodes) return;
@@ -569,6 +572,7 @@ struct SplattingTechnique::Impl : techniques::ClosedMeshState {
       gpu::dispatch(p, {(unsigned(width) + 7u) / 8u, (unsigned(height) + 7u) / 8u, 1u});
       glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     }
+    specular.add(gbuffer, *scene, params, radianceOut, &*timer);
     gpu::checkGlError("splatting frame");
     frame.width = width;
     frame.height = height;

@@ -20,6 +20,7 @@
 #include "translucent/techniques/common/light_shadows.h"
 #include "translucent/techniques/common/profile_kernel.h"
 #include "translucent/techniques/common/single_scattering.h"
+#include "translucent/techniques/common/specular.h"
 #include "translucent/techniques/common/surface_irradiance.h"
 
 namespace translucent::transfer {
@@ -73,6 +74,7 @@ std::vector<ParameterInfo> parameterInfos() {
       techniques::radianceConventionParameter(),
   };
   for (ParameterInfo& p : techniques::singleScatteringParameters()) infos.push_back(std::move(p));
+  for (ParameterInfo& p : techniques::specularParameters()) infos.push_back(std::move(p));
   for (ParameterInfo& p : techniques::lightingParameters()) infos.push_back(std::move(p));
   return infos;
 }
@@ -115,6 +117,7 @@ struct TransferTechnique::Impl : techniques::ClosedMeshState {
   std::optional<gpu::PassTimer> timer;
   std::vector<std::string> notes;
   techniques::SingleScattering single;
+  techniques::SpecularPass specular;
   bool singleDirty = true;  // the scene or the scattering mode changed since single.prepare
 
   // "operator", "split" or "single": the scattering parameter, with auto resolved for the scene
@@ -345,6 +348,7 @@ struct TransferTechnique::Impl : techniques::ClosedMeshState {
     const techniques::SingleScatteringOptions so = techniques::singleScatteringOptions(params);
     if (mode == "split")
       single.render(gbuffer, meshVertices, meshTriangles, s, so, radianceOut, exitanceOut, &*timer);
+    specular.add(gbuffer, s, params, radianceOut, &*timer);
     gpu::checkGlError("transfer frame");
     return finish(frame, request, width, height, mode == "split" && so.directions == 0);
   }
@@ -359,6 +363,7 @@ struct TransferTechnique::Impl : techniques::ClosedMeshState {
     glClearNamedBufferData(exitanceOut.id(), GL_R32F, GL_RED, GL_FLOAT, &zero);
     const techniques::SingleScatteringOptions so = techniques::singleScatteringOptions(params);
     single.render(gbuffer, meshVertices, meshTriangles, s, so, radianceOut, exitanceOut, &*timer);
+    specular.add(gbuffer, s, params, radianceOut, &*timer);
     gpu::checkGlError("transfer frame (single scattering)");
     return finish(frame, request, width, height, so.directions == 0);
   }

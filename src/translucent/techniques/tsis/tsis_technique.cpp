@@ -20,6 +20,7 @@
 #include "translucent/gpu/compute.h"
 #include "translucent/gpu/pass_timer.h"
 #include "translucent/techniques/common/gl_resources.h"
+#include "translucent/techniques/common/specular.h"
 #include "translucent/techniques/common/light_shadows.h"
 #include "translucent/techniques/common/light_view_map.h"
 #include "translucent/techniques/common/profile_kernel.h"
@@ -100,6 +101,7 @@ std::vector<ParameterInfo> parameterInfos() {
       techniques::tableSizeParameter(),
       techniques::radianceConventionParameter(),
   };
+  for (ParameterInfo& p : techniques::specularParameters()) infos.push_back(std::move(p));
   // The shared irradiance pass's shadow and environment settings (surface_irradiance.h).
   for (ParameterInfo& p : techniques::lightingParameters()) infos.push_back(std::move(p));
   return infos;
@@ -162,6 +164,7 @@ struct TsisTechnique::Impl : techniques::ClosedMeshState {
   uint64_t frameIndex = 0;  // frames accumulated so far (and the next frame's rotation index)
   bool accumulationDirty = true;
   std::optional<gpu::PassTimer> timer;
+  techniques::SpecularPass specular;
   std::vector<std::string> notes;
 
   void buildPrograms() {
@@ -469,6 +472,7 @@ struct TsisTechnique::Impl : techniques::ClosedMeshState {
     for (uint64_t f = 0; f < count; ++f)
       renderOnce(width, height, sampleCount, accumulate, f == 0, request.converge);
     frame.converged = (!accumulate || frameIndex >= target) && irradianceFinal;
+    specular.add(gbuffer, *scene, params, radianceOut, &*timer);
     gpu::checkGlError("tsis frame");
 
     frame.width = width;

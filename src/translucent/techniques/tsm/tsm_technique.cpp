@@ -18,6 +18,7 @@
 #include "translucent/gpu/compute.h"
 #include "translucent/gpu/pass_timer.h"
 #include "translucent/techniques/common/gl_resources.h"
+#include "translucent/techniques/common/specular.h"
 #include "translucent/techniques/common/light_view_map.h"
 #include "translucent/techniques/common/profile_kernel.h"
 
@@ -39,7 +40,7 @@ constexpr size_t kRegionC = 20;   // and in cos θ_g, uniform over [kMinCosG, 1]
 constexpr int kPatternSize = 21;        // TSM_SAMPLES in filter.comp
 
 std::vector<ParameterInfo> parameterInfos() {
-  return {
+  std::vector<ParameterInfo> infos{
       ParameterInfo::enumeration("pattern", "tsm21", {"tsm21"},
                                  "filter pattern on the light's projection plane: tsm21, a centre "
                                  "sample and 4 rings of 5 at radii doubling out to R (21 samples)"),
@@ -56,6 +57,8 @@ std::vector<ParameterInfo> parameterInfos() {
           .withSweep({128, 256, 512, 1024, 2048}),
       techniques::radianceConventionParameter(),
   };
+  for (ParameterInfo& p : techniques::specularParameters()) infos.push_back(std::move(p));
+  return infos;
 }
 
 glm::vec3 toVec3(const Rgb& c) {
@@ -134,6 +137,7 @@ struct TsmTechnique::Impl : techniques::ClosedMeshState {
   gpu::Buffer radianceOut, exitanceOut;
   size_t outPixels = 0;
   std::optional<gpu::PassTimer> timer;
+  techniques::SpecularPass specular;
 
   void buildPrograms() {
     if (mapProgram) return;
@@ -288,6 +292,7 @@ struct TsmTechnique::Impl : techniques::ClosedMeshState {
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
       }
     }
+    specular.add(gbuffer, *scene, params, radianceOut, &*timer);
     gpu::checkGlError("tsm frame");
 
     frame.width = width;
