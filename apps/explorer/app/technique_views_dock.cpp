@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "app/technique_views_dock.h"
 
+#include <QtCharts/QChart>
+#include <QtCharts/QChartView>
 #include <QtWidgets/QComboBox>
 #include <QtWidgets/QLabel>
 #include <QtWidgets/QVBoxLayout>
@@ -10,6 +12,7 @@
 #include "app/render_worker.h"
 #include "app/viewport_dock.h"
 #include "core/pixel_image_view.h"
+#include "plot/profile_plot.h"
 
 namespace translucent::explorer {
 
@@ -22,8 +25,12 @@ TechniqueViewsDock::TechniqueViewsDock(ViewportDock& viewport, QWidget* parent)
   caption_ = new QLabel(tr("The technique's own views appear here (tsis: the irradiance atlas)."), panel);
   caption_->setWordWrap(true);
   view_ = new PixelImageView(panel);
+  chart_ = new QChartView(panel);
+  chart_->setRenderHint(QPainter::Antialiasing);
+  chart_->hide();
   layout->addWidget(choice_);
   layout->addWidget(view_, 1);
+  layout->addWidget(chart_, 1);
   layout->addWidget(caption_);
   setWidget(panel);
   connect(choice_, &QComboBox::currentTextChanged, this, [this] { showCurrent(); });
@@ -42,12 +49,21 @@ QStringList TechniqueViewsDock::viewNames() const {
 
 QString TechniqueViewsDock::currentView() const { return choice_->currentText(); }
 
+int TechniqueViewsDock::chartSeries() const {
+  return chart_->isHidden() ? 0 : int(chart_->chart()->series().size());
+}
+
+namespace {
+const QString kPlotPrefix = QStringLiteral("plot: ");
+}
+
 void TechniqueViewsDock::onFrame(std::shared_ptr<const RenderedFrame> frame, bool full) {
   if (!full || !isVisible()) return;
   frame_ = std::move(frame);
   const QString keep = choice_->currentText();
   QStringList names;
   for (const auto& [name, v] : frame_->frame.views) names << QString::fromStdString(name);
+  for (const auto& [name, p] : frame_->frame.plots) names << kPlotPrefix + QString::fromStdString(name);
   if (names != viewNames()) {
     const QSignalBlocker block(choice_);
     choice_->clear();
@@ -59,6 +75,29 @@ void TechniqueViewsDock::onFrame(std::shared_ptr<const RenderedFrame> frame, boo
 
 void TechniqueViewsDock::showCurrent() {
   if (!frame_) return;
+  if (const QString current = choice_->currentText(); current.startsWith(kPlotPrefix)) {
+    const auto p = frame_->frame.plots.find(current.mid(kPlotPrefix.size()).toStdString());
+    if (p != frame_->frame.plots.end()) {
+      const techniques::FramePlot& fp = p->second;
+      std::vector<plot::XySeries> series;
+      for (const auto& s : fp.series) series.push_back({s.label, s.x, s.y});
+      plot::XyPlotOptions o;
+      o.title = fp.title;
+      o.x_label = fp.x_label;
+      o.y_label = fp.y_label;
+      o.log_x = fp.log_x;
+      o.log_y = fp.log_y;
+      QChart* old = chart_->chart();
+      chart_->setChart(plot::makeXyChart(series, o).release());
+      delete old;
+      view_->hide();
+      chart_->show();
+      caption_->setText(QString::fromStdString(fp.title));
+      return;
+    }
+  }
+  chart_->hide();
+  view_->show();
   const auto it = frame_->frame.views.find(choice_->currentText().toStdString());
   if (it == frame_->frame.views.end()) {
     image_ = QImage();

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The technique's inspection views (techniques::Frame::views), e.g. tsis's irradiance atlas with
-// the frame's samples drawn over it (seed Fig. 3.1): a choice of view, the picture and what it
-// shows. The views cost a read-back of their own, so the viewport asks for them only while this
+// the frame's samples drawn over it (seed Fig. 3.1), and its plots (techniques::Frame::plots,
+// listed as "plot: NAME", drawn as charts; e.g. splatting's effective rendering radius): a
+// choice of view, the picture or chart and what it shows. The views cost a read-back of their own, so the viewport asks for them only while this
 // dock is visible, and only in its full-resolution frames.
 #pragma once
 
@@ -12,6 +13,9 @@
 
 class QComboBox;
 class QLabel;
+QT_BEGIN_NAMESPACE
+class QChartView;
+QT_END_NAMESPACE
 
 namespace translucent::explorer {
 
@@ -30,6 +34,9 @@ class TechniqueViewsDock : public QDockWidget {
   QString currentView() const;
   // The picture on screen (null before the first view).
   const QImage& image() const { return image_; }
+  // Qt series of the chart on screen (a line and its markers per curve; 0 when a picture or
+  // nothing is shown).
+  int chartSeries() const;
 
  private:
   void onFrame(std::shared_ptr<const RenderedFrame> frame, bool full);
@@ -39,6 +46,7 @@ class TechniqueViewsDock : public QDockWidget {
   QComboBox* choice_ = nullptr;
   QLabel* caption_ = nullptr;
   PixelImageView* view_ = nullptr;
+  QChartView* chart_ = nullptr;
   std::shared_ptr<const RenderedFrame> frame_;
   QImage image_;
 };

@@ -444,6 +444,26 @@ class Viewport : public QObject {
     delete views;
   }
 
+  // Plots appear in the same dock as charts: splatting's minimal effective rendering radius
+  // (Chen et al. 2012, Fig. 3b), two curves (the mean profile and one vertex's).
+  void techniqueViewsDockShowsTheSplattingRadiusPlot() {
+    auto* views = new TechniqueViewsDock(*dock_, window_);
+    window_->addDockWidget(Qt::RightDockWidgetArea, views);
+    views->show();
+    state_->setTechnique("splatting");
+    state_->setTechniqueSetting("irradiance_size", 64.0);
+    QVERIFY2(nextFull("splatting") != nullptr, qPrintable(console_->text()));
+    const QString name = QStringLiteral("plot: effective_radius");
+    QVERIFY2(QTest::qWaitFor([&] { return views->viewNames().contains(name); }, kFrameTimeoutMs),
+             qPrintable(views->viewNames().join(QStringLiteral(", "))));
+    auto* choice = views->findChild<QComboBox*>();
+    QVERIFY(choice != nullptr);
+    choice->setCurrentText(name);
+    QCOMPARE(views->currentView(), name);
+    QCOMPARE(views->chartSeries(), 4);  // each curve is a line and its markers (plot::makeXyChart)
+    delete views;
+  }
+
   // Orbiting keeps tsm's light maps too (issue 14 §6), on the sphere of the previous test: the
   // move reaches tsm through setCamera (no preparation time), its frames render no light maps,
   // and the image changes (the sphere's lit side turned). The camera goes back after (the next
