@@ -30,16 +30,16 @@ void main() {
   ivec2 px = ivec2(upx);
   vec4 a = vec4(0.0), b = vec4(0.0), c = vec4(1e30, -1e30, 0.0, 0.0);
   if (Level == 0) {
-    vec4 p = texelFetch(LvmPosition, px, 0);
+    vec4 p = texelFetch(LvmPosition[0], px, 0);
     if (p.w != 0.0) {
-      vec4 n = texelFetch(LvmNormal, px, 0);
-      vec3 e = texelFetch(LvmIrradiance, px, 0).rgb;
+      vec4 n = texelFetch(LvmNormal[0], px, 0);
+      vec3 e = texelFetch(LvmIrradiance[0], px, 0).rgb;
       uint tri = uint(p.w - 1.0 + 0.5);
       vec3 bc = spBarycentric(p.xyz, tri);
       uvec4 tv = pcTriangle[tri];
       float rp = bc.x * spVertexRp[tv.x] + bc.y * spVertexRp[tv.y] + bc.z * spVertexRp[tv.z];
-      int size = textureSize(LvmPosition, 0).x;
-      float z = dot(p.xyz - LvmOrigin, LvmAxis);
+      int size = textureSize(LvmPosition[0], 0).x;
+      float z = dot(p.xyz - LvmOrigin[0], LvmAxis[0]);
       a = p;
       b = vec4(e * lvmSurfaceArea(p.xyz, n.w, 1.0 / float(size * size)), n.w);
       c = vec4(z, z, rp, 1.0);

@@ -91,9 +91,9 @@ void main() {
     vBary = spBarycentric(p.xyz, vTri);
   } else {
     ivec2 t = ivec2(gl_InstanceID % MapSize, gl_InstanceID / MapSize);
-    p = texelFetch(LvmPosition, t, 0);
-    vec4 n = texelFetch(LvmNormal, t, 0);
-    vec3 e = texelFetch(LvmIrradiance, t, 0).rgb;
+    p = texelFetch(LvmPosition[0], t, 0);
+    vec4 n = texelFetch(LvmNormal[0], t, 0);
+    vec3 e = texelFetch(LvmIrradiance[0], t, 0).rgb;
     if (p.w == 0.0 || all(lessThanEqual(e, vec3(0.0)))) {
       gl_Position = vec4(2.0, 2.0, 2.0, 1.0);  // outside the clip volume: nothing drawn
       return;

@@ -20,6 +20,7 @@
 layout(local_size_x = 8, local_size_y = 8) in;
 #include "pointcloud/common.glsl"
 #include "pointcloud/kernel_table.glsl"
+#define LVM_MAPS 4  // tsis_technique.cpp: kLocalLights
 #include "common/light_view_map.glsl"
 
 layout(std430, binding = 11) readonly buffer TsSamples { vec4 tsSample[]; };
@@ -43,6 +44,7 @@ uniform bool Accumulate;
 uniform uint FrameIndex;  // frames accumulated before this one
 uniform bool Global;        // add TSIS's sum over the samples (Eq. 3.5)
 uniform bool Local;         // add the LTSM local term (Eq. 3.8)
+uniform int LocalMaps;      // lights with a light-view map (1 to LVM_MAPS)
 uniform uint PatternCount;  // L×C + 1
 uniform float PatternAngle; // this frame's turn of the pattern [radians]
 
@@ -54,11 +56,12 @@ vec3 localKernel(float r) {
   return mix(tsLocalProfile[i].rgb, tsLocalProfile[i + 1u].rgb, x - float(i));
 }
 
-vec3 localTerm(vec3 x) {
-  vec3 c = lvmProject(x);
+// The local term of light m's map.
+vec3 localTerm(int m, vec3 x) {
+  vec3 c = lvmProject(m, x);
   // Map coordinates per world unit on the plane perpendicular to the light's axis through x:
   // the pattern's offsets and weights are given on that plane.
-  float perUv = lvmWorldPerUv(x);
+  float perUv = lvmWorldPerUv(m, x);
   // Two unit vectors spanning the plane in map coordinates: the map's own axes.
   float ca = cos(PatternAngle), sa = sin(PatternAngle);
   vec3 sum = vec3(0.0);
@@ -67,10 +70,10 @@ vec3 localTerm(vec3 x) {
     vec2 offset = vec2(ca * o.x - sa * o.y, sa * o.x + ca * o.y);
     vec3 p, ng, e;
     float cosG;
-    if (!lvmTexel(c.xy + offset / perUv, p, ng, cosG, e)) continue;
+    if (!lvmTexel(m, c.xy + offset / perUv, p, ng, cosG, e)) continue;
     // The weight is an area on x's plane: in map coordinates A / perUv², then the surface area
     // the texel's surface stands for at its own depth (lvmSurfaceArea: seed's A d², / cos θ_g).
-    vec3 area = tsPattern[2u * k + 1u].rgb / (perUv * perUv) * lvmSurfaceArea(p, cosG, 1.0);
+    vec3 area = tsPattern[2u * k + 1u].rgb / (perUv * perUv) * lvmSurfaceArea(m, p, cosG, 1.0);
     sum += e * area * localKernel(distance(x, p));
   }
   return sum;
@@ -95,7 +98,9 @@ void main() {
       b += tsSample[2u * i + 1u].rgb * pcKernel(x, n, tsSample[2u * i].xyz, n);
     b /= float(SampleCount);
   }
-  if (Local) b += localTerm(x);
+  // Every light's map (the sampler index is dynamically uniform: a loop over a uniform count).
+  if (Local)
+    for (int m = 0; m < LocalMaps; ++m) b += localTerm(m, x);
   if (Accumulate) {
     vec3 sum = (FrameIndex == 0u ? vec3(0.0) : tsAccum[out_].rgb) + b;
     tsAccum[out_] = vec4(sum, 1.0);

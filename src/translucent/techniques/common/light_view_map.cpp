@@ -84,18 +84,20 @@ void LightViewMap::render(const GpuMesh& mesh, const gpu::ShaderProgram& program
   gpu::checkGlError("rendering a light-view map");
 }
 
-void LightViewMap::bind(const gpu::ShaderProgram& p, unsigned firstUnit) const {
+void LightViewMap::bind(const gpu::ShaderProgram& p, unsigned firstUnit, int index) const {
   glBindTextureUnit(firstUnit, position_.id());
   glBindTextureUnit(firstUnit + 1, normal_.id());
   glBindTextureUnit(firstUnit + 2, irradiance_.id());
-  p.set("LvmPosition", int(firstUnit));
-  p.set("LvmNormal", int(firstUnit + 1));
-  p.set("LvmIrradiance", int(firstUnit + 2));
-  p.set("LvmMatrix", projection_.toTexture);
-  p.set("LvmPerspective", projection_.perspective);
-  p.set("LvmExtent", projection_.extent);
-  p.set("LvmAxis", projection_.axis);
-  p.set("LvmOrigin", projection_.origin);
+  // Element `index` of the include's uniform arrays (LVM_MAPS of them; 1 by default).
+  const auto name = [index](const char* n) { return fmt::format("{}[{}]", n, index); };
+  p.set(name("LvmPosition"), int(firstUnit));
+  p.set(name("LvmNormal"), int(firstUnit + 1));
+  p.set(name("LvmIrradiance"), int(firstUnit + 2));
+  p.set(name("LvmMatrix"), projection_.toTexture);
+  p.set(name("LvmPerspective"), projection_.perspective);
+  p.set(name("LvmExtent"), projection_.extent);
+  p.set(name("LvmAxis"), projection_.axis);
+  p.set(name("LvmOrigin"), projection_.origin);
 }
 
 }  // namespace translucent::techniques

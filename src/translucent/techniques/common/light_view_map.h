@@ -71,9 +71,9 @@ class LightViewMap {
   // perpendicular to the axis at depth `depth` from the light.
   double texelSize(double depth = 1.0) const;
 
-  // Sets the uniforms of shaders/common/light_view_map.glsl on `p` and binds the three textures
-  // to units firstUnit, firstUnit + 1, firstUnit + 2.
-  void bind(const gpu::ShaderProgram& p, unsigned firstUnit) const;
+  // Sets the uniforms of shaders/common/light_view_map.glsl on `p` (element `index` of its
+  // LVM_MAPS maps) and binds the three textures to units firstUnit, firstUnit + 1, firstUnit + 2.
+  void bind(const gpu::ShaderProgram& p, unsigned firstUnit, int index = 0) const;
 
  private:
   void render(const GpuMesh& mesh, const gpu::ShaderProgram& program, const glm::vec3& value,

@@ -52,7 +52,8 @@ enum Binding : GLuint {
 };
 
 // Texture units of the radiance pass: 0, 1 the G-buffer, 2..4 the light-view map.
-constexpr unsigned kLightViewUnit = 2;
+constexpr unsigned kLightViewUnit = 2;  // map m on units 2 + 3m .. 4 + 3m
+constexpr int kLocalLights = 4;          // LVM_MAPS of shaders/tsis/radiance.comp
 
 constexpr int kMaxLevels = 13;  // log2(4096) + 1: LevelOffset[14] in sample.comp
 
@@ -75,7 +76,7 @@ std::vector<ParameterInfo> parameterInfos() {
       ParameterInfo::enumeration("mode", "global", {"global", "hybrid"},
                                  "global: texture-space importance sampling of the whole Rd (Chang 2007, "
                                  "§3.1); hybrid (Chang 2007, §3.3): Rd W_g by TSIS plus Rd W_l by the Local "
-                                 "Translucent Shadow Map of one directional or point light"),
+                                 "Translucent Shadow Map of each directional or point light (1 to 4)"),
       ParameterInfo::enumeration("term", "full", {"full", "local", "global"},
                                  "which part of B the image shows: full B = B_l + B_g, or the "
                                  "local (Rd W_l) or global (Rd W_g) term alone (Chang 2007, Fig. 3.6); in "
@@ -147,7 +148,8 @@ struct TsisTechnique::Impl : techniques::ClosedMeshState {
   HybridSplit split;
   gpu::Buffer localProfile, pattern;
   uint32_t patternCount = 0;
-  std::unique_ptr<techniques::LightViewMap> lightView;
+  // One light-view map per light of the hybrid's local term (at most kLocalLights).
+  std::vector<std::unique_ptr<techniques::LightViewMap>> lightViews;
   std::optional<gpu::ShaderProgram> lightViewProgram;
 
   std::optional<gpu::ShaderProgram> gbufferProgram, importanceProgram, reduceProgram, sampleProgram,
@@ -314,34 +316,43 @@ struct TsisTechnique::Impl : techniques::ClosedMeshState {
     accumulationDirty = true;
   }
 
-  // Hybrid: the one light must have a light-view map (seed 3.3.2's LTSM is rendered from it).
+  // Hybrid: every light must have a light-view map (Chang 2007 §3.3.2's LTSM is rendered from
+  // it): 1 to kLocalLights directional or point lights, each with a map of its own.
   void checkHybridLights() const {
     if (params.getEnum("mode") != "hybrid" || params.getEnum("term") == "global") return;
     const auto& lights = scene->lights;
-    if (lights.size() != 1)
-      throw ParameterError(fmt::format("tsis: mode 'hybrid' takes exactly one light (its local term is "
-                                       "a light-view map of one directional or point light): the scene "
-                                       "has {}", lights.size()));
-    const auto& e = lights[0].emitter;
-    if (!std::holds_alternative<reference::DirectionalLight>(e) &&
-        !std::holds_alternative<reference::PointLight>(e))
-      throw ParameterError("lights[0]: mode 'hybrid' of the tsis technique needs a directional or point "
-                           "light for its local term (a light-view map); use mode 'global' for this light");
+    if (lights.empty() || lights.size() > size_t(kLocalLights))
+      throw ParameterError(fmt::format("tsis: mode 'hybrid' takes 1 to {} lights (its local term is a "
+                                       "light-view map per directional or point light): the scene has {}",
+                                       kLocalLights, lights.size()));
+    for (size_t i = 0; i < lights.size(); ++i) {
+      const auto& e = lights[i].emitter;
+      if (!std::holds_alternative<reference::DirectionalLight>(e) &&
+          !std::holds_alternative<reference::PointLight>(e))
+        throw ParameterError(fmt::format(
+            "lights[{}]: mode 'hybrid' of the tsis technique needs a directional or point light for "
+            "its local term (a light-view map); use mode 'global' for this light", i));
+    }
   }
 
-  void renderLightView() {
+  void renderLightViews() {
     const int size = params.getInt("ltsm_map_size");
-    if (!lightView || lightView->size() != size) lightView = std::make_unique<techniques::LightViewMap>(size);
+    const auto& lights = scene->lights;
+    lightViews.resize(lights.size());
     if (!lightViewProgram) lightViewProgram.emplace(techniques::LightViewMap::program());
-    const scene::Light& light = scene->lights[0];
-    const glm::vec3 color(float(light.color[0]), float(light.color[1]), float(light.color[2]));
     const double eta = scene->medium.eta;
-    if (const auto* d = std::get_if<reference::DirectionalLight>(&light.emitter))
-      lightView->renderDirectional(*gpuMesh, *lightViewProgram, d->direction, color * float(d->irradiance),
-                                   eta, center, radius);
-    else if (const auto* pl = std::get_if<reference::PointLight>(&light.emitter))
-      lightView->renderPoint(*gpuMesh, *lightViewProgram, pl->position, color * float(pl->intensity), eta,
-                             center, radius);
+    for (size_t i = 0; i < lights.size(); ++i) {
+      auto& map = lightViews[i];
+      if (!map || map->size() != size) map = std::make_unique<techniques::LightViewMap>(size);
+      const scene::Light& light = lights[i];
+      const glm::vec3 color(float(light.color[0]), float(light.color[1]), float(light.color[2]));
+      if (const auto* d = std::get_if<reference::DirectionalLight>(&light.emitter))
+        map->renderDirectional(*gpuMesh, *lightViewProgram, d->direction, color * float(d->irradiance),
+                               eta, center, radius);
+      else if (const auto* pl = std::get_if<reference::PointLight>(&light.emitter))
+        map->renderPoint(*gpuMesh, *lightViewProgram, pl->position, color * float(pl->intensity), eta,
+                         center, radius);
+    }
   }
 
   // Stages 1 and 2 and the radiance of one frame into the output (and accumulation) buffers.
@@ -371,7 +382,7 @@ struct TsisTechnique::Impl : techniques::ClosedMeshState {
     const bool local = hybrid && term != "global";
     if (local && irradiancePass) {
       auto t = timer->scope("light-view map");
-      renderLightView();
+      renderLightViews();
     }
     if (irradiancePass) {
       auto t = timer->scope("importance");
@@ -418,7 +429,10 @@ struct TsisTechnique::Impl : techniques::ClosedMeshState {
       gpu::bindStorage(kLocalProfile, localProfile);
       p.set("PatternCount", patternCount);
       p.set("PatternAngle", static_cast<float>(2.0 * std::numbers::pi * double(rotation(frameIndex))));
-      if (local) lightView->bind(p, kLightViewUnit);
+      p.set("LocalMaps", local ? int(lightViews.size()) : 0);
+      if (local)
+        for (size_t m = 0; m < lightViews.size(); ++m)
+          lightViews[m]->bind(p, kLightViewUnit + 3u * unsigned(m), int(m));
       gpu::dispatch(p, {(unsigned(width) + 7u) / 8u, (unsigned(height) + 7u) / 8u, 1u});
     }
     ++frameIndex;

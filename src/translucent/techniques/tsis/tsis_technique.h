@@ -30,8 +30,8 @@
 // Parameters (name, default, range; see parameters() for the help text):
 //   samples 1024 [49, 14400]; sequence stratified|random; atlas_size 1024 [16, 4096] texels;
 //   atlas_method lscm|authalic|triangles; mode global|hybrid (seed 3.3: R W_g by TSIS plus the
-//   Local Translucent Shadow Map of R W_l, techniques/tsis/hybrid_split.h; one directional or point
-//   light); term full|local|global; split_k 1.5 /mm; split_bound 0.1 /mm; circles 20 [1, 64];
+//   Local Translucent Shadow Map of R W_l, techniques/tsis/hybrid_split.h; 1 to 4 directional or
+//   point lights, a light-view map each); term full|local|global; split_k 1.5 /mm; split_bound 0.1 /mm; circles 20 [1, 64];
 //   circle_samples 20 [1, 64]; ltsm_map_size 1024 [64, 4096]; accumulate true;
 //   accumulate_samples 65536 [49, 2^24] (samples per pixel of a converged image: frames of N
 //   samples, Stage 1 once per batch); table_size 4096 [64, 65536]; radiance_convention
