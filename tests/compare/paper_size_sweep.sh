@@ -1,7 +1,7 @@
 #!/bin/sh
 # SPDX-License-Identifier: GPL-3.0-or-later
-# scripts/paper-size-sweep at one small size and few photons: it runs compare, writes the figure,
-# the page and the JSON, and every column of the table has a number.
+# scripts/paper-experiment size-sweep at one small size and few photons: it runs compare, writes
+# the figure, the page and the JSON, and every column of the table has a number.
 # Usage: paper_size_sweep.sh <python> <script> <translucent binary> <work dir>
 set -u
 py=$1
@@ -9,9 +9,9 @@ script=$2
 exe=$3
 work=$4/paper_size_sweep
 rm -rf "$work"
-"$py" "$script" --cli "$exe" --out "$work" --sizes 20 --photons 2e4 --samples 2e3 >"$work.log" 2>&1 ||
+"$py" "$script" size-sweep --cli "$exe" --out "$work" --only 20 --photons 2e4 --samples 2e3 >"$work.log" 2>&1 ||
   { echo "the script failed"; cat "$work.log"; exit 1; }
-for f in size-sweep.png size-sweep.md size-sweep.json size-20/report.json; do
+for f in size-sweep.png size-sweep.md size-sweep.json size-sweep-20/report.json; do
   [ -s "$work/$f" ] || { echo "missing $f"; exit 1; }
 done
 "$py" - "$work/size-sweep.json" <<'PY' || exit 1
