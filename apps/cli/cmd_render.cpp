@@ -38,7 +38,7 @@
 #include "translucent/io/image_io.h"
 #include "commands.h"
 #include "options.h"
-#include "plot/profile_plot.h"
+#include "plot/frame_plot.h"
 #include "output_guard.h"
 #include "progress.h"
 #include "safe_print.h"
@@ -506,16 +506,9 @@ void runRender(const RenderArgs& a) {
       const std::string& name = entry.first;
       const techniques::FramePlot& fp = entry.second;
       const std::string base = (std::filesystem::path(a.debug_dir) / ("plot-" + name)).string();
-      std::vector<plot::XySeries> series;
-      for (const auto& sr : fp.series) series.push_back({sr.label, sr.x, sr.y});
-      plot::XyPlotOptions po;
-      po.title = fp.title;
-      po.x_label = fp.x_label;
-      po.y_label = fp.y_label;
-      po.log_x = fp.log_x;
-      po.log_y = fp.log_y;
+      const plot::FrameXyPlot xy = plot::xyPlotOf(fp);
       out.file("--debug-dir", base + ".svg",
-               [&](const std::string& p) { plot::writeXyPlot(p, series, po); });
+               [&](const std::string& p) { plot::writeXyPlot(p, xy.series, xy.options); });
       out.file("--debug-dir", base + ".csv", [&](const std::string& p) {
         std::ofstream f(p);
         f << "series,x,y\n";

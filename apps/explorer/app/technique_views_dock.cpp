@@ -12,7 +12,7 @@
 #include "app/render_worker.h"
 #include "app/viewport_dock.h"
 #include "core/pixel_image_view.h"
-#include "plot/profile_plot.h"
+#include "plot/frame_plot.h"
 
 namespace translucent::explorer {
 
@@ -79,16 +79,9 @@ void TechniqueViewsDock::showCurrent() {
     const auto p = frame_->frame.plots.find(current.mid(kPlotPrefix.size()).toStdString());
     if (p != frame_->frame.plots.end()) {
       const techniques::FramePlot& fp = p->second;
-      std::vector<plot::XySeries> series;
-      for (const auto& s : fp.series) series.push_back({s.label, s.x, s.y});
-      plot::XyPlotOptions o;
-      o.title = fp.title;
-      o.x_label = fp.x_label;
-      o.y_label = fp.y_label;
-      o.log_x = fp.log_x;
-      o.log_y = fp.log_y;
+      const plot::FrameXyPlot xy = plot::xyPlotOf(fp);
       QChart* old = chart_->chart();
-      chart_->setChart(plot::makeXyChart(series, o).release());
+      chart_->setChart(plot::makeXyChart(xy.series, xy.options).release());
       delete old;
       view_->hide();
       chart_->show();
