@@ -12,6 +12,7 @@
 //   - a light the local term cannot take fails naming it.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -303,6 +304,38 @@ TEST_F(TsisHybrid, TwoLightsAddUpAndAgreeWithTsis) {
     std::printf("two lights, channel %zu: hybrid / tsis %.4f\n", c, h / g);
     EXPECT_NEAR(h, g, 0.03 * g) << "channel " << c;
   }
+}
+
+// With the inspection views, the hybrid shows its split (Chang 2007, Figs. 3.4-3.5): the local
+// and global parts add up to the whole profile at every r, and the local part dominates inside
+// R_p (W_l > 1/2) and the global part outside it.
+TEST_F(TsisHybrid, ViewsCarryTheSplitPlot) {
+  Slab slab;
+  slab.technique->setParameter("mode", std::string("hybrid"));
+  slab.technique->setParameter("samples", 64);
+  slab.technique->prepare(slab.scene, gpu::testing::context());
+  techniques::FrameRequest request;
+  request.views = true;
+  const techniques::Frame f = slab.technique->render(request);
+  ASSERT_TRUE(f.plots.contains("hybrid_split"));
+  const auto& series = f.plots.at("hybrid_split").series;
+  ASSERT_EQ(series.size(), 3u);
+  const auto &whole = series[0], &local = series[1], &global = series[2];
+  ASSERT_GT(whole.y.size(), 100u);
+  const HybridSplit split = makeHybridSplit(slab.technique->profileTables(), 1.5, 0.1, slab.scene.medium.scale);
+  const double rp = std::max({split.rp[0], split.rp[1], split.rp[2]});
+  int below = 0, beyond = 0, wrong = 0;
+  for (size_t i = 0; i < whole.y.size(); ++i) {
+    EXPECT_NEAR(local.y[i] + global.y[i], whole.y[i], 1e-12 * whole.y[i] + 1e-300);
+    if (whole.y[i] <= 0.0) continue;
+    if (whole.x[i] < 0.95 * rp) (local.y[i] > global.y[i] ? below : wrong) += 1;
+    if (whole.x[i] > 1.05 * rp) (global.y[i] > local.y[i] ? beyond : wrong) += 1;
+  }
+  EXPECT_GT(below, 10);
+  EXPECT_GT(beyond, 10);
+  EXPECT_EQ(wrong, 0);
+  slab.technique->setParameter("mode", std::string("global"));
+  EXPECT_FALSE(slab.technique->render(request).plots.contains("hybrid_split"));
 }
 
 TEST_F(TsisHybrid, RefusesLightsWithoutALightViewMap) {

@@ -438,6 +438,33 @@ struct TsisTechnique::Impl : techniques::ClosedMeshState {
     ++frameIndex;
   }
 
+  // Chang 2007, Figs. 3.4 and 3.5: the hybrid's split of the profile, 2πr R_d(r) and its local
+  // and global parts 2πr R_d W_l, 2πr R_d W_g (hybrid_split.h), for the channel that reaches
+  // farthest (the largest R_p), with R_p marked by the crossing of the two weights.
+  techniques::FramePlot splitPlot() const {
+    size_t c = 0;
+    for (size_t k = 1; k < 3; ++k)
+      if (split.rp[k] > split.rp[c]) c = k;
+    const bssrdf::ProfileTable& t = tables[c];
+    techniques::FramePlot plot;
+    plot.title = fmt::format("Hybrid split of the profile ({} channel, R_p = {:.3g}, K = {:.3g} per "
+                             "unit)", c == 0 ? "red" : c == 1 ? "green" : "blue", split.rp[c], split.k);
+    plot.x_label = "r [scene units]";
+    plot.y_label = "2πr R_d(r) [1/unit]";
+    techniques::FramePlot::Series whole{"2πr R_d", {}, {}}, local{"2πr R_d W_l (local)", {}, {}},
+        global{"2πr R_d W_g (global)", {}, {}};
+    for (size_t i = 1; i < t.size(); ++i) {
+      const double r = t.radius(i), f = 2.0 * std::numbers::pi * r * double(t.R[i]);
+      const double wl = localWeight(r, split.rp[c], split.k);
+      for (auto* sr : {&whole, &local, &global}) sr->x.push_back(r);
+      whole.y.push_back(f);
+      local.y.push_back(f * wl);
+      global.y.push_back(f * (1.0 - wl));
+    }
+    plot.series = {std::move(whole), std::move(local), std::move(global)};
+    return plot;
+  }
+
   techniques::Frame render(const techniques::FrameRequest& request) {
     if (!scene) throw ParameterError("tsis: render() before prepare(): expected a scene");
     const scene::Scene& s = *scene;
@@ -492,6 +519,7 @@ struct TsisTechnique::Impl : techniques::ClosedMeshState {
     frame.width = width;
     frame.height = height;
     if (request.readback) techniques::readRadianceAndExitance(frame, radianceOut, exitanceOut, pixels);
+    if (request.views && params.getEnum("mode") == "hybrid") frame.plots["hybrid_split"] = splitPlot();
     if (request.views) frame.views["atlas"] = atlasView();
     techniques::addPasses(frame, *timer);
     return frame;
