@@ -9,7 +9,6 @@
 #include <array>
 #include <memory>
 #include <cmath>
-#include <cstdlib>
 #include <string>
 #include <vector>
 
@@ -134,16 +133,6 @@ double expectBlocksAgree(const techniques::Frame& f, const reference::McImage& r
     EXPECT_NEAR(mine, e.value, rel * e.value + 4.0 * e.std_error) << what << ": mean, channel " << c;
     std::printf("%s, channel %d: mean %.5g vs %.5g ± %.2g (%+.2f%%); %d of %d blocks agree\n",
                 what.c_str(), c, mine, e.value, e.std_error, 100.0 * (mine / e.value - 1.0), within, tests);
-  }
-  if (std::getenv("SS_DEBUG")) {
-    for (int y = 0; y < f.height; ++y) {
-      for (int x = 0; x < f.width; ++x) {
-        const uint32_t i = uint32_t(y * f.width + x);
-        const double r = ref.average(std::span(&i, 1), 1).value;
-        std::printf("%5.0f", r > 0 ? 100.0 * (double(f.rgb[3 * i + 1]) / r - 1.0) : -999.0);
-      }
-      std::printf("\n");
-    }
   }
   // The test has power: the reference's errors per block are below the tolerance.
   EXPECT_LT(worstSe, rel) << what;
