@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The GPU walker of the mesh tracer (mesh_gpu.h).
+#include "translucent/gpu/bvh_buffers.h"
 #include "translucent/reference/gpu/mesh_gpu.h"
 
 #include <fmt/format.h>
@@ -117,9 +118,7 @@ class GpuMeshWalker final : public MeshWalker {
  public:
   GpuMeshWalker(gpu::Context& context, const geometry::TriangleMesh& mesh, const std::string& what)
       : context_(context), program_(build(context, false)) {
-    const geometry::FlatBvh bvh = geometry::FlatBvh::build(mesh, what);
-    nodes_ = gpu::makeStorageBuffer(std::span<const geometry::FlatBvhNode>(bvh.nodes));
-    triangles_ = gpu::makeStorageBuffer(std::span<const geometry::FlatBvhTriangle>(bvh.triangles));
+    bvh_ = gpu::BvhBuffers::upload(geometry::FlatBvh::build(mesh, what));
     counter_ = gpu::makeStorageBuffer(sizeof(uint32_t));
     control_ = gpu::makeStorageBuffer(2 * sizeof(uint32_t));
     name_ = deviceName();
@@ -170,8 +169,8 @@ class GpuMeshWalker final : public MeshWalker {
       p.set("ExitCapacity", static_cast<unsigned>(exitCapacity_));
       p.set("WorkBudget", budget);
       gpu::bindStorage(0, photons_);
-      gpu::bindStorage(1, nodes_);
-      gpu::bindStorage(2, triangles_);
+      gpu::bindStorage(1, bvh_.nodes);
+      gpu::bindStorage(2, bvh_.triangles);
       gpu::bindStorage(3, exits_);
       gpu::bindStorage(4, counter_);
       gpu::bindStorage(5, lightBuffer);
@@ -380,7 +379,8 @@ class GpuMeshWalker final : public MeshWalker {
   gpu::Context& context_;
   gpu::ShaderProgram program_;                      // homogeneous media
   std::optional<gpu::ShaderProgram> volumeProgram_;  // VOLUME: made on first use
-  gpu::Buffer nodes_, triangles_, counter_, photons_, exits_, envDirs_, states_, control_;
+  gpu::BvhBuffers bvh_;
+  gpu::Buffer counter_, photons_, exits_, envDirs_, states_, control_;
   gpu::Buffer lists_[2];  // resume and suspend lists, swapped between dispatches
   LoopLimit limit_;
   gpu::Buffer fieldWords_, violations_, majorants_[3];

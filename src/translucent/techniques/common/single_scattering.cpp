@@ -12,6 +12,7 @@
 #include <glm/vec4.hpp>
 
 #include "translucent/geometry/flat_bvh.h"
+#include "translucent/gpu/bvh_buffers.h"
 #include "translucent/gpu/compute.h"
 #include "translucent/gpu/gl.h"
 
@@ -92,17 +93,11 @@ void SingleScattering::prepare(const geometry::TriangleMesh& mesh, const std::st
     status_ = gpu::makeStorageBuffer(sizeof(uint32_t));
   }
   if (meshKey != meshKey_ || meshKey.empty()) {
-    const geometry::FlatBvh bvh = geometry::FlatBvh::build(mesh, fmt::format("the {} technique's mesh", technique));
-    nodes_ = gpu::makeStorageBuffer(std::span<const geometry::FlatBvhNode>(bvh.nodes));
-    triangles_ = gpu::makeStorageBuffer(std::span<const geometry::FlatBvhTriangle>(bvh.triangles));
-    // Rays leave surface points with this offset: well above Embree-style float error on the
-    // mesh's scale, well below any feature (1e-5 of the bounding box's diagonal).
-    glm::dvec3 lo(1e300), hi(-1e300);
-    for (const glm::dvec3& p : mesh.positions) {
-      lo = glm::min(lo, p);
-      hi = glm::max(hi, p);
-    }
-    epsilon_ = float(1e-5 * glm::length(hi - lo));
+    bvh_ = gpu::BvhBuffers::upload(
+        geometry::FlatBvh::build(mesh, fmt::format("the {} technique's mesh", technique)));
+    // Rays leave surface points with this offset: well above float error on the mesh's scale,
+    // well below any feature (1e-5 of the bounding box's diagonal).
+    epsilon_ = float(2e-5 * mesh.bounds().radius());
     meshKey_ = meshKey;
   }
   std::vector<LightRecord> records;
@@ -147,8 +142,13 @@ void SingleScattering::render(const GBuffer& gbuffer, const gpu::Buffer& meshVer
   }
   std::optional<gpu::PassTimer::Scope> scope;
   if (timer) scope.emplace(timer->scope("single scattering"));
-  const uint32_t zero = 0;
-  gpu::upload(status_, std::span<const uint32_t>(&zero, 1));
+  // Only a driver with a loop limit (llvmpipe) needs the work count back: elsewhere no read-back
+  // stalls the frame.
+  const gpu::LoopLimit limit = gpu::loopLimit();
+  if (limit.limited) {
+    const uint32_t zero = 0;
+    gpu::upload(status_, std::span<const uint32_t>(&zero, 1));
+  }
   glm::vec3 sigmaT, sigmaS;
   for (int c = 0; c < 3; ++c) {
     const ScalarMedium m = s.medium.channel(c);
@@ -171,8 +171,8 @@ void SingleScattering::render(const GBuffer& gbuffer, const gpu::Buffer& meshVer
     p->set("Orthographic", ortho);
   }
   glBindTextureUnit(0, gbuffer.position().id());
-  gpu::bindStorage(kNodes, nodes_);
-  gpu::bindStorage(kTriangles, triangles_);
+  gpu::bindStorage(kNodes, bvh_.nodes);
+  gpu::bindStorage(kTriangles, bvh_.triangles);
   gpu::bindStorage(kRadiance, radiance);
   gpu::bindStorage(kExitance, exitance);
   gpu::bindStorage(kLights, lights_);
@@ -197,8 +197,8 @@ void SingleScattering::render(const GBuffer& gbuffer, const gpu::Buffer& meshVer
     gpu::dispatch(*finish_, groups);
   }
   gpu::checkGlError("single scattering");
+  if (!limit.limited) return;
   const uint32_t maxWork = gpu::download<uint32_t>(status_, 1)[0];
-  const gpu::LoopLimit limit = gpu::loopLimit();
   if (!limit.clear(maxWork))
     throw gpu::GlError(fmt::format(
         "single scattering: a pixel's ray queries took {} loop iterations in one pass, more than "

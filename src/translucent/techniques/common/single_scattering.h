@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "translucent/geometry/mesh.h"
+#include "translucent/gpu/bvh_buffers.h"
 #include "translucent/gpu/objects.h"
 #include "translucent/gpu/program.h"
 #include "translucent/scene/scene.h"
@@ -60,7 +61,8 @@ class SingleScattering {
  private:
   std::optional<gpu::ShaderProgram> segments_, sample_, finish_;
   std::string meshKey_;
-  gpu::Buffer nodes_, triangles_, lights_, status_, segmentBuffer_, sums_;
+  gpu::BvhBuffers bvh_;
+  gpu::Buffer lights_, status_, segmentBuffer_, sums_;
   size_t lightCount_ = 0, pixels_ = 0;
   float epsilon_ = 1e-4f;
 };

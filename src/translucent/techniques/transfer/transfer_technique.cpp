@@ -350,7 +350,7 @@ struct TransferTechnique::Impl : techniques::ClosedMeshState {
       single.render(gbuffer, meshVertices, meshTriangles, s, so, radianceOut, exitanceOut, &*timer);
     specular.add(gbuffer, s, params, radianceOut, &*timer);
     gpu::checkGlError("transfer frame");
-    return finish(frame, request, width, height, mode == "split" && so.directions == 0);
+    return finish(std::move(frame), request, width, height, mode == "split" && so.directions == 0);
   }
 
   // scattering single: the G-buffer and single scattering alone (no operator, no lighting pass).
@@ -365,23 +365,19 @@ struct TransferTechnique::Impl : techniques::ClosedMeshState {
     single.render(gbuffer, meshVertices, meshTriangles, s, so, radianceOut, exitanceOut, &*timer);
     specular.add(gbuffer, s, params, radianceOut, &*timer);
     gpu::checkGlError("transfer frame (single scattering)");
-    return finish(frame, request, width, height, so.directions == 0);
+    return finish(std::move(frame), request, width, height, so.directions == 0);
   }
 
-  techniques::Frame finish(techniques::Frame& frame, const techniques::FrameRequest& request,
+  techniques::Frame finish(techniques::Frame frame, const techniques::FrameRequest& request,
                            int width, int height, bool noSingleExitance) {
     frame.width = width;
     frame.height = height;
     const size_t pixels = size_t(width) * size_t(height);
     if (request.readback) techniques::readRadianceAndExitance(frame, radianceOut, exitanceOut, pixels);
-    if (noSingleExitance) {
-      // single_directions 0: the exitance would lack single scattering (a silently wrong layer).
-      frame.layers.erase("exitance");
-      frame.notes.push_back("transfer: single_directions 0: no exitance layer (single "
-                            "scattering's exitance is not computed)");
-    }
+    // single_directions 0: the exitance would lack single scattering (a silently wrong layer).
+    if (noSingleExitance) frame.layers.erase("exitance");
     techniques::addPasses(frame, *timer);
-    return std::move(frame);
+    return frame;
   }
 };
 
@@ -429,6 +425,9 @@ void TransferTechnique::prepare(const scene::Scene& scene, gpu::Context& gl) {
   impl_->lightingDirty = true;
   impl_->scene = scene;
   impl_->singleDirty = true;
+  if (impl_->scattering() != "operator" && impl_->params.getInt("single_directions") == 0)
+    impl_->notes.push_back("transfer: single_directions 0: no exitance layer (single "
+                           "scattering's exitance is not computed)");
   if (impl_->params.getEnum("scattering") == "auto" && impl_->scattering() == "operator")
     impl_->notes.push_back("transfer: scattering auto: " + techniques::singleScatteringRefusal(scene) +
                            "; every order goes through the operator");
