@@ -3,6 +3,8 @@
 // come from plot_axes.h and plot_style.h, shared with the cairo files.
 #include "plot/profile_chart.h"
 
+#include "plot/chart_legend.h"
+
 #include <fmt/format.h>
 
 #include <QApplication>
@@ -14,6 +16,7 @@
 #include <QtCharts/QLegendMarker>
 #include <QtCharts/QLineSeries>
 #include <QtCharts/QLogValueAxis>
+#include <QtGui/QFontMetricsF>
 #include <QtCharts/QScatterSeries>
 #include <QtCharts/QValueAxis>
 #include <algorithm>
@@ -79,6 +82,9 @@ void styleAxis(QAbstractAxis* axis, const std::string& title) {
 }
 
 // Vertical axis for the scale and the range of plotted (untransformed) values.
+// The decades and the decades per label a log axis was built with (fitLogAxisLabels).
+constexpr char kBuiltDecades[] = "translucent_decades", kBuiltStep[] = "translucent_decades_per_label";
+
 QAbstractAxis* makeYAxis(YScale scale, const Range& values, double* logFloor) {
   switch (scale) {
     case YScale::Linear: {
@@ -101,6 +107,8 @@ QAbstractAxis* makeYAxis(YScale scale, const Range& values, double* logFloor) {
       e0 = k * static_cast<int>(std::floor(static_cast<double>(e0) / k));
       e1 = k * static_cast<int>(std::ceil(static_cast<double>(e1) / k));
       axis->setBase(std::pow(10.0, k));
+      axis->setProperty(kBuiltDecades, QPoint(e0, e1));  // for fitLogAxisLabels
+      axis->setProperty(kBuiltStep, k);
       // Qt places labels at base^ceil(log(min)/log(base)); widen by a hair so that rounding of
       // log(10^e)/log(10) never drops the label at either end.
       axis->setRange(std::pow(10.0, e0) * (1.0 - 1e-9), std::pow(10.0, e1) * (1.0 + 1e-9));
@@ -136,6 +144,7 @@ QAbstractAxis* makeYAxis(YScale scale, const Range& values, double* logFloor) {
 
 void hideFromLegend(QChart& chart, QAbstractSeries* series) {
   for (QLegendMarker* m : chart.legend()->markers(series)) m->setVisible(false);
+  series->setProperty(kHiddenFromLegend, true);  // for a ChartLegend
 }
 
 }  // namespace
@@ -285,6 +294,28 @@ GuiSession::GuiSession() {
 }
 
 GuiSession::~GuiSession() = default;
+
+void fitLogAxisLabels(QChart& chart) {
+  const double height = chart.plotArea().height();
+  if (!(height > 0.0)) return;
+  for (QAbstractAxis* a : chart.axes(Qt::Vertical)) {
+    auto* axis = qobject_cast<QLogValueAxis*>(a);
+    const QVariant built = axis != nullptr ? axis->property(kBuiltDecades) : QVariant();
+    if (!built.isValid()) continue;  // not a log axis of makeProfileChart
+    const int e0 = built.toPoint().x(), e1 = built.toPoint().y();
+    const double text = QFontMetricsF(axis->labelsFont()).height() + 4.0;  // + Qt's padding
+    // Labels at the multiples of k from lo to hi (the range widened to them).
+    auto lower = [e0](int k) { return k * static_cast<int>(std::floor(static_cast<double>(e0) / k)); };
+    auto upper = [e1](int k) { return k * static_cast<int>(std::ceil(static_cast<double>(e1) / k)); };
+    int k = std::max(1, axis->property(kBuiltStep).toInt());
+    while (k < e1 - e0 && height / ((upper(k) - lower(k)) / k + 1) < text) ++k;
+    if (std::abs(axis->base() - std::pow(10.0, k)) <= 1e-9 * axis->base()) continue;
+    const int lo = lower(k), hi = upper(k);
+    axis->setBase(std::pow(10.0, k));
+    axis->setRange(std::pow(10.0, lo) * (1.0 - 1e-9), std::pow(10.0, hi) * (1.0 + 1e-9));
+    axis->setMinorTickCount(k == 1 ? 8 : 0);
+  }
+}
 
 std::unique_ptr<QChart> makeXyChart(const std::vector<XySeries>& series,
                                     const XyPlotOptions& options) {

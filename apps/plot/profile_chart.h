@@ -27,6 +27,12 @@ namespace translucent::plot {
 std::unique_ptr<QChart> makeProfileChart(const std::vector<analysis::Curve>& curves,
                                          const PlotOptions& options);
 
+// A logarithmic y axis made by makeProfileChart labels every k-th decade, k the smallest that
+// leaves each label its text height (Qt Charts divides the axis height by the number of labels
+// and elides a label taller than its share: a 150 px chart showed "…" for every tick). Call when
+// the chart's plot area changes.
+void fitLogAxisLabels(QChart& chart);
+
 // One line with point markers per series, optionally logarithmic axes (points a log axis cannot
 // show are dropped).
 std::unique_ptr<QChart> makeXyChart(const std::vector<XySeries>& series, const XyPlotOptions& options);

@@ -13,8 +13,11 @@
 #include <QtWidgets/QFileDialog>
 #include <QtWidgets/QLabel>
 #include <QtWidgets/QMenuBar>
+#include <QtWidgets/QScrollArea>
 #include <QtWidgets/QStatusBar>
 
+#include <algorithm>
+#include <cmath>
 #include <exception>
 
 #include "translucent/bssrdf/tabulated.h"
@@ -37,6 +40,17 @@ namespace {
 std::filesystem::path absolutePath(const std::filesystem::path& p) {
   if (p.empty() || p.is_absolute() || p == "checker") return p;
   return std::filesystem::absolute(p);
+}
+
+// A dock whose content needs more room than the default layout gives it scrolls, rather than
+// forcing its minimum size on the whole column (the comparison's row of pictures wanted 641 px,
+// the lit spheres 391 px of height).
+void makeScrollable(QDockWidget* d) {
+  auto* area = new QScrollArea;
+  area->setWidgetResizable(true);
+  area->setFrameShape(QFrame::NoFrame);
+  area->setWidget(d->widget());
+  d->setWidget(area);
 }
 
 QSettings layoutSettings() {
@@ -64,33 +78,33 @@ MainWindow::MainWindow(ExplorerState& state, MainWindowOptions options, QWidget*
 
   console_ = new ConsoleDock(state_, this);  // first: it shows what the others report
   viewport_ = new ViewportDock(state_, this);
+  // Default layout: the picture on the left at the scene's aspect ratio with the console under
+  // it; on the right, the settings (tabs) above the plots and comparisons (tabs), each column the
+  // window's full height.
   addDockWidget(Qt::LeftDockWidgetArea, viewport_);
-  addDockWidget(Qt::BottomDockWidgetArea, console_);
-  QList<QDockWidget*> docks = {viewport_, console_};
+  splitDockWidget(viewport_, console_, Qt::Vertical);
   auto* parameters = new ParametersDock(state_, this);
   auto* plot = new PencilPlotDock(state_, this);
-  addDockWidget(Qt::RightDockWidgetArea, parameters);
-  addDockWidget(Qt::RightDockWidgetArea, plot);
-  docks << parameters << plot;
-  // The material (type and generated form) shares a tab with the parameters.
   auto* material = new MaterialDock(state_, this);
-  addDockWidget(Qt::RightDockWidgetArea, material);
-  tabifyDockWidget(parameters, material);
-  docks << material;
   auto* spheres = new LitSpheresDock(state_, this);
-  addDockWidget(Qt::RightDockWidgetArea, spheres);
-  // The plot and the spheres share a tabbed dock by default: one column of docks beside the
-  // viewport leaves the picture room for a landscape view (the field of view is vertical).
-  tabifyDockWidget(plot, spheres);
   auto* compare = new CompareDock(state_, this);
-  addDockWidget(Qt::RightDockWidgetArea, compare);
-  tabifyDockWidget(spheres, compare);
   auto* views = new TechniqueViewsDock(*viewport_, this);
-  addDockWidget(Qt::RightDockWidgetArea, views);
+  QDockWidget* render_settings = viewport_->controlsDock();
+  for (QDockWidget* d : std::initializer_list<QDockWidget*>{plot, spheres, compare, views})
+    makeScrollable(d);
+  addDockWidget(Qt::RightDockWidgetArea, parameters);
+  splitDockWidget(parameters, plot, Qt::Vertical);
+  tabifyDockWidget(parameters, render_settings);
+  tabifyDockWidget(render_settings, material);
+  tabifyDockWidget(plot, spheres);
+  tabifyDockWidget(spheres, compare);
   tabifyDockWidget(compare, views);
   plot->raise();
   parameters->raise();
-  docks << spheres << compare << views;
+  top_right_ = parameters;
+  bottom_right_ = plot;
+  const QList<QDockWidget*> docks = {viewport_, console_, parameters, render_settings, material,
+                                     plot,      spheres,  compare,    views};
   resize(1600, 1000);
   default_state_ = saveState();  // dock sizes: applyDefaultSizes() once the window is shown
 
@@ -147,11 +161,33 @@ MainWindow::MainWindow(ExplorerState& state, MainWindowOptions options, QWidget*
   }
 }
 
-// resizeDocks() has no effect before the window is laid out, so the default split (the picture
-// gets most of the width, the console a few lines) is applied on the first show.
+// resizeDocks() has no effect before the window is laid out, so the default split is applied
+// once the first show is done. The right column is shared equally by the settings and the plots
+// where it is 700 px tall (at 900 px the Parameters dock then shows every row to η), 45:55 below
+// (at 720 px: the material's first six rows above a plot that needs no scroll bar).
 void MainWindow::applyDefaultSizes() {
-  resizeDocks({viewport_}, {width() * 2 / 3}, Qt::Horizontal);
-  resizeDocks({console_}, {130}, Qt::Vertical);
+  // The picture at the camera's aspect ratio, as wide as 60% of the window where the left column
+  // is tall enough (the right column keeps room for the settings and the plot), at least half the
+  // window; the console takes the rest of the left column (at least 90 px).
+  const auto& cam = state_.scene().camera;
+  const double aspect = cam.height > 0 ? double(cam.width) / cam.height : 4.0 / 3.0;
+  const QSize picture = viewport_->pictureSize();
+  const int chrome_w = viewport_->width() - picture.width();
+  const int chrome_h = viewport_->height() - picture.height();
+  const int column_h = viewport_->height() + console_->height();
+  const int tallest = int(std::lround(aspect * (column_h - 90 - chrome_h)));
+  const int picture_w = std::max(width() / 2, std::min(width() * 3 / 5, tallest));
+  const int picture_dock = std::min(column_h - 90, int(std::lround(picture_w / aspect)) + chrome_h);
+  resizeDocks({viewport_, console_}, {picture_dock, column_h - picture_dock}, Qt::Vertical);
+  // Both columns are given a width: a hidden central widget has no room for the left one to
+  // take, so asking for the left one alone only moves it as far as the right one lets it.
+  const int left = picture_w + chrome_w;
+  const int docks_width = viewport_->width() + top_right_->width();
+  resizeDocks({viewport_, top_right_}, {left, std::max(1, docks_width - left)}, Qt::Horizontal);
+  const int column = top_right_->height() + bottom_right_->height();
+  const int top = column >= 700 ? column / 2 : column * 2 / 5;
+  resizeDocks({top_right_, bottom_right_}, {top, column - top}, Qt::Vertical);
+  QTimer::singleShot(0, this, &MainWindow::defaultLayoutApplied);
 }
 
 void MainWindow::showEvent(QShowEvent* e) {
@@ -171,7 +207,6 @@ void MainWindow::resetLayout() {
     d->setFloating(false);
     d->show();
   }
-  resize(1600, 1000);
   QTimer::singleShot(0, this, &MainWindow::applyDefaultSizes);
 }
 

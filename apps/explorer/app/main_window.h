@@ -11,6 +11,7 @@
 
 #include "translucent/scene/scene.h"
 
+class QDockWidget;
 class QLabel;
 
 namespace translucent::explorer {
@@ -46,8 +47,16 @@ class MainWindow : public QMainWindow {
   // The scene as the CLI should render it: absolute paths, the camera at `width` x `height`.
   static scene::Scene sceneForCli(const scene::Scene& scene, int width, int height);
 
+  // The default dock layout at the window's present size (View > Reset layout); the saved
+  // layout is replaced when the window closes.
   void resetLayout();
 
+ signals:
+  // The default dock sizes are in place (after the first show without a saved layout, or a
+  // reset); tests measure the layout after it.
+  void defaultLayoutApplied();
+
+ public:
   // "Print current data" (empirical seed, appendix A: "print all current data"): the scene as
   // JSON, then every parameter of the current technique with the value it renders with (the
   // scene's setting, else the default, marked so), as one text; the menu item sends it to the
@@ -65,6 +74,8 @@ class MainWindow : public QMainWindow {
   MainWindowOptions options_;
   ViewportDock* viewport_ = nullptr;
   ConsoleDock* console_ = nullptr;
+  QDockWidget* top_right_ = nullptr;     // the settings tabs
+  QDockWidget* bottom_right_ = nullptr;  // the plot and comparison tabs
   QByteArray default_state_;
   bool sized_ = false;  // the default dock sizes were applied (or a saved layout restored)
   void applyDefaultSizes();

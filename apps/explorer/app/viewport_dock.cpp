@@ -19,7 +19,6 @@
 #include <QtWidgets/QPushButton>
 #include <QtWidgets/QSlider>
 #include <QtWidgets/QScrollArea>
-#include <QtWidgets/QSplitter>
 #include <QtWidgets/QVBoxLayout>
 
 #include <algorithm>
@@ -118,20 +117,19 @@ ViewportDock::ViewportDock(ExplorerState& state, QWidget* parent)
   setObjectName(QStringLiteral("viewport_dock"));
   setAcceptDrops(true);
 
-  auto* split = new QSplitter(Qt::Horizontal);
   view_ = new ViewportWidget(state_);
   view_->setObjectName(QStringLiteral("viewport"));
-  split->addWidget(view_);
+  setWidget(view_);
+  // The technique's settings, the scene, camera and display controls are a dock of their own:
+  // beside the picture they took a third of its width at 1280 px (the picture became a strip).
+  controls_ = new QDockWidget(QStringLiteral("Render settings"), parent);
+  controls_->setObjectName(QStringLiteral("technique_dock"));
   auto* scroll = new QScrollArea;
   scroll->setWidgetResizable(true);
   auto* panel = new QWidget;
   buildControls(panel);
   scroll->setWidget(panel);
-  scroll->setMinimumWidth(340);
-  split->addWidget(scroll);
-  split->setStretchFactor(0, 1);
-  split->setStretchFactor(1, 0);
-  setWidget(split);
+  controls_->setWidget(scroll);
 
   rest_timer_.setSingleShot(true);
   rest_timer_.setInterval(300);  // at rest for 300 ms: full resolution
@@ -532,6 +530,8 @@ void ViewportDock::setCameraDistance(double distance) {
   c.position = c.look_at + offset * (distance / now);
   state_.setCamera(c);
 }
+
+QSize ViewportDock::pictureSize() const { return view_->size(); }
 
 QSize ViewportDock::renderSize() const {
   const double dpr = view_->devicePixelRatioF();

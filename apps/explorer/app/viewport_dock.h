@@ -50,6 +50,11 @@ class ViewportDock : public QDockWidget {
   ~ViewportDock() override;
 
   ViewportWidget* view() const { return view_; }
+  // The dock with the technique, scene, camera and display controls (a child of the same parent;
+  // the main window places it).
+  QDockWidget* controlsDock() const { return controls_; }
+  // The picture's size in widget pixels.
+  QSize pictureSize() const;
   // The newest frame shown, and the newest full-resolution one (nullptr before the first).
   std::shared_ptr<const RenderedFrame> lastFrame() const { return last_; }
   std::shared_ptr<const RenderedFrame> lastFullFrame() const { return last_full_; }
@@ -108,6 +113,7 @@ class ViewportDock : public QDockWidget {
 
   ExplorerState& state_;
   ViewportWidget* view_ = nullptr;
+  QDockWidget* controls_ = nullptr;
   RenderWorker* worker_ = nullptr;
   QTimer rest_timer_, rotate_timer_, play_timer_;
   QElapsedTimer rotate_clock_, play_clock_;

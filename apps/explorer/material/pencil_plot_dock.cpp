@@ -11,6 +11,7 @@
 #include <QtWidgets/QCheckBox>
 #include <QtWidgets/QComboBox>
 #include <QtWidgets/QDoubleSpinBox>
+#include <QtWidgets/QGraphicsLayout>
 #include <QtWidgets/QGridLayout>
 #include <QtWidgets/QLabel>
 #include <QtWidgets/QVBoxLayout>
@@ -28,6 +29,7 @@
 #include "core/trace_device_box.h"
 #include "translucent/gpu/bssrdf_profiles.h"
 #include "material/material_worker.h"
+#include "plot/chart_legend.h"
 #include "plot/profile_plot.h"
 
 namespace translucent::explorer {
@@ -38,13 +40,17 @@ using analysis::Curve;
 
 QString q(const std::string& s) { return QString::fromStdString(s); }
 
-// Unit of r in scene units: coefficients are per mm and one scene unit spans `scale` mm
-// (seed 3.6.1); the CLI's profile command labels its axis the same way.
-std::string lengthUnit(double scale) {
-  if (scale == 1.0) return "mm";
-  if (scale == 10.0) return "cm";
-  if (scale == 1000.0) return "m";
-  return fmt::format("{:g} mm", scale);
+// The curves come in scene units (one unit spans `scale` mm: Jensen et al. 2001's scale
+// parameter); they are shown in mm, as every length the CLI prints: r·scale, R(r)/scale² (per
+// area), r·R(r)/scale (per length).
+void toMillimetres(std::vector<Curve>& curves, double scale, bool times_r) {
+  if (scale == 1.0) return;
+  const double value = times_r ? 1.0 / scale : 1.0 / (scale * scale);
+  for (Curve& c : curves) {
+    for (double& r : c.r) r *= scale;
+    for (double& v : c.value) v *= value;
+    for (double& e : c.stderr_) e *= value;
+  }
 }
 
 bool sameMedium(const Medium& a, const Medium& b) {
@@ -144,8 +150,11 @@ PencilPlotDock::PencilPlotDock(ExplorerState& state, QWidget* parent)
   layout->addLayout(controls);
   view_ = new QChartView;
   view_->setRenderHint(QPainter::Antialiasing);
-  view_->setMinimumSize(320, 220);
+  view_->setMinimumSize(240, 120);
   layout->addWidget(view_, 1);
+  legend_ = new plot::ChartLegend;
+  legend_->setObjectName(QStringLiteral("pencil_plot_legend"));
+  layout->addWidget(legend_);
   setWidget(body);
 
   auto refillSolo = [this] {
@@ -387,10 +396,19 @@ void PencilPlotDock::redraw() {
   po.y_scale = static_cast<plot::YScale>(yScale_->currentData().toInt());
   po.times_r = timesR_->isChecked();
   const std::string s = solo();
-  po.length_unit = lengthUnit((s.empty() ? state_.medium() : state_.mediumFor(s)).scale);
+  toMillimetres(shown, (s.empty() ? state_.medium() : state_.mediumFor(s)).scale, po.times_r);
+  po.length_unit = "mm";
   QChart* old = view_->chart();
-  view_->setChart(plot::makeProfileChart(shown, po).release());
+  auto chart = plot::makeProfileChart(shown, po);
+  legend_->setChart(chart.get());  // before the view lays the chart out: no room for its legend
+  QChart* c = chart.get();
+  connect(c, &QChart::plotAreaChanged, c, [c] { plot::fitLogAxisLabels(*c); }, Qt::QueuedConnection);
+  view_->setChart(chart.release());
   delete old;
+  // Lay the new chart out now and fit its labels before it is first painted (the reference's
+  // progress redraws the chart: a fit one event later would flash elided labels each time).
+  if (QGraphicsLayout* l = c->layout()) l->activate();
+  plot::fitLogAxisLabels(*c);
 }
 
 }  // namespace translucent::explorer

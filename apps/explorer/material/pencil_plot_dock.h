@@ -36,6 +36,10 @@ class QComboBox;
 class QDoubleSpinBox;
 class QLabel;
 
+namespace translucent::plot {
+class ChartLegend;
+}
+
 namespace translucent::explorer {
 
 class ExplorerState;
@@ -78,6 +82,7 @@ class PencilPlotDock : public QDockWidget {
   ExplorerState& state_;
   MaterialWorker& worker_;
   QChartView* view_;
+  plot::ChartLegend* legend_;  // wraps into columns under the chart
   QComboBox* yScale_;
   QComboBox* channel_;
   QComboBox* solo_;

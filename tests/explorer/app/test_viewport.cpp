@@ -159,8 +159,8 @@ class Viewport : public QObject {
     // with the frame's own average (what writePng uses), pixel by pixel within one 8-bit level;
     // then back to clamp.
     QVERIFY(full_ != nullptr);
-    auto* op = dock_->findChild<QComboBox*>(QStringLiteral("tonemap"));
-    auto* key = dock_->findChild<QDoubleSpinBox*>(QStringLiteral("tonemap_key"));
+    auto* op = dock_->controlsDock()->findChild<QComboBox*>(QStringLiteral("tonemap"));
+    auto* key = dock_->controlsDock()->findChild<QDoubleSpinBox*>(QStringLiteral("tonemap_key"));
     QVERIFY(op != nullptr && key != nullptr);
     const std::string technique = full_->technique;
     key->setValue(0.5);
@@ -227,7 +227,7 @@ class Viewport : public QObject {
     QVERIFY(full_ != nullptr);
     QApplication::processEvents();
     const QImage plain = dock_->view()->grabFramebuffer();
-    auto* axes = dock_->findChild<QCheckBox*>(QStringLiteral("show_axes"));
+    auto* axes = dock_->controlsDock()->findChild<QCheckBox*>(QStringLiteral("show_axes"));
     QVERIFY(axes != nullptr);
     axes->setChecked(true);
     QVERIFY(dock_->view()->axesShown());
@@ -289,7 +289,7 @@ class Viewport : public QObject {
     };
     qputenv("TRANSLUCENT_SHADER_DIR", copy.toUtf8());
     write("imageStore(OutColor, p, vec4(0.5 * color, 1.0));");
-    auto* reload = dock_->findChild<QPushButton*>(QStringLiteral("reload_shaders"));
+    auto* reload = dock_->controlsDock()->findChild<QPushButton*>(QStringLiteral("reload_shaders"));
     QVERIFY(reload != nullptr);
     reload->click();
     const auto halved = nextFull("empirical");
@@ -326,7 +326,7 @@ class Viewport : public QObject {
   void lightingFilesAndZoom() {
     state_->setTechnique("pointcloud");
     QVERIFY2(nextFull("pointcloud") != nullptr, qPrintable(console_->text()));
-    auto* zoom = dock_->findChild<QSlider*>(QStringLiteral("zoom"));
+    auto* zoom = dock_->controlsDock()->findChild<QSlider*>(QStringLiteral("zoom"));
     QVERIFY(zoom != nullptr);
     zoom->setValue(600);
     const reference::Camera& c = state_->scene().camera;
@@ -494,8 +494,8 @@ class Viewport : public QObject {
   // mesh.deform (issue 13 §3: the explorer plays deformations): the time field and play are
   // off without a deformation; with one, a time changes the image, and play advances the time.
   void deformationTimeChangesTheImageAndPlayAdvancesIt() {
-    auto* time = dock_->findChild<QDoubleSpinBox*>(QStringLiteral("deform_time"));
-    auto* play = dock_->findChild<QCheckBox*>(QStringLiteral("deform_play"));
+    auto* time = dock_->controlsDock()->findChild<QDoubleSpinBox*>(QStringLiteral("deform_time"));
+    auto* play = dock_->controlsDock()->findChild<QCheckBox*>(QStringLiteral("deform_play"));
     QVERIFY(time != nullptr && play != nullptr);
     QVERIFY(state_->scene().mesh_deform.empty());
     QVERIFY(!time->isEnabled() && !play->isEnabled());

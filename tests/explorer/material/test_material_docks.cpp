@@ -3,6 +3,7 @@
 // changes the plot's data, the plotted model curves are the library's profiles, the path-traced
 // reference refines and restarts on a change, a malformed .bssrdf is reported with file:line and
 // the docks keep working, and bad numbers are refused with the medium unchanged.
+#include <QtCharts/QAbstractAxis>
 #include <QtCharts/QChart>
 #include <QtCharts/QLineSeries>
 #include <QtCharts/QScatterSeries>
@@ -176,6 +177,35 @@ class MaterialDocksTest : public QObject {
   // θL (issue 14 §1, §4): at 60° the directional dipole is drawn as its kernel's azimuthal
   // average (the library's profileCurves with the same incidence), the dipole keeps its R(r) and
   // says it assumes normal incidence, and the reference restarts at the new angle.
+  // A medium in scene units of 25 mm is plotted in mm: r·25, R(r)/25² (the library's curves are
+  // in scene units), and the axis says mm.
+  void lengthsAreShownInMillimetres() {
+    Fixture f(false);
+    QSignalSpy spy(&f.plot, &PencilPlotDock::modelCurvesUpdated);
+    QVERIFY(f.waitCurves(spy));
+    Medium m = preset("Skin1").medium();
+    m.scale = 25.0;
+    f.state.setMedium(m, "Skin1");
+    QVERIFY(spy.wait(20000));
+    while (spy.wait(300)) {}
+    const auto lib = analysis::profileCurves({"dipole"}, f.state.mediumFor("dipole"),
+                                             {analysis::Channel::Luminance},
+                                             {f.plot.radiusMax(), 200, false})[0];
+    const auto pts = linePoints(f.plot.chart(), "dipole");
+    QCOMPARE(pts.size(), lib.r.size());
+    for (size_t i = 0; i < lib.r.size(); i += 17) {
+      const auto it = pts.lower_bound(lib.r[i] * 25.0 * (1.0 - 1e-12));
+      QVERIFY(it != pts.end());
+      QVERIFY(std::abs(it->first - lib.r[i] * 25.0) <= 1e-9 * std::max(1.0, lib.r[i] * 25.0));
+      QVERIFY2(std::abs(it->second - lib.value[i] / 625.0) <= 1e-9 * std::abs(lib.value[i] / 625.0),
+               qPrintable(QString("r=%1: %2 vs %3").arg(lib.r[i]).arg(it->second).arg(lib.value[i] / 625.0)));
+    }
+    bool mm = false;
+    for (QAbstractAxis* a : f.plot.chart()->axes(Qt::Horizontal))
+      mm = mm || a->titleText().contains("[mm]");
+    QVERIFY(mm);
+  }
+
   void incidenceAngleRedrawsDirectionalModelsAndRestartsTheReference() {
     Fixture f(true);
     f.state.setPlotModels({"dipole", "directional-dipole"});
