@@ -12,7 +12,9 @@
 #include <sstream>
 
 #include "translucent/compare/compare.h"
+#include "translucent/compare/diagnosis.h"
 #include "translucent/compare/report.h"
+#include "translucent/geometry/icosphere.h"
 #include "translucent/bssrdf/exit_radiance.h"
 #include "translucent/bssrdf/registry.h"
 #include "translucent/reference/model_reference.h"
@@ -215,6 +217,105 @@ TEST(CompareMasks, InteriorExcludesSilhouettesAndConeExcludesGrazingViews) {
   EXPECT_GE(n1, m.interiorPixels());
   const auto steep = interiorMask(mesh, s.camera, 4, std::sin(60.0 * 3.14159265358979 / 180.0));
   for (size_t i = 0; i < steep.size(); ++i) EXPECT_LE(steep[i], m.interior[i]);
+}
+
+// The error regions of a unit sphere seen along −z by an orthographic camera and lit from
+// +x: the silhouette (|n·v| < 0.3) is the outer ring ρ > sqrt(1 − 0.3²) of the disc, 9% of it;
+// the shadow boundary is the terminator x = 0, a band of 2 × 2 + 1 pixel columns across the
+// disc; every chord along −n passes through the centre (thickness 2), so the sphere is all thin
+// for a medium with ℓd > 2 and nowhere thin for ℓd < 2.
+TEST(CompareDiagnosis, TheRegionsOfALitSphere) {
+  const geometry::TriangleMesh mesh = geometry::makeIcosphere(6, 1.0);
+  scene::Scene s;
+  s.camera.width = 80;
+  s.camera.height = 80;
+  s.camera.position = {0.0, 0.0, 100.0};
+  s.camera.look_at = {0.0, 0.0, 0.0};
+  s.camera.up = {0.0, 1.0, 0.0};
+  s.camera.projection = reference::Camera::Projection::Orthographic;
+  s.camera.view_height = 2.2;  // the disc spans 80 / 1.1 ≈ 73 pixels
+  s.lights.push_back({reference::DirectionalLight{{1.0, 0.0, 0.0}, 1.0}, {1.0, 1.0, 1.0}});
+  s.medium.sigma_a = {0.01, 0.01, 0.01};  // ℓd = 1/sqrt(3 σa σt') ≈ 5.8 > 2
+  s.medium.sigma_s = {1.0, 1.0, 1.0};
+  const std::vector<uint8_t> interior = interiorMask(mesh, s.camera, 1, 0.0);
+  uint64_t disc = 0;
+  for (uint8_t v : interior) disc += v;
+  ASSERT_GT(disc, 3500u);  // π (40/1.1)² ≈ 4154
+  ErrorRegions r = errorRegions(s, mesh, interior);
+  ASSERT_EQ(r.names.size(), 4u);
+  auto count = [](const std::vector<uint8_t>& m) {
+    uint64_t n = 0;
+    for (uint8_t v : m) n += v;
+    return n;
+  };
+  const double silhouette = static_cast<double>(count(r.masks[0])) / static_cast<double>(disc);
+  EXPECT_NEAR(silhouette, 0.09, 0.02);  // pixel-centre sampling of a thin ring: ±2 points
+  EXPECT_EQ(count(r.masks[1]), disc);   // all thin
+  // Boundary: the columns within 2 pixels of the terminator x = 0 (pixel columns 38..41 hold
+  // its neighbours), across the disc's diameter (~73 rows).
+  const uint64_t boundary = count(r.masks[2]);
+  EXPECT_GT(boundary, 4u * 65u);
+  EXPECT_LT(boundary, 6u * 75u);
+  for (int y = 0; y < 80; ++y)
+    for (int x = 0; x < 80; ++x) {
+      const size_t i = static_cast<size_t>(y) * 80 + static_cast<size_t>(x);
+      if (r.masks[2][i]) {
+        EXPECT_LE(std::abs(x + 0.5 - 40.0), 3.5) << x << "," << y;
+      }
+      EXPECT_EQ(r.masks[3][i], interior[i] && !r.masks[0][i] && !r.masks[1][i] && !r.masks[2][i]);
+    }
+  s.medium.sigma_a = {1.0, 1.0, 1.0};  // ℓd = 1/sqrt(3 · 1 · 2) ≈ 0.41 < 2
+  r = errorRegions(s, mesh, interior);
+  EXPECT_EQ(count(r.masks[1]), 0u);
+}
+
+// The split: with P = 1, M = 1.1 and T = M + 0.05 in one half and T = M = P in the other, the
+// model's part of the first half is 10%, the technique's 5%, T against P 15%; noise given as
+// standard errors is taken out (a difference that is all noise measures 0).
+TEST(CompareDiagnosis, TheSplitAddsTheTechniquesAndTheModelsParts) {
+  const int w = 20, h = 10;
+  const size_t n = static_cast<size_t>(w) * h;
+  CompareImage p{w, h, std::vector<float>(3 * n, 1.0f), {}};
+  CompareImage m = p, t = p;
+  ErrorRegions r;
+  r.width = w;
+  r.height = h;
+  r.names = {"left", "right"};
+  r.masks.assign(2, std::vector<uint8_t>(n, 0));
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const size_t i = static_cast<size_t>(y) * w + static_cast<size_t>(x);
+      r.masks[x < w / 2 ? 0 : 1][i] = 1;
+      if (x < w / 2)
+        for (size_t c = 0; c < 3; ++c) {
+          m.rgb[3 * i + c] = 1.1f;
+          t.rgb[3 * i + c] = 1.15f;
+        }
+    }
+  const std::vector<uint8_t> interior(n, 1);
+  auto rows = splitError(t, m, p, r, interior);
+  ASSERT_EQ(rows.size(), 3u);
+  EXPECT_EQ(rows[0].region, "interior");
+  EXPECT_EQ(rows[1].pixels, n / 2);
+  EXPECT_NEAR(rows[1].model_part, 0.10, 1e-6);
+  EXPECT_NEAR(rows[1].technique_part, 0.05, 1e-6);
+  EXPECT_NEAR(rows[1].vs_physical, 0.15, 1e-6);
+  EXPECT_NEAR(rows[2].vs_physical, 0.0, 1e-9);
+  // The whole picture: RMS over both halves, sqrt(0.15² / 2).
+  EXPECT_NEAR(rows[0].vs_physical, 0.15 / std::sqrt(2.0), 1e-6);
+  // The physical reference's noise: an error of 0.05 with a standard error of 0.05 is all noise.
+  p.se.assign(3 * n, 0.05f);
+  rows = splitError(t, t, p, r, interior);
+  EXPECT_NEAR(rows[2].vs_physical, 0.0, 1e-9);
+  EXPECT_NEAR(rows[1].vs_physical, std::sqrt(0.15 * 0.15 - 0.05 * 0.05), 1e-5);
+  EXPECT_NEAR(rows[1].technique_part, 0.0, 1e-9);
+  // The map: black outside, orange where the technique's part dominates, blue the model's.
+  const auto map = splitMap(t, m, CompareImage{w, h, std::vector<float>(3 * n, 1.0f), {}}, interior);
+  ASSERT_EQ(map.size(), 3 * n);
+  EXPECT_GT(map[2], map[0]);  // left: model 0.1 > technique 0.05: bluer
+  EXPECT_EQ(map[3 * (n - 1)], 0);  // right: no error, black
+  EXPECT_THROW(splitError(t, m, CompareImage{w, h + 1, std::vector<float>(3 * n + 3 * w, 1.0f), {}}, r, interior),
+               ParameterError);
 }
 
 TEST(CompareCache, ASecondRequestHitsAndAChangedInputMisses) {

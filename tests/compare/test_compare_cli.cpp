@@ -169,6 +169,26 @@ TEST_F(CompareCli, ReportIsCompleteAndSelfContained) {
   EXPECT_GE(points["tsm"], 3);
   EXPECT_GE(points["lss"], 3);
   EXPECT_TRUE(fs::is_regular_file(dir / "sweep.png"));
+  // Where the error is: per technique and region, T vs P with the technique's and the model's
+  // parts; over the whole interior T vs P is the metrics row's radiance rel_rmse (same metric).
+  const json& d = j.at("diagnosis");
+  EXPECT_EQ(d.at("regions").size(), 4u);
+  EXPECT_TRUE(fs::is_regular_file(dir / "regions.png"));
+  EXPECT_NE(html.find("Where the error is"), std::string::npos);
+  for (const auto& t : j.at("techniques")) {
+    const std::string n = t.at("name");
+    ASSERT_TRUE(d.at("techniques").contains(n)) << n;
+    const json& split = d.at("techniques").at(n);
+    ASSERT_EQ(split.size(), 5u) << n;  // interior + four regions
+    EXPECT_EQ(split[0].at("region"), "interior");
+    EXPECT_TRUE(fs::is_regular_file(dir / ("split-" + n + ".png"))) << n;
+    for (const auto& m : j.at("metrics")) {
+      if (m.at("test") == n && m.at("reference") == "physical" && m.at("quantity") == "radiance") {
+        EXPECT_NEAR(split[0].at("vs_physical").get<double>(),
+                    m.at("metrics").at("rel_rmse").get<double>(), 1e-6) << n;
+      }
+    }
+  }
 }
 
 TEST_F(CompareCli, ReportRendersInHeadlessChromiumWithImagesShowing) {

@@ -139,6 +139,10 @@ class Writer {
     writePng8(file(name), w, h, falseColor(values, w, h, cmap, lo, hi));
     return name;
   }
+  std::string map8(const std::string& name, const std::vector<uint8_t>& rgb) {
+    writePng8(file(name), r_.scene.camera.width, r_.scene.camera.height, rgb);
+    return name;
+  }
   std::string bar(const std::string& name, ColorMap cmap, double lo, double hi) {
     const int w = 320, h = 40;  // colorBar needs >= 24 rows for its labels
     writePng8(file(name), w, h, colorBar(w, h, cmap, lo, hi));
@@ -391,6 +395,66 @@ void prepareReportDirectory(const fs::path& dir, bool force, const fs::path& ign
   }
   for (const auto& p : remove) fs::remove(p, ec);
 }
+
+namespace {
+
+// "Where the error is": per technique the split of its radiance error against the physical
+// reference into its own part (vs the model reference) and the model's (model vs physical), per
+// region, with a map; report.json "diagnosis". Nothing without both references or regions.
+std::string diagnosisSection(Writer& w, const CompareReport& r, json& j) {
+  const Reference* model = findReference(r, "model");
+  const Reference* physical = findReference(r, "physical");
+  if (model == nullptr || physical == nullptr || r.regions.names.empty()) return {};
+  const double eta = r.scene.medium.eta;
+  std::string h =
+      "<h2>Where the error is</h2>\n<p>Each technique's radiance error against the physical "
+      "reference P, split into the technique's part (against the model reference M: what the "
+      "technique adds to its model) and the model's part (M against P: what the model itself "
+      "misses on this mesh), as relative RMSE with the noise taken out, per region of the "
+      "picture. Regions (they overlap): " + html(r.regions.definition) + ".</p>\n";
+  w.map8("regions.png", regionMap(r.regions, r.masks.interior));
+  h += "<figure><img src=\"regions.png\" alt=\"regions\"><figcaption>Regions: silhouettes red, "
+       "thin parts green, shadow boundaries blue (mixed where they overlap), elsewhere grey."
+       "</figcaption></figure>\n";
+  json dj = {{"regions", r.regions.names}, {"definition", r.regions.definition},
+             {"thin_threshold", r.regions.thin_threshold}, {"techniques", json::object()}};
+  for (size_t k = 0; k < r.regions.names.size(); ++k) {
+    uint64_t count = 0;
+    for (uint8_t v : r.regions.masks[k]) count += v != 0;
+    dj["pixels"][r.regions.names[k]] = count;
+  }
+  std::string table = "<table><tr><th class=\"l\">technique</th><th class=\"l\">region</th>"
+                      "<th>pixels</th><th>vs physical</th><th>technique's part</th>"
+                      "<th>model's part</th></tr>\n";
+  std::string maps;
+  for (const TechniqueRun& t : r.techniques) {
+    if (t.failed() || t.images.radiance.empty()) continue;
+    const CompareImage m = model->radianceFor(t.images.convention, eta);
+    const CompareImage p = physical->radianceFor(t.images.convention, eta);
+    const auto rows = splitError(t.images.radiance, m, p, r.regions, r.masks.interior);
+    const std::string file = "split-" + fileStem(t.images.name) + ".png";
+    w.map8(file, splitMap(t.images.radiance, m, p, r.masks.interior));
+    maps += "<figure><img src=\"" + html(file) + "\" alt=\"" + html(t.images.name) +
+            "\"><figcaption>" + html(t.images.name) + "</figcaption></figure>\n";
+    json tj = json::array();
+    for (const RegionSplit& s : rows) {
+      table += fmt::format("<tr><td class=\"l\">{}</td><td class=\"l\">{}</td><td>{}</td>"
+                           "<td>{}</td><td>{}</td><td>{}</td></tr>\n", html(t.images.name),
+                           html(s.region), s.pixels, pct(s.vs_physical), pct(s.technique_part),
+                           pct(s.model_part));
+      tj.push_back({{"region", s.region}, {"pixels", s.pixels}, {"vs_physical", number(s.vs_physical)},
+                    {"technique_part", number(s.technique_part)},
+                    {"model_part", number(s.model_part)}});
+    }
+    dj["techniques"][t.images.name] = tj;
+  }
+  j["diagnosis"] = dj;
+  h += table + "</table>\n<p>Maps: brightness |T − P| / P (full at 50%), hue the larger part: "
+       "orange the technique's, blue the model's.</p>\n" + maps + "\n";
+  return h;
+}
+
+}  // namespace
 
 std::vector<std::string> writeReport(const fs::path& dir, const CompareReport& r) {
   Writer w(dir, r);
@@ -700,6 +764,8 @@ std::vector<std::string> writeReport(const fs::path& dir, const CompareReport& r
          cell(maps[i].z, "z") + cell(maps[i].flip, "FLIP") + "</tr>\n";
   }
   h += "</table>\n";
+
+  h += diagnosisSection(w, r, j);
 
   h += "<h2>Time</h2>\n<table><tr><th class=\"l\">technique</th><th class=\"l\">pass</th>"
        "<th>median [ms]</th><th>min [ms]</th><th>max [ms]</th></tr>\n";

@@ -34,6 +34,7 @@
 #include <vector>
 
 #include "translucent/compare/compare.h"
+#include "translucent/compare/diagnosis.h"
 
 namespace translucent::analysis {
 
@@ -87,6 +88,10 @@ struct CompareReport {
   std::vector<SweepPoint> sweep;
   std::vector<Figure> figures;  // written by the caller into the folder before writeReport
   Masks masks;
+  // Where the error is (diagnosis.h): with a model and a physical reference, index.html and
+  // report.json split each technique's error against the physical reference into its own and
+  // the model's part per region. Empty (no names): no such section.
+  ErrorRegions regions;
   std::filesystem::path cache_dir;  // "" when caching is off
   bool partial = false;             // stopped early: some reference is partial or missing
   std::vector<std::string> notes;   // what the user should know (cache hits, skipped parts)
