@@ -159,6 +159,7 @@ py::dict compareScene(scene::Scene s, const std::string& sceneFile, const Compar
     for (const auto& r : report.references)
       if (r.kind == analysis::ReferenceKind::Model) coverage = r.coverage;
     report.masks = analysis::compareMasks(s, mesh, coverage);
+    report.regions = analysis::reportRegions(s, mesh, report.references, report.masks.interior);
   }
   const double eta = s.medium.eta;
   analysis::MetricOptions display;

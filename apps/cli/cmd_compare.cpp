@@ -672,12 +672,7 @@ SceneOutcome compareScene(const CompareArgs& a, const Parsed& parsed, const std:
     if (r.kind == analysis::ReferenceKind::Model) coverage = r.coverage;
   report.masks = analysis::compareMasks(s, mesh, coverage);
   // With both references the report says where each technique's error is (diagnosis.h).
-  const auto has = [&](analysis::ReferenceKind k) {
-    return std::any_of(report.references.begin(), report.references.end(),
-                       [&](const analysis::Reference& r) { return r.kind == k && !r.exitance.empty(); });
-  };
-  if (has(analysis::ReferenceKind::Model) && has(analysis::ReferenceKind::Physical))
-    report.regions = analysis::errorRegions(s, mesh, report.masks.interior);
+  report.regions = analysis::reportRegions(s, mesh, report.references, report.masks.interior);
   const double eta = s.medium.eta;
   analysis::MetricOptions display;
   display.exposure = s.exposure;

@@ -127,6 +127,16 @@ ErrorRegions errorRegions(const scene::Scene& scene, const geometry::TriangleMes
   return r;
 }
 
+ErrorRegions reportRegions(const scene::Scene& scene, const geometry::TriangleMesh& mesh,
+                           std::span<const Reference> references, std::span<const uint8_t> interior) {
+  const auto has = [&](ReferenceKind k) {
+    return std::any_of(references.begin(), references.end(),
+                       [&](const Reference& r) { return r.kind == k && !r.radiance.empty(); });
+  };
+  if (!has(ReferenceKind::Model) || !has(ReferenceKind::Physical)) return {};
+  return errorRegions(scene, mesh, interior);
+}
+
 std::vector<RegionSplit> splitError(const CompareImage& technique, const CompareImage& model,
                                     const CompareImage& physical, const ErrorRegions& regions,
                                     std::span<const uint8_t> interior) {

@@ -37,6 +37,11 @@ struct ErrorRegions {
 ErrorRegions errorRegions(const scene::Scene& scene, const geometry::TriangleMesh& mesh,
                           std::span<const uint8_t> interior);
 
+// errorRegions when `references` hold a model and a physical reference (what the split needs),
+// else empty regions (no names): what compare's report takes.
+ErrorRegions reportRegions(const scene::Scene& scene, const geometry::TriangleMesh& mesh,
+                           std::span<const Reference> references, std::span<const uint8_t> interior);
+
 struct RegionSplit {
   std::string region;
   uint64_t pixels = 0;
