@@ -163,8 +163,8 @@ MainWindow::MainWindow(ExplorerState& state, MainWindowOptions options, QWidget*
 
 // resizeDocks() has no effect before the window is laid out, so the default split is applied
 // once the first show is done. The right column is shared equally by the settings and the plots
-// where it is 700 px tall (at 900 px the Parameters dock then shows every row to η), 45:55 below
-// (at 720 px: the material's first six rows above a plot that needs no scroll bar).
+// where it is 700 px tall (at 900 px the Parameters dock then shows every row to η), 40:60 below
+// (at 720 px: the material's first five rows above a plot that needs no scroll bar).
 void MainWindow::applyDefaultSizes() {
   // The picture at the camera's aspect ratio, as wide as 60% of the window where the left column
   // is tall enough (the right column keeps room for the settings and the plot), at least half the

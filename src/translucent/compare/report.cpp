@@ -431,7 +431,14 @@ std::string diagnosisSection(Writer& w, const CompareReport& r, json& j) {
     if (t.failed() || t.images.radiance.empty()) continue;
     const CompareImage m = model->radianceFor(t.images.convention, eta);
     const CompareImage p = physical->radianceFor(t.images.convention, eta);
-    const auto rows = splitError(t.images.radiance, m, p, r.regions, r.masks.interior);
+    std::vector<RegionSplit> rows;
+    try {
+      rows = splitError(t.images.radiance, m, p, r.regions, r.masks.interior);
+    } catch (const ParameterError& e) {  // (sizes that differ: the metrics table says so too)
+      table += "<tr><td class=\"l\">" + html(t.images.name) + "</td><td class=\"l warn\" "
+               "colspan=\"5\">" + html(e.what()) + "</td></tr>\n";
+      continue;
+    }
     const std::string file = "split-" + fileStem(t.images.name) + ".png";
     w.map8(file, splitMap(t.images.radiance, m, p, r.masks.interior));
     maps += "<figure><img src=\"" + html(file) + "\" alt=\"" + html(t.images.name) +
