@@ -349,25 +349,44 @@ std::vector<double> medianRelativeError(const reference::ModelReferenceImages& i
 }
 
 // A shard of a progressive tracer's run (shard.h): its blocks of the run's passes × blocks per
-// pass, traced in one go, written to the partial file.
+// pass, traced in one go, written to the partial file. A re-run of a shard that stopped early
+// resumes from its partial file: on the CPU the tracer merges blocks in order, so a stop leaves
+// the first blocks of the shard whole (block_driver.h), and tracing the rest and adding the two
+// states gives the uninterrupted shard bit for bit (exact sums). The GPU walk's stop is not
+// block-wise: a shard stopped there keeps only what an earlier checkpoint held.
 template <class Tracer>
 void runShard(const RunArgs& a, Tracer& tracer, uint64_t photons, const std::string& label,
               const OutputSet& inputs) {
   const uint64_t perPass = (photons + reference::kBlockPhotons - 1) / reference::kBlockPhotons;
   const ShardRange range = a.shard.range(perPass * static_cast<uint64_t>(a.passes));
+  const std::optional<Checkpoint> checkpoint = readCheckpoint(a.shard, range, inputs);
+  const uint64_t resumed = checkpoint ? checkpoint->blocks_done : 0;
+  const uint64_t left = range.blocks - resumed;
   reference::TransportStats st;
   {
     InterruptGuard guard;
     ProgressBar bar(label, "photons", a.time_limit);
-    st = tracer.addBlocks(range.blocks == 0 ? range.total : range.first, range.blocks,
+    // An empty remainder (more shards than blocks, or a checkpoint that holds them all) starts
+    // at the end: it traces nothing.
+    st = tracer.addBlocks(left == 0 ? range.total : range.first + resumed, left,
                           [&](const reference::TraceProgress& p) { return bar(p); });
     bar.end();
   }
   reference::RunState state;
-  tracer.write(state);
-  // A stopped shard of these tracers starts over when run again (only the slab's resumes).
-  writePartial(a.shard, range, inputs, state, st.seconds, st.threads, !st.partial,
-               st.partial ? 0 : range.blocks);
+  uint64_t done = range.blocks;
+  if (st.partial) {
+    const uint64_t merged = st.photons.empty() ? 0 : st.photons[0] / reference::kBlockPhotons;
+    done = tracer.device() == "cpu" ? resumed + std::min(left, merged) : resumed;
+  }
+  if (!st.partial || tracer.device() == "cpu") tracer.write(state);
+  if (checkpoint) {
+    if (state.sums.empty() && state.counts.empty())
+      state = checkpoint->state;
+    else
+      state.merge(checkpoint->state);
+  }
+  writePartial(a.shard, range, inputs, state, st.seconds + (checkpoint ? checkpoint->seconds : 0.0),
+               st.threads, !st.partial, done);
 }
 
 void runPathtraceSphere(const SphereArgs& s, const RunArgs& a, std::string device) {
