@@ -40,7 +40,7 @@ def main():
     print(f"Profiles.R, 1e6 radii: {1e9 * per_elem:.1f} ns per R(r) evaluation (3 per radius)")
     print(f"Profiles.R, 1 radius: {1e6 * small:.2f} us per call; C++ work 3 x "
           f"{1e9 * per_elem:.1f} ns: binding overhead {1e6 * (small - 3 * per_elem):.2f} us")
-    prof = best(lambda: t.profile("dipole", one, preset="Marble"), number=5000)
+    prof = best(lambda: t.profile("dipole", one, material="Marble"), number=5000)
     print(f"profile('dipole', [1.0], preset='Marble'): {1e6 * prof:.2f} us per call "
           "(makes the medium and the three profiles each call, as the CLI's profile does)")
     med = best(lambda: t.Medium(), number=20000)
@@ -49,7 +49,7 @@ def main():
         wall, cpp = [], []
         for _ in range(5):
             s = time.perf_counter()
-            r = t.pathtrace_slab(preset="Marble", channel="r", photons=photons, threads=2)
+            r = t.pathtrace_slab(material="Marble", channel="r", photons=photons, threads=2)
             wall.append(time.perf_counter() - s)
             cpp.append(r["seconds"])
         i = int(np.argmin(wall))

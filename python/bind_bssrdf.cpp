@@ -307,14 +307,17 @@ Radial sampling is not bound for .bssrdf models (the CPU models have it: Profile
 
   m.def(
       "profile",
-      [](const std::string& model, const py::object& r, const std::optional<std::string>& preset,
+      [](const std::string& model, const py::object& r, const std::optional<std::string>& preset_name,
          const py::object& sigma_a, const py::object& sigma_s, std::optional<double> g,
-         std::optional<double> eta, double scale, const std::optional<Medium>& medium) {
+         std::optional<double> eta, double scale, const std::optional<Medium>& medium,
+         const std::optional<std::string>& material_name) {
+        const std::optional<std::string> preset =
+            materialArgument(material_name, preset_name, "translucent.profile");
         // g and eta default to 0 and 1.3 (the documented signature): with medium= only
         // those defaults are accepted, as for scale.
         if (medium && (preset || !sigma_a.is_none() || !sigma_s.is_none() || g.value_or(0.0) != 0.0 ||
                        eta.value_or(1.3) != 1.3 || scale != 1.0))
-          throw ParameterError("medium= excludes preset, sigma_a, sigma_s, g, eta and scale");
+          throw ParameterError("medium= excludes material, sigma_a, sigma_s, g, eta and scale");
         checkNoNul(model, "model");
         const auto in = radii(r);
         const Medium med = medium ? *medium : mediumFromArgs(preset, sigma_a, sigma_s, g, eta, scale);
@@ -334,10 +337,10 @@ Radial sampling is not bound for .bssrdf models (the CPU models have it: Profile
       py::arg("model"), py::arg("r"), py::arg("preset") = py::none(),
       py::arg("sigma_a") = py::none(), py::arg("sigma_s") = py::none(), py::arg("g") = 0.0,
       py::arg("eta") = 1.3, py::arg("scale") = 1.0, py::kw_only(),
-      py::arg("medium") = py::none(), R"doc(
+      py::arg("medium") = py::none(), py::arg("material") = py::none(), R"doc(
 Radial diffuse reflectance profile R(r) of a model, per RGB channel: `translucent profile`.
 
-    R = translucent.profile("dipole", r, preset="Skin1")      # shape (len(r), 3)
+    R = translucent.profile("dipole", r, material="Skin1")    # shape (len(r), 3)
 
 The searchlight problem: a pencil beam at normal incidence on a semi-infinite medium; R(r) is
 the diffuse reflectance per unit area at distance r from the beam, per unit flux entering the
@@ -351,8 +354,9 @@ model: a registered model name (translucent.model_names()), a .bssrdf file (eval
   scale converts its millimetres to scene units.
 r: radii [scene units], any array-like; the result has shape r.shape + (3,), float64,
   C-contiguous, the last axis red, green, blue.
-preset: a measured material (translucent.presets(); default "Marble" unless sigma_a and
-  sigma_s are given). The presets are reduced coefficients (σs', σa) measured with g = 0 and
+material: a measured material, by preset name (translucent.presets(); default "Marble" unless
+  sigma_a and sigma_s are given), as the CLI's --material. preset= is its deprecated spelling
+  (a DeprecationWarning; it stays the third positional argument). The presets are reduced coefficients (σs', σa) measured with g = 0 and
   eta = 1.3, the defaults below: a preset with another g has σs = σs' / (1 - g).
 sigma_a, sigma_s: absorption and scattering coefficients [1/mm], a number or (r, g, b).
 g: Henyey-Greenstein mean cosine (default 0).

@@ -210,21 +210,24 @@ void bindReference(py::module_& m) {
   m.def(
       "pathtrace_slab",
       [](std::optional<double> sigma_a, std::optional<double> sigma_s, std::optional<double> g,
-         std::optional<double> eta, std::optional<std::string> preset,
+         std::optional<double> eta, std::optional<std::string> preset_name,
          std::optional<std::string> channel, double eta_above, double eta_below,
          std::optional<double> thickness, double theta, double phi, double photons,
          uint64_t seed, int threads, int radial_bins, std::optional<double> radial_max,
          int angle_bins, uint64_t long_path_roulette, const std::string& absorption,
          const std::string& kernel, const std::string& device, const py::object& layers,
-         std::optional<double> time_limit) {
+         std::optional<double> time_limit,
+         const std::optional<std::string>& material_name) {
+        const std::optional<std::string> preset =
+            materialArgument(material_name, preset_name, "translucent.pathtrace_slab");
         // What the CLI's option parser says in its own words, in the arguments' names.
         if (layers.is_none() && !preset && !sigma_a && !sigma_s)
           throw ParameterError(
-              "give the medium: sigma_a=, sigma_s= and eta=; or preset= and channel= ('r', 'g' "
+              "give the medium: sigma_a=, sigma_s= and eta=; or material= and channel= ('r', 'g' "
               "or 'b'); or layers=");
         if (preset && !channel && !sigma_a && !sigma_s && layers.is_none())
           throw ParameterError(
-              "channel=None: expected 'r', 'g' or 'b' with preset= (the slab traces one channel)");
+              "channel=None: expected 'r', 'g' or 'b' with material= (the slab traces one channel)");
         finiteArgument(phi, "phi");
         if (radial_max && !(std::isfinite(*radial_max) && *radial_max > 0.0))
           throw ParameterError(fmt::format("radial_max is {}: expected a positive length", *radial_max));
@@ -268,12 +271,13 @@ void bindReference(py::module_& m) {
       py::arg("radial_bins") = 0, py::arg("radial_max") = py::none(), py::arg("angle_bins") = 0,
       py::arg("long_path_roulette") = 0, py::arg("absorption") = "analog",
       py::arg("kernel") = "lanes", py::arg("device") = "auto", py::arg("layers") = py::none(),
-      py::arg("time_limit") = py::none(), R"doc(
+      py::arg("time_limit") = py::none(), py::arg("material") = py::none(), R"doc(
 The reference: Monte Carlo photon transport in a slab lit by a pencil beam (MCML's one-layer
 setting; Wang, Jacques & Zheng 1995): `translucent pathtrace slab`. Keyword arguments only.
 
-Medium: sigma_a, sigma_s [1/length], g, eta (required with sigma_a), or preset (Jensen 2001, in
-mm) with channel "r", "g" or "b". thickness [length]: None for a semi-infinite medium.
+Medium: sigma_a, sigma_s [1/length], g, eta (required with sigma_a), or material (a preset of
+Jensen 2001, in mm, as the CLI's --material; preset= is its deprecated spelling) with channel "r",
+"g" or "b". thickness [length]: None for a semi-infinite medium.
 eta_above, eta_below: indices around the slab. theta, phi: incidence [degrees].
 layers: a layered slab (MCML's multi-layer mode) instead of the medium and thickness: a list of
 dicts {"thickness": t or None (last layer only), "sigma_a", "sigma_s", "g"}, top first, or the
@@ -300,12 +304,15 @@ Ctrl-C raises KeyboardInterrupt with the partial result as its `partial_result`.
 
   m.def(
       "integrate_sphere",
-      [](const std::string& model, const std::optional<std::string>& preset,
+      [](const std::string& model, const std::optional<std::string>& preset_name,
          const py::object& sigma_a, const py::object& sigma_s, std::optional<double> g,
          std::optional<double> eta, double scale, double radius, const py::object& light_dir,
          const py::object& view_dir, int width, int height, double samples, int passes,
          const std::string& sampling, double defensive, uint64_t seed, int threads,
-         std::optional<double> time_limit) {
+         std::optional<double> time_limit,
+         const std::optional<std::string>& material_name) {
+        const std::optional<std::string> preset =
+            materialArgument(material_name, preset_name, "translucent.integrate_sphere");
         // apps/cli/cmd_render_reference.cpp runIntegrateSphere.
         checkNoNul(model, "model");
         validatePasses(passes, threads);
@@ -397,7 +404,8 @@ Ctrl-C raises KeyboardInterrupt with the partial result as its `partial_result`.
       py::arg("view_dir") = std::vector<double>{0.0, 0.0, 1.0}, py::arg("width") = 256,
       py::arg("height") = 256, py::arg("samples") = 64, py::arg("passes") = 1,
       py::arg("sampling") = "importance", py::arg("defensive") = 0.1, py::arg("seed") = 1,
-      py::arg("threads") = 0, py::arg("time_limit") = py::none(), R"doc(
+      py::arg("threads") = 0, py::arg("time_limit") = py::none(),
+      py::arg("material") = py::none(), R"doc(
 A BSSRDF model integrated over the lit sphere, B(x_o) = ∫ R(|x_o − x_i|) Ft(η, θi) cos θi dA by
 Monte Carlo over the surface: `translucent integrate sphere`, the same scene and
 pixels as pathtrace_sphere (whose arguments it takes, without cone_angle).
@@ -416,12 +424,15 @@ partial, seed, medium. GIL released; Ctrl-C: KeyboardInterrupt with `partial_res
 
   m.def(
       "pathtrace_sphere",
-      [](const std::optional<std::string>& preset, const py::object& sigma_a,
+      [](const std::optional<std::string>& preset_name, const py::object& sigma_a,
          const py::object& sigma_s, std::optional<double> g, std::optional<double> eta,
          double scale, double radius, const py::object& light_dir, const py::object& view_dir,
          int width, int height, double cone_angle, double photons, int passes, uint64_t seed,
          int threads, const std::string& device, std::optional<double> time_limit,
-         bool split_orders) {
+         bool split_orders,
+         const std::optional<std::string>& material_name) {
+        const std::optional<std::string> preset =
+            materialArgument(material_name, preset_name, "translucent.pathtrace_sphere");
         validatePasses(passes, threads);
         Interruptible stop(time_limit);
         const Medium medium = mediumFromArgs(preset, sigma_a, sigma_s, g, eta, scale);
@@ -466,13 +477,14 @@ partial, seed, medium. GIL released; Ctrl-C: KeyboardInterrupt with `partial_res
       py::arg("height") = 256, py::arg("cone_angle") = 5.0, py::arg("photons") = 1e6,
       py::arg("passes") = 1, py::arg("seed") = 1, py::arg("threads") = 0,
       py::arg("device") = "auto", py::arg("time_limit") = py::none(),
-      py::arg("split_orders") = false, R"doc(
+      py::arg("split_orders") = false, py::arg("material") = py::none(), R"doc(
 The lit sphere reference: a sphere of the medium under a directional light of unit irradiance,
 seen by an orthographic camera, by photon tracing: `translucent pathtrace sphere`. Keyword
 arguments only.
 
-Medium: preset (default "Marble") or sigma_a, sigma_s [1/mm] (numbers or r, g, b), g, eta,
-scale (mm per scene unit), as translucent.profile takes them.
+Medium: material (a preset, default "Marble"; preset= is its deprecated spelling) or sigma_a,
+sigma_s [1/mm] (numbers or r, g, b), g, eta, scale (mm per scene unit), as translucent.profile
+takes them.
 radius [scene units]; light_dir, view_dir: directions towards the light and the camera (x, y, z);
 width, height [pixels] (the sphere fills 1/1.05 of the height); cone_angle: half-angle of the
 cone of the cone-averaged true radiance [degrees].

@@ -168,6 +168,20 @@ double finiteArgument(double value, const char* what) {
   return value;
 }
 
+std::optional<std::string> materialArgument(const std::optional<std::string>& material,
+                                            const std::optional<std::string>& preset,
+                                            const char* function) {
+  if (!preset) return material;
+  if (material)
+    throw ParameterError(fmt::format("{}: material= and preset= name the same preset: give "
+                                     "material= only (preset= is its deprecated spelling)",
+                                     function));
+  const std::string text = fmt::format("{}: preset= is deprecated: use material={} (the CLI's "
+                                       "--material)", function, *preset);
+  if (PyErr_WarnEx(PyExc_DeprecationWarning, text.c_str(), 1) != 0) throw py::error_already_set();
+  return preset;
+}
+
 Medium mediumFromArgs(const std::optional<std::string>& preset, const py::object& sigma_a,
                       const py::object& sigma_s, std::optional<double> g,
                       std::optional<double> eta, double scale,
@@ -177,7 +191,7 @@ Medium mediumFromArgs(const std::optional<std::string>& preset, const py::object
   if (coefficients) {
     // The CLI refuses these combinations in its option parser (CLI11); the messages name the
     // same options.
-    if (preset) throw ParameterError("--preset excludes --sigma-a and --sigma-s");
+    if (preset) throw ParameterError("material excludes sigma_a and sigma_s");
     if (sigma_a.is_none()) throw ParameterError("--sigma-s requires --sigma-a");
     if (sigma_s.is_none()) throw ParameterError("--sigma-a requires --sigma-s");
     m.sigma_a = toRgb(sigma_a, "sigma_a");

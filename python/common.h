@@ -78,6 +78,13 @@ double finiteArgument(double value, const char* what);
 // The medium as the CLI's --preset/--sigma-a/--sigma-s/--g/--eta/--scale make it
 // (apps/cli/options.cpp MediumOptions::medium): explicit coefficients (g default 0, η 1.3), or a
 // preset (default `default_preset`) with g and η overriding its own; validated.
+// The material preset of a function that takes `material=` (the CLI's --material) and its
+// deprecated spelling `preset=`: the one given (preset= with a DeprecationWarning naming
+// `function`); both given is a ParameterError.
+std::optional<std::string> materialArgument(const std::optional<std::string>& material,
+                                            const std::optional<std::string>& preset,
+                                            const char* function);
+
 Medium mediumFromArgs(const std::optional<std::string>& preset, const py::object& sigma_a,
                       const py::object& sigma_s, std::optional<double> g,
                       std::optional<double> eta, double scale,

@@ -22,9 +22,9 @@ def read_curves(path):
 
 MEDIA = [
     # (CLI options, profile() keywords)
-    (["--preset", "Skin1"], dict(preset="Skin1")),
-    (["--preset", "Marble", "--g", "0.5", "--eta", "1.4", "--scale", "10"],
-     dict(preset="Marble", g=0.5, eta=1.4, scale=10)),
+    (["--material", "Skin1"], dict(material="Skin1")),
+    (["--material", "Marble", "--g", "0.5", "--eta", "1.4", "--scale", "10"],
+     dict(material="Marble", g=0.5, eta=1.4, scale=10)),
     (["--sigma-a", "0.01,0.02,0.05", "--sigma-s", "1.0,1.5,2", "--g", "0.8", "--eta", "1.33"],
      dict(sigma_a=[0.01, 0.02, 0.05], sigma_s=[1.0, 1.5, 2.0], g=0.8, eta=1.33)),
 ]
@@ -51,23 +51,27 @@ def test_profile_matches_cli_csv(cli, tmp_path, cli_args, kwargs):
 
 
 def test_profile_signature_is_the_documented_one():
-    # translucent.profile(model, r, preset=None, sigma_a=None, sigma_s=None, g=0, eta=1.3, scale=1)
+    # translucent.profile(model, r, preset=None, sigma_a=None, sigma_s=None, g=0, eta=1.3, scale=1,
+    #                     *, medium=None, material=None)
     first = translucent.profile.__doc__.splitlines()[0]
     for arg in ["model", "r", "preset", "sigma_a", "sigma_s", "g", "eta", "scale"]:
         assert f"{arg}:" in first, (arg, first)
     assert "preset: Optional[str] = None" in first and "g: Optional[float] = 0.0" in first, first
     assert "eta: Optional[float] = 1.3" in first and "scale: float = 1.0" in first, first
     r = np.linspace(0.1, 4, 7)
-    # The defaults are every preset's own g and eta: giving them changes nothing.
-    assert np.array_equal(translucent.profile("dipole", r, preset="Skin1"),
-                          translucent.profile("dipole", r, "Skin1", None, None, 0, 1.3, 1))
+    assert "material: Optional[str] = None" in first, first  # keyword only, the CLI's --material
+    # The defaults are every preset's own g and eta: giving them changes nothing. (The third
+    # positional argument is the preset's deprecated spelling.)
+    with pytest.warns(DeprecationWarning):
+        positional = translucent.profile("dipole", r, "Skin1", None, None, 0, 1.3, 1)
+    assert np.array_equal(translucent.profile("dipole", r, material="Skin1"), positional)
     # Another g with a preset: sigma_s = sigma_s' / (1 - g), as `profile --preset --g`.
     p = translucent.preset("Skin1")
     m = translucent.Medium.from_reduced(p.sigma_a, p.sigma_s_prime, 0.5, 1.3)
-    assert np.array_equal(translucent.profile("dipole", r, preset="Skin1", g=0.5),
+    assert np.array_equal(translucent.profile("dipole", r, material="Skin1", g=0.5),
                           translucent.profile("dipole", r, medium=m))
-    assert not np.array_equal(translucent.profile("dipole", r, preset="Skin1", eta=1.5),
-                              translucent.profile("dipole", r, preset="Skin1"))
+    assert not np.array_equal(translucent.profile("dipole", r, material="Skin1", eta=1.5),
+                              translucent.profile("dipole", r, material="Skin1"))
 
 
 @pytest.mark.parametrize("name", ["dipole", "better-dipole", "normalized-diffusion",
@@ -105,7 +109,7 @@ def test_profiles_object_matches_profile():
     medium = translucent.preset("Ketchup").medium()
     p = translucent.model("better-dipole").profiles(medium)
     r = np.geomspace(0.01, 20, 64)
-    assert np.array_equal(p.R(r), translucent.profile("better-dipole", r, preset="Ketchup"))
+    assert np.array_equal(p.R(r), translucent.profile("better-dipole", r, material="Ketchup"))
     rd = p.Rd
     assert rd.shape == (3,) and np.all((rd > 0) & (rd < 1))
     # radius(f): the cumulative 2π∫0^r R r' dr' reaches f·Rd there (checked by quadrature of
@@ -148,12 +152,12 @@ def test_bssrdf_file_profile_matches_cli_csv(cli, source_dir, tmp_path):
         "--preset", "Skin1", "--out", out)
     curves = read_curves(out)
     r = np.array([r_max * (i + 1) / points for i in range(points)])
-    R = translucent.profile(str(model), r, preset="Skin1")
+    R = translucent.profile(str(model), r, material="Skin1")
     assert R.shape == (points, 3) and R.dtype == np.float64
     for c, ch in enumerate("rgb"):
         assert [f"{v:.9g}" for v in R[:, c]] == curves[("better-dipole", ch)][1], ch
     # The GPU's float32 evaluation of the same formula as the C++ model: within 1e-5.
-    cpu = translucent.profile("better-dipole", r, preset="Skin1")
+    cpu = translucent.profile("better-dipole", r, material="Skin1")
     assert np.allclose(R, cpu, rtol=1e-5, atol=0)
 
 
@@ -200,9 +204,9 @@ def test_tabulated_profile_from_the_path_tracer(cli, tmp_path):
     comments, r, R = read_table(saved)
     assert "units: mm" in comments and len(r) > 100
     # At its samples the model is the table; at scale 10 (scene units of 1 cm) r and R convert.
-    assert np.allclose(translucent.profile(str(saved), r, preset="Skin1"), R, rtol=1e-12, atol=0)
+    assert np.allclose(translucent.profile(str(saved), r, material="Skin1"), R, rtol=1e-12, atol=0)
     # (r / 10 · 10 is not always r: next to an empty annulus R is then ~1e-19, not 0)
-    assert np.allclose(translucent.profile(str(saved), r / 10, preset="Skin1", scale=10), R * 100,
+    assert np.allclose(translucent.profile(str(saved), r / 10, material="Skin1", scale=10), R * 100,
                        rtol=1e-9, atol=1e-12 * R.max())
     # Its Rd (quadrature of the interpolated table and its fitted tail) is the tracer's own total
     # diffuse reflectance, which the file records: the merged annuli keep each annulus's energy,
@@ -219,7 +223,7 @@ def test_tabulated_profile_from_the_path_tracer(cli, tmp_path):
         r_max, "--preset", "Skin1", "--out", out)
     curves = read_curves(out)
     grid = np.array([r_max * (i + 1) / points for i in range(points)])
-    ours = translucent.profile(str(saved), grid, preset="Skin1")
+    ours = translucent.profile(str(saved), grid, material="Skin1")
     for c, ch in enumerate("rgb"):
         assert [f"{v:.9g}" for v in ours[:, c]] == curves[("skin1", ch)][1], ch
 
@@ -237,3 +241,28 @@ def test_tabulated_profile_errors_name_the_file(cli_error, as_python, tmp_path):
     good.write_text("# units: mm\nr,R_r,R_g,R_b\n0.1,1,2,3\n1,0.1,0.2,0.3\n")
     with pytest.raises(ValueError, match="tabulated profile"):
         translucent.model(str(good)).total_reflectance(0.9, 1.3)
+
+
+def test_material_is_the_preset_and_preset_is_deprecated():
+    """material= is the CLI's --material in every function; preset= still works, with a
+    DeprecationWarning, and both together are refused."""
+    r = np.linspace(0.1, 2.0, 7)
+    new = translucent.profile("dipole", r, material="Skin1")
+    with pytest.warns(DeprecationWarning, match=r"translucent\.profile: preset= is deprecated: use material=Skin1"):
+        old = translucent.profile("dipole", r, preset="Skin1")
+    assert np.array_equal(new, old)
+    assert not np.array_equal(new, translucent.profile("dipole", r, material="Marble"))
+    with pytest.raises(ValueError, match="material= and preset="):
+        translucent.profile("dipole", r, material="Skin1", preset="Skin1")
+    with pytest.raises(ValueError, match="valid presets"):
+        translucent.profile("dipole", r, material="Jelly")
+    small = dict(width=8, height=8, time_limit=30)
+    for f, kw in [(translucent.pathtrace_sphere, dict(photons=2000, **small)),
+                  (translucent.integrate_sphere, dict(samples=2, **small)),
+                  (translucent.pathtrace_slab, dict(channel="r", photons=2000))]:
+        a = f(material="Skin1", seed=3, threads=1, **kw)
+        with pytest.warns(DeprecationWarning, match=f"translucent.{f.__name__}: preset="):
+            b = f(preset="Skin1", seed=3, threads=1, **kw)
+        assert a.medium == b.medium, f.__name__
+        with pytest.raises(ValueError, match="material= and preset="):
+            f(material="Skin1", preset="Marble", **kw)

@@ -153,16 +153,16 @@ def specs(files):
     """name -> (callable(**kwargs), {arg: valid value}, {args whose hostile values must be
     refused})."""
     M = medium
-    slab = dict(sigma_a=1.0, sigma_s=10.0, g=0.5, eta=1.3, preset=None, channel=None,
+    slab = dict(sigma_a=1.0, sigma_s=10.0, g=0.5, eta=1.3, material=None, channel=None,
                 eta_above=1.0, eta_below=1.0, thickness=None, theta=0.0, phi=0.0, photons=200,
                 seed=1, threads=1, radial_bins=4, radial_max=1.0, angle_bins=3,
                 long_path_roulette=0, absorption="analog", kernel="scalar", device="cpu",
                 layers=None, time_limit=None)
-    sphere = dict(preset=None, sigma_a=0.01, sigma_s=1.0, g=0.0, eta=1.3, scale=1.0, radius=1.0,
+    sphere = dict(material=None, sigma_a=0.01, sigma_s=1.0, g=0.0, eta=1.3, scale=1.0, radius=1.0,
                   light_dir=(1, 1, 1), view_dir=(0, 0, 1), width=6, height=5, photons=100,
                   passes=1, seed=1, threads=1, device="cpu", time_limit=None,
                   split_orders=False, cone_angle=5.0)
-    integ = dict(model="dipole", preset=None, sigma_a=0.01, sigma_s=1.0, g=0.0, eta=1.3,
+    integ = dict(model="dipole", material=None, sigma_a=0.01, sigma_s=1.0, g=0.0, eta=1.3,
                  scale=1.0, radius=1.0, light_dir=(1, 1, 1), view_dir=(0, 0, 1), width=5,
                  height=4, samples=4, passes=1, sampling="importance", defensive=0.1, seed=1,
                  threads=1, time_limit=None)
@@ -202,10 +202,10 @@ def specs(files):
         "Profiles.radius": (lambda **k: translucent.model("dipole").profiles(M()).radius(**k),
                             dict(fraction=0.9), set()),
         "profile": (lambda **k: translucent.profile(**k),
-                    dict(model="dipole", r=[0.1, 1.0], preset="Skin1", sigma_a=None,
+                    dict(model="dipole", r=[0.1, 1.0], material="Skin1", sigma_a=None,
                          sigma_s=None, g=0.0, eta=1.3, scale=1.0), set()),
         "profile.table": (lambda **k: translucent.profile(**k),
-                          dict(model=files["table"], r=[0.0, 1.5, 9.0], preset=None,
+                          dict(model=files["table"], r=[0.0, 1.5, 9.0], material=None,
                                sigma_a=0.1, sigma_s=1.0, g=0.0, eta=1.3, scale=2.0), set()),
         "pathtrace_slab": (lambda **k: translucent.pathtrace_slab(**k), slab, cost_slab),
         "pathtrace_slab.layers": (

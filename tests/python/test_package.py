@@ -81,7 +81,7 @@ def test_results_are_typed_and_still_mappings():
         c["nope"]
     assert pickle.loads(pickle.dumps(c)) == c
 
-    s = translucent.pathtrace_slab(preset="Marble", channel="r", photons=2000, radial_bins=4,
+    s = translucent.pathtrace_slab(material="Marble", channel="r", photons=2000, radial_bins=4,
                                    radial_max=1.0)
     assert type(s) is translucent.SlabResult
     assert s.diffuse_reflectance == s["diffuse_reflectance"] > 0
@@ -120,20 +120,20 @@ MARBLE = translucent.preset("Marble").medium()
 
 # (call, exception type, text the message contains): every message names the Python argument.
 BAD_CALLS = [
-    (lambda: translucent.pathtrace_slab(preset="Skin1"), ValueError, "channel=None"),
-    (lambda: translucent.pathtrace_slab(preset="Skin1", channel="x"), ValueError, "channel='x'"),
+    (lambda: translucent.pathtrace_slab(material="Skin1"), ValueError, "channel=None"),
+    (lambda: translucent.pathtrace_slab(material="Skin1", channel="x"), ValueError, "channel='x'"),
     (lambda: translucent.pathtrace_slab(), ValueError, "give the medium: sigma_a="),
-    (lambda: translucent.pathtrace_slab(preset="Skin1", channel="r", photons=0.5), ValueError,
+    (lambda: translucent.pathtrace_slab(material="Skin1", channel="r", photons=0.5), ValueError,
      "photons="),
-    (lambda: translucent.pathtrace_slab(preset="Skin1", channel="r", thickness=NAN), ValueError,
+    (lambda: translucent.pathtrace_slab(material="Skin1", channel="r", thickness=NAN), ValueError,
      "thickness is nan"),
-    (lambda: translucent.pathtrace_slab(preset="Skin1", channel="r", phi=INF), ValueError,
+    (lambda: translucent.pathtrace_slab(material="Skin1", channel="r", phi=INF), ValueError,
      "phi is inf"),
-    (lambda: translucent.pathtrace_slab(preset="Skin1", channel="r", radial_bins=4,
+    (lambda: translucent.pathtrace_slab(material="Skin1", channel="r", radial_bins=4,
                                         radial_max=NAN), ValueError, "radial_max is nan"),
-    (lambda: translucent.pathtrace_slab(preset="Skin1", channel="r", eta_above=-1), ValueError,
+    (lambda: translucent.pathtrace_slab(material="Skin1", channel="r", eta_above=-1), ValueError,
      "eta_above is -1"),
-    (lambda: translucent.pathtrace_slab(preset="Skin1", channel="r", threads=-1), ValueError,
+    (lambda: translucent.pathtrace_slab(material="Skin1", channel="r", threads=-1), ValueError,
      "threads is -1"),
     (lambda: translucent.pathtrace_slab(layers=42, eta=1.4), TypeError, "layers=42"),
     (lambda: translucent.pathtrace_slab(sigma_a=1, sigma_s=1, eta=1.3, kernel="x"), ValueError,
@@ -144,8 +144,8 @@ BAD_CALLS = [
     (lambda: translucent.pathtrace_sphere(light_dir=(0, 0, 0)), ValueError, "light_dir"),
     (lambda: translucent.pathtrace_sphere(view_dir=(1, NAN, 0)), ValueError, "view_dir"),
     (lambda: translucent.pathtrace_sphere(sigma_a=1), ValueError, "sigma_a requires sigma_s"),
-    (lambda: translucent.pathtrace_sphere(preset="Skin1", sigma_a=1, sigma_s=1), ValueError,
-     "preset excludes sigma_a and sigma_s"),
+    (lambda: translucent.pathtrace_sphere(material="Skin1", sigma_a=1, sigma_s=1), ValueError,
+     "material excludes sigma_a and sigma_s"),
     (lambda: translucent.integrate_sphere(samples=0), ValueError, "samples="),
     (lambda: translucent.integrate_sphere(sampling="x"), ValueError, "sampling='x'"),
     (lambda: translucent.integrate_sphere(defensive=NAN), ValueError, "defensive is nan"),
@@ -161,9 +161,9 @@ BAD_CALLS = [
      "sigma_s requires sigma_a"),
     (lambda: translucent.profile("dipole", [1.0], sigma_a=(1, 2), sigma_s=1), ValueError,
      "sigma_a (1, 2)"),
-    (lambda: translucent.profile("dipole", [1.0], preset="Skin1", eta=NAN), ValueError,
+    (lambda: translucent.profile("dipole", [1.0], material="Skin1", eta=NAN), ValueError,
      "eta is nan"),
-    (lambda: translucent.profile("dipole", [1.0], preset="Skin1", scale=-1), ValueError,
+    (lambda: translucent.profile("dipole", [1.0], material="Skin1", scale=-1), ValueError,
      "scale is -1"),
     (lambda: translucent.Medium(sigma_a=None, sigma_s="x"), TypeError, "sigma_s='x'"),
     (lambda: translucent.Medium(sigma_a=NAN), ValueError, "sigma_a (red channel) is nan"),
@@ -253,7 +253,7 @@ def test_bad_bssrdf_parameter_raises_instead_of_aborting(bssrdf_file):
 
 def test_profile_edge_radii_are_finite():
     # r = 0 and huge radii are valid radii: finite values (R tends to 0 far away).
-    R = translucent.profile("dipole", [0.0, 1e-300, 1e6], preset="Marble")
+    R = translucent.profile("dipole", [0.0, 1e-300, 1e6], material="Marble")
     assert np.all(np.isfinite(R)) and np.all(R[2] == pytest.approx(0.0, abs=1e-300))
     assert translucent.profile("dipole", []).shape == (0, 3)
     assert math.isfinite(translucent.model("dipole").total_reflectance(1.0, 1.3))

@@ -33,7 +33,7 @@ def comparable(d):
 
 
 SLABS = [
-    (["--preset", "Skin1", "--channel", "r"], dict(preset="Skin1", channel="r")),
+    (["--material", "Skin1", "--channel", "r"], dict(material="Skin1", channel="r")),
     (["--sigma-a", "10", "--sigma-s", "90", "--g", "0.75", "--eta", "1.37", "--thickness", "0.02",
       "--theta", "30", "--absorption", "weighted", "--angle-bins", "6"],
      dict(sigma_a=10, sigma_s=90, g=0.75, eta=1.37, thickness=0.02, theta=30,
@@ -65,20 +65,20 @@ def test_slab_on_the_gpu_matches_cli_json(cli, tmp_path):
         "7", "--radial-bins", "10", "--radial-max", "2", "--device", "gpu", "--json", out)
     with open(out) as f:
         expected = json.load(f)
-    got = translucent.pathtrace_slab(preset="Marble", channel="g", photons=2e4, seed=7,
+    got = translucent.pathtrace_slab(material="Marble", channel="g", photons=2e4, seed=7,
                                      radial_bins=10, radial_max=2, device="gpu")
     assert got["device"].startswith("gpu (")
     assert comparable(got) == {k: v for k, v in expected.items() if k not in TIMING}
-    assert translucent.pathtrace_slab(preset="Marble", channel="g", photons=2e4, seed=7,
+    assert translucent.pathtrace_slab(material="Marble", channel="g", photons=2e4, seed=7,
                                       device="cpu")["device"] == "cpu"
     with pytest.raises(ValueError, match="device='tpu': expected cpu, gpu or auto"):
-        translucent.pathtrace_slab(preset="Marble", channel="g", device="tpu")
+        translucent.pathtrace_slab(material="Marble", channel="g", device="tpu")
 
 
 def test_slab_seed_determinism_and_threads():
-    a = translucent.pathtrace_slab(preset="Marble", channel="g", photons=3e4, seed=3, threads=1)
-    b = translucent.pathtrace_slab(preset="Marble", channel="g", photons=3e4, seed=3, threads=2)
-    c = translucent.pathtrace_slab(preset="Marble", channel="g", photons=3e4, seed=4, threads=2)
+    a = translucent.pathtrace_slab(material="Marble", channel="g", photons=3e4, seed=3, threads=1)
+    b = translucent.pathtrace_slab(material="Marble", channel="g", photons=3e4, seed=3, threads=2)
+    c = translucent.pathtrace_slab(material="Marble", channel="g", photons=3e4, seed=4, threads=2)
     assert comparable(a) | {"threads": 0} == comparable(b) | {"threads": 0}
     assert a["diffuse_reflectance"] != c["diffuse_reflectance"]
     # The standard error is what it claims: two seeds agree within 5 combined errors.
@@ -105,10 +105,10 @@ def test_layered_slab_matches_cli(cli, tmp_path):
 
 
 @pytest.mark.parametrize("args,kwargs", [
-    (["--preset", "Skin1", "--channel", "x"], dict(preset="Skin1", channel="x")),
+    (["--preset", "Skin1", "--channel", "x"], dict(material="Skin1", channel="x")),
     (["--sigma-a", "1", "--sigma-s", "1"], dict(sigma_a=1, sigma_s=1)),
     (["--preset", "Skin1", "--channel", "r", "--photons", "0.5"],
-     dict(preset="Skin1", channel="r", photons=0.5)),
+     dict(material="Skin1", channel="r", photons=0.5)),
     (["--sigma-a", "1e-12", "--sigma-s", "1", "--eta", "1"], dict(sigma_a=1e-12, sigma_s=1, eta=1)),
     # Walks short enough one by one, but hours all together: refused unless time_limit= is given.
     (["--sigma-a", "1e-20", "--sigma-s", "1", "--eta", "1.3", "--photons", "1e5"],
@@ -124,7 +124,7 @@ def test_slab_errors_same_message_as_cli(cli_error, as_python, tmp_path, args, k
 
 def test_time_limit_returns_partial():
     start = time.monotonic()
-    d = translucent.pathtrace_slab(preset="Marble", channel="r", photons=1e10, time_limit=0.5)
+    d = translucent.pathtrace_slab(material="Marble", channel="r", photons=1e10, time_limit=0.5)
     assert time.monotonic() - start < 10
     assert d["partial"] is True and 0 < d["photons"] < 1e10
 
@@ -136,7 +136,7 @@ def test_ctrl_c_raises_keyboard_interrupt_with_partial_result(tmp_path):
         import sys, translucent
         print("ready", flush=True)
         try:
-            translucent.pathtrace_slab(preset="Marble", channel="r", photons=1e10,
+            translucent.pathtrace_slab(material="Marble", channel="r", photons=1e10,
                                        time_limit=120)
         except KeyboardInterrupt as e:
             r = e.partial_result
@@ -171,7 +171,7 @@ def test_gil_released_while_tracing():
     t = threading.Thread(target=count)
     t.start()
     start = time.monotonic()
-    translucent.pathtrace_slab(preset="Marble", channel="r", photons=1e10, time_limit=1.0)
+    translucent.pathtrace_slab(material="Marble", channel="r", photons=1e10, time_limit=1.0)
     elapsed = time.monotonic() - start
     stop.set()
     t.join()
@@ -199,7 +199,7 @@ def test_sphere_matches_cli_exr(cli, tmp_path):
     cli("pathtrace", "sphere", "--preset", "Skin1", "--scale", "5", "--light-dir", "1,0.5,1",
         "--width", "48", "--height", "40", "--photons", "2e4", "--passes", "2", "--seed", "5",
         "--exr", exr, "--json", js)
-    d = translucent.pathtrace_sphere(preset="Skin1", scale=5, light_dir=(1, 0.5, 1), width=48,
+    d = translucent.pathtrace_sphere(material="Skin1", scale=5, light_dir=(1, 0.5, 1), width=48,
                                      height=40, photons=2e4, passes=2, seed=5)
     layers = read_exr_layers(exr)
     for name in ["exitance", "radiance", "cone_radiance"]:
@@ -252,7 +252,7 @@ def test_sphere_on_the_gpu_matches_cli_exr(cli, tmp_path):
     exr, js = tmp_path / "s.exr", tmp_path / "s.json"
     cli("pathtrace", "sphere", "--preset", "Skin1", "--scale", "5", "--width", "24", "--height",
         "20", "--photons", "2e4", "--seed", "5", "--device", "gpu", "--exr", exr, "--json", js)
-    d = translucent.pathtrace_sphere(preset="Skin1", scale=5, width=24, height=20, photons=2e4,
+    d = translucent.pathtrace_sphere(material="Skin1", scale=5, width=24, height=20, photons=2e4,
                                      seed=5, device="gpu")
     layers = read_exr_layers(exr)
     for key in ["exitance", "exitance_stderr", "cone_radiance"]:
@@ -285,7 +285,7 @@ def test_run_of_days_is_refused_after_five_seconds():
     start = time.monotonic()
     with pytest.raises(ValueError, match=r"refused: 10000000000000 photons at the measured .* "
                                          r"would take about .* days \(more than 24 hours\)"):
-        translucent.pathtrace_slab(preset="Marble", channel="r", photons=1e13)
+        translucent.pathtrace_slab(material="Marble", channel="r", photons=1e13)
     assert 5 <= time.monotonic() - start < 15
 
 
@@ -295,7 +295,7 @@ def test_integrate_sphere_matches_cli_exr(cli, tmp_path, sampling):
     cli("integrate", "sphere", "--model", "better-dipole", "--preset", "Skin1", "--scale", "5",
         "--width", "32", "--height", "24", "--samples", "16", "--sampling", sampling,
         "--seed", "4", "--exr", exr)
-    d = translucent.integrate_sphere("better-dipole", preset="Skin1", scale=5, width=32,
+    d = translucent.integrate_sphere("better-dipole", material="Skin1", scale=5, width=32,
                                      height=24, samples=16, sampling=sampling, seed=4)
     layers = read_exr_layers(exr)
     for key in ["exitance", "exitance_stderr", "radiance", "radiance_stderr"]:
@@ -315,7 +315,7 @@ def test_integrate_sphere_of_bssrdf_files_matches_cli_exr(cli, tmp_path, name):
     exr = tmp_path / "b.exr"
     cli("integrate", "sphere", "--model", path, "--preset", "Skin1", "--light-dir", "1,0,1",
         "--width", "12", "--height", "10", "--samples", "32", "--seed", "5", "--exr", exr)
-    d = translucent.integrate_sphere(path, preset="Skin1", light_dir=[1, 0, 1], width=12,
+    d = translucent.integrate_sphere(path, material="Skin1", light_dir=[1, 0, 1], width=12,
                                      height=10, samples=32, seed=5)
     layers = read_exr_layers(exr)
     for key in ["exitance", "exitance_stderr", "radiance", "radiance_stderr"]:
