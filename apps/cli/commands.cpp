@@ -54,6 +54,7 @@ void addAllCommands(CLI::App& app) {
   addAtlasCommand(app);
   addPointCloudCommand(app);
   addMergeCommand(app);
+  addFitCommand(app);
 }
 
 }  // namespace translucent::cli

@@ -19,6 +19,7 @@ void addConventionStudyCommand(CLI::App& app);   // convention-study (exit-radia
 void addAtlasCommand(CLI::App& app);             // atlas (surface parameterisation, statistics)
 void addPointCloudCommand(CLI::App& app);        // pointcloud (surface samples as PLY)
 void addMergeCommand(CLI::App& app);             // merge (the shards of a path-traced run)
+void addFitCommand(CLI::App& app);               // fit (a technique's parameters to a reference)
 
 // Every subcommand above, on a new app (main(), `merge` when it runs a recorded command, and the
 // fuzz_cli target).
