@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <exception>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -88,11 +89,20 @@ FitResult fitTechnique(techniques::Technique& t, const scene::Scene& s,
   double best = std::numeric_limits<double>::infinity();
   std::vector<double> best_u = u;
   bool stopped = false;
+  std::exception_ptr failure;
   struct Data {
     std::function<double(const std::vector<double>&)> f;
   } data{[&](const std::vector<double>& x) {
-    set(x);
-    const double e = measure().rel_rmse_raw;
+    double e = 0.0;
+    // NLopt's C++ wrapper turns an exception from the objective into its own ("nlopt failure"):
+    // a render's error is kept here and thrown again after optimize() returns.
+    try {
+      set(x);
+      e = measure().rel_rmse_raw;
+    } catch (...) {
+      failure = std::current_exception();
+      throw nlopt::forced_stop();
+    }
     ++out.evaluations;
     const double value = std::isfinite(e) ? e : 1e30;  // a NaN image is the worst, never the best
     if (value < best) {
@@ -132,6 +142,7 @@ FitResult fitTechnique(techniques::Technique& t, const scene::Scene& s,
       out.stop_reason = "converged (round-off)";
     }
     ++out.starts;
+    if (failure) std::rethrow_exception(failure);
     if (start > 0 && !(best < 0.99 * before_start)) break;
   }
   if (stopped) out.stop_reason = "stopped";
