@@ -23,7 +23,7 @@
 #include <set>
 #include <thread>
 
-#include <oneapi/tbb/global_control.h>
+#include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -118,7 +118,7 @@ std::string quoted(const std::string& s) {
 }
 
 // ---- A technique in a process of its own -----------------------------------------------------
-// A technique renders in a child process (fork) with its own GL context: one that runs past
+// A technique renders in a worker process with its own GL context: one that runs past
 // --budget, or that is still inside a draw call when Ctrl-C or SIGTERM asks the run to stop, is
 // ended (SIGKILL) and the others continue. The child sends its images and timings back through a
 // temporary file; compare computes the metrics from them.
@@ -344,73 +344,52 @@ struct Isolated {
   std::string why;      // when Crashed
 };
 
-// Runs renderTechnique in a child process, ended after `budget` seconds (0: none) or when a
-// signal asks the run to stop.
+// A temporary file that is removed when it goes out of scope.
+struct TempFile {
+  std::string path;
+  explicit TempFile(const char* suffix) {
+    std::string t = std::string("/tmp/translucent-technique-XXXXXX") + suffix;
+    const int fd = mkstemps(t.data(), static_cast<int>(std::strlen(suffix)));
+    if (fd < 0)
+      throw std::runtime_error(fmt::format("cannot create a temporary file: {}", std::strerror(errno)));
+    ::close(fd);
+    path = t;
+  }
+  ~TempFile() { ::unlink(path.c_str()); }
+  TempFile(const TempFile&) = delete;
+  TempFile& operator=(const TempFile&) = delete;
+};
+
+// Runs renderTechnique in a worker process (`translucent compare-worker`, a fresh program: not a
+// fork of this one, whose threads, locks and GL driver a forked child would inherit half-way:
+// oneTBB and the sanitizers' allocators do not survive that, and a driver the parent started
+// cannot be used in a forked child), ended after `budget` seconds (0: none) or when a signal asks
+// the run to stop. The worker reads the scene from a temporary JSON file (scene::toJson round
+// trips) and writes its result to another; it runs in a process group of its own, so Ctrl-C in
+// the terminal reaches only compare, which ends the worker.
 Isolated runIsolated(const std::string& name, const scene::Scene& s, const CompareArgs& a,
                      bool watchSignal) {
-  // A process that has used GL already (a physical reference computed on the GPU) cannot fork a
-  // child that renders (gpu::Context::createdInThisProcess): the technique then renders here,
-  // where neither --budget nor a signal can cut a draw call short.
-  if (gpu::Context::createdInThisProcess()) {
-    static bool said = false;
-    if (!said && a.budget > 0.0)
-      printStderr("compare: the physical reference ran on the GPU in this process, so the "
-                  "techniques render here too, without --budget (a forked child cannot reuse "
-                  "this process's GL driver)\n");
-    said = true;
-    Isolated here;
-    const auto t0 = std::chrono::steady_clock::now();
-    here.result = renderTechnique(name, s, a.warmup, a.frames,
-                                  a.sweep && !InterruptGuard::interrupted());
-    here.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    return here;
-  }
-  char path[] = "/tmp/translucent-technique-XXXXXX";
-  const int fd = mkstemp(path);
-  if (fd < 0)
-    throw std::runtime_error(fmt::format("cannot create a temporary file: {}", std::strerror(errno)));
-  ::close(fd);
-  struct Remove {
-    const char* p;
-    ~Remove() { ::unlink(p); }
-  } cleanup{path};
+  const TempFile scene_file(".json"), result(".bin");
+  scene::saveScene(s, scene_file.path);
+  std::vector<std::string> args = {"translucent", "compare-worker", "--scene", scene_file.path,
+                                   "--technique", name, "--warmup", std::to_string(a.warmup),
+                                   "--frames", std::to_string(a.frames), "--result", result.path};
+  if (a.sweep && !InterruptGuard::interrupted()) args.push_back("--sweep");
+  std::vector<char*> argv;
+  for (std::string& arg : args) argv.push_back(arg.data());
+  argv.push_back(nullptr);
   std::fflush(stdout);
   std::fflush(stderr);
-  // oneTBB's worker threads (the parent's reference, metrics and point clouds ran parallel
-  // algorithms) do not survive a fork, and oneTBB does not support forking while they run: a
-  // child whose scheduler still counts them, or that forked while one held a lock, can wait for
-  // ever. finalize() waits until they have ended (oneTBB's task_scheduler_handle); the next
-  // parallel algorithm, in the parent or the child, starts new ones. It returns false where
-  // something still holds the scheduler (an arena in use): nothing is lost then.
-  {
-    oneapi::tbb::task_scheduler_handle handle{oneapi::tbb::attach{}};
-    (void)oneapi::tbb::finalize(handle, std::nothrow);
-  }
+  posix_spawnattr_t attr;
+  posix_spawnattr_init(&attr);
+  posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETPGROUP);
+  posix_spawnattr_setpgroup(&attr, 0);
   const auto t0 = std::chrono::steady_clock::now();
-  const pid_t pid = ::fork();
-  if (pid < 0) throw std::runtime_error(fmt::format("fork: {}", std::strerror(errno)));
-  if (pid == 0) {
-    // The child: the parent watches the signals and ends the child when asked to stop.
-    std::signal(SIGINT, SIG_IGN);
-    std::signal(SIGTERM, SIG_DFL);
-    int status = 0;
-    try {
-      const std::string bytes = encode(renderTechnique(name, s, a.warmup, a.frames,
-                                                         a.sweep && !InterruptGuard::interrupted()));
-      std::ofstream f(path, std::ios::binary | std::ios::trunc);
-      f.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-      f.close();
-      if (!f) status = 3;
-    } catch (const std::exception& e) {
-      printStderr("{}: {}\n", name, e.what());
-      status = 4;
-    } catch (...) {
-      status = 4;
-    }
-    std::fflush(stdout);
-    std::fflush(stderr);
-    ::_exit(status);
-  }
+  pid_t pid = 0;
+  const int spawned = posix_spawn(&pid, "/proc/self/exe", nullptr, &attr, argv.data(), environ);
+  posix_spawnattr_destroy(&attr);
+  if (spawned != 0)
+    throw std::runtime_error(fmt::format("cannot start the technique's process: {}", std::strerror(spawned)));
   Isolated out;
   int status = 0;
   double nextLine = 10.0;
@@ -448,7 +427,7 @@ Isolated runIsolated(const std::string& name, const scene::Scene& s, const Compa
                   : fmt::format("its process exited with status {}", WEXITSTATUS(status));
     return out;
   }
-  std::ifstream f(path, std::ios::binary | std::ios::ate);
+  std::ifstream f(result.path, std::ios::binary | std::ios::ate);
   const std::streamoff size = f ? static_cast<std::streamoff>(f.tellg()) : -1;
   if (size < 0) throw std::runtime_error(fmt::format("cannot read the result of {}", name));
   std::string bytes(static_cast<size_t>(size), '\0');
@@ -960,7 +939,40 @@ void runCompare(const CompareArgs& a) {
 
 }  // namespace
 
+namespace {
+
+// `translucent compare-worker`: runIsolated's worker (hidden from --help: not for users).
+void addCompareWorkerCommand(CLI::App& app) {
+  struct WorkerArgs {
+    std::string scene, technique, result;
+    int warmup = 0, frames = 1;
+    bool sweep = false;
+  };
+  auto w = std::make_shared<WorkerArgs>();
+  auto* cmd = app.add_subcommand("compare-worker", "");
+  cmd->group("");  // hidden
+  cmd->add_option("--scene", w->scene)->required();
+  cmd->add_option("--technique", w->technique)->required();
+  cmd->add_option("--warmup", w->warmup);
+  cmd->add_option("--frames", w->frames);
+  cmd->add_flag("--sweep", w->sweep);
+  cmd->add_option("--result", w->result)->required();
+  cmd->callback([w] {
+    if (!beginWork()) return;
+    std::signal(SIGINT, SIG_IGN);  // compare watches the signals and ends this process
+    const scene::Scene s = scene::loadScene(w->scene);
+    const std::string bytes = encode(renderTechnique(w->technique, s, w->warmup, w->frames, w->sweep));
+    std::ofstream f(w->result, std::ios::binary | std::ios::trunc);
+    f.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    f.close();
+    if (!f) throw std::runtime_error(fmt::format("cannot write '{}'", w->result));
+  });
+}
+
+}  // namespace
+
 void addCompareCommand(CLI::App& app) {
+  addCompareWorkerCommand(app);
   auto a = std::make_shared<CompareArgs>();
   auto* cmd = app.add_subcommand(
       "compare", "Compare real-time techniques with the physical (path-traced) and model "
