@@ -21,6 +21,7 @@
 #include <memory>
 #include <optional>
 #include <set>
+#include <sstream>
 #include <thread>
 
 #include <spawn.h>
@@ -960,7 +961,13 @@ void addCompareWorkerCommand(CLI::App& app) {
   cmd->callback([w] {
     if (!beginWork()) return;
     std::signal(SIGINT, SIG_IGN);  // compare watches the signals and ends this process
-    const scene::Scene s = scene::loadScene(w->scene);
+    // The scene's file names are as compare resolved them: absolute or relative to the working
+    // directory, which this process shares (not relative to the temporary file's folder).
+    std::ifstream in(w->scene, std::ios::binary);
+    std::stringstream text;
+    text << in.rdbuf();
+    if (!in) throw std::runtime_error(fmt::format("cannot read '{}'", w->scene));
+    const scene::Scene s = scene::parseScene(text.str(), fs::current_path(), "compare's scene");
     const std::string bytes = encode(renderTechnique(w->technique, s, w->warmup, w->frames, w->sweep));
     std::ofstream f(w->result, std::ios::binary | std::ios::trunc);
     f.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));

@@ -119,7 +119,9 @@ SceneFit fitScene(const FitArgs& a, const std::string& file, const fs::path& out
                   std::vector<std::string>& files) {
   SceneFit r;
   r.scene = file.empty() ? "bunny" : fs::path(file).stem().string();
-  scene::Scene s = file.empty() ? scene::defaultScene() : scene::loadScene(file);
+  // Loaded by its absolute name, so that every file it names resolves to an absolute path: the
+  // fitted scene written into --out then finds them wherever it is opened from.
+  scene::Scene s = file.empty() ? scene::defaultScene() : scene::loadScene(fs::absolute(file));
   r.material = s.preset.empty() ? "custom" : s.preset;
   if (a.width) s.camera.width = *a.width;
   if (a.height) s.camera.height = *a.height;

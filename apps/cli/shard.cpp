@@ -2,6 +2,8 @@
 // Sharded path tracing and `translucent merge` (shard.h).
 #include "shard.h"
 
+#include "translucent/io/input_file.h"
+
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
@@ -52,6 +54,8 @@ std::vector<std::string> recordedArguments() {
 }
 
 std::string readBytes(const fs::path& path, const std::string& what) {
+  if (const std::string why = io::irregularInput(path); !why.empty())
+    throw ParameterError(fmt::format("{} '{}' {}: expected a file", what, path.string(), why));
   std::ifstream f(path, std::ios::binary);
   if (!f) throw ParameterError(fmt::format("{} '{}': cannot read the file", what, path.string()));
   std::ostringstream s;

@@ -3,7 +3,7 @@
 # translucent fit end to end: the empirical shader fitted to the cube's model reference (cheap:
 # 2e4 samples at 32x24) writes its files, never ends worse than it started, its fitted scene
 # renders, a rerun replaces the previous fit, and a folder holding a user's file is refused with
-# the file untouched.
+# the file untouched; relative scene names work in fit's outputs and in compare's workers.
 # Usage: fit_cli.sh TRANSLUCENT CUBE_SCENE WORK_DIR
 set -eu
 T=$1
@@ -45,4 +45,16 @@ if "$T" fit empirical "$SCENE" --reference model --samples 2e4 --width 32 --heig
      --max-evaluations 5 --out "$W/mine" 2>"$W/mine.log"; then fail "a folder with a user's file was used"; fi
 grep -q "not a previous fit" "$W/mine.log" || { cat "$W/mine.log"; fail "unclear refusal"; }
 [ "$(cat "$W/mine/notes.txt")" = keep ] || fail "the user's file changed"
+# Relative names (run from the scene's data folder): the fitted scene still finds its mesh from
+# another folder, and compare's technique worker finds it too (it reads the scene compare
+# resolved, relative to the working directory, not to its temporary file).
+DATA=$(cd "$(dirname "$SCENE")/.." && pwd)
+REL=scenes/$(basename "$SCENE")
+(cd "$DATA" && "$T" fit empirical "$REL" --reference model --samples 2e4 --width 32 --height 24 \
+   --no-cache --max-evaluations 5 --out "$W/rel" 2>"$W/rel.log") || { cat "$W/rel.log"; fail "fit with a relative scene name"; }
+(cd / && "$T" render "$W/rel/cube-fitted.json" --out "$W/rel.png" 2>"$W/rel-render.log") ||
+  { cat "$W/rel-render.log"; fail "the fitted scene of a relative name does not render from elsewhere"; }
+(cd "$DATA" && "$T" compare "$REL" --techniques pointcloud --reference model --samples 2e3 \
+   --width 16 --height 12 --frames 1 --warmup 0 --no-cache --out "$W/rel-compare" 2>"$W/rel-compare.log") ||
+  { cat "$W/rel-compare.log"; fail "compare with a relative scene name"; }
 echo ok

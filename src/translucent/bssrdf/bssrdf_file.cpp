@@ -1,5 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "translucent/bssrdf/bssrdf_file.h"
+
+#include "translucent/io/input_file.h"
 #include "translucent/bssrdf/tabulated.h"
 
 #include <fmt/format.h>
@@ -320,9 +322,8 @@ BssrdfFile parseBssrdf(std::string_view text, const std::string& path) {
 
 BssrdfFile loadBssrdf(const std::filesystem::path& path) {
   // A directory opens as a stream on Linux and reads as nothing ("empty file"): say what it is.
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec))
-    throw BssrdfFileError(path.string(), 0, "is a directory: expected a .bssrdf text file");
+  if (const std::string why = io::irregularInput(path); !why.empty())
+    throw BssrdfFileError(path.string(), 0, why + ": expected a .bssrdf text file");
   std::ifstream in(path, std::ios::binary);
   if (!in)
     throw BssrdfFileError(path.string(), 0, "cannot open the file for reading (does it exist?)");

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "translucent/bssrdf/tabulated.h"
 
+#include "translucent/io/input_file.h"
+
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
@@ -81,6 +83,8 @@ bool isTabulatedFile(std::string_view name) {
 }
 
 ProfileSamples readProfileSamples(const std::string& path) {
+  if (const std::string why = io::irregularInput(path); !why.empty())
+    throw ParameterError(fmt::format("{}: {}: expected a tabulated profile (CSV)", path, why));
   std::ifstream in(path, std::ios::binary);
   if (!in)
     throw ParameterError(fmt::format("{}: cannot read the tabulated profile (no such file, or "

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "translucent/compare/compare.h"
 
+#include "translucent/io/input_file.h"
+
 #include <fmt/format.h>
 #include <openssl/evp.h>
 #include <tbb/parallel_for.h>
@@ -67,6 +69,8 @@ std::string sha256Hex(std::string_view data) {
 }
 
 std::string readFileBytes(const fs::path& path, const std::string& what) {
+  if (const std::string why = io::irregularInput(path); !why.empty())
+    throw ParameterError(fmt::format("{} '{}' {}: expected a file", what, path.string(), why));
   std::ifstream f(path, std::ios::binary);
   if (!f) throw ParameterError(fmt::format("{} '{}': cannot read the file", what, path.string()));
   std::ostringstream s;

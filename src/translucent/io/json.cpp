@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "translucent/io/json.h"
 
+#include "translucent/io/input_file.h"
+
 #include <fmt/format.h>
 
 #include <cerrno>
@@ -73,15 +75,14 @@ nlohmann::json parseJson(std::string_view text, const std::string& what, int max
   try {
     return nlohmann::json::parse(text);
   } catch (const nlohmann::json::exception& e) {  // syntax errors (with line and column), ranges
-    throw JsonError(fmt::format("{}: not valid JSON: {}", what, e.what()));
+    throw JsonError(fmt::format("{}: not valid JSON: {}", what, jsonErrorText(e)));
   }
 }
 
 nlohmann::json readJsonFile(const std::filesystem::path& file, const std::string& what) {
   const std::string name = what.empty() ? fmt::format("'{}'", file.string()) : what;
-  std::error_code ec;
-  if (std::filesystem::is_directory(file, ec))
-    throw JsonError(fmt::format("{}: is a folder: expected a JSON file", name));
+  if (const std::string why = irregularInput(file); !why.empty())
+    throw JsonError(fmt::format("{}: {}: expected a JSON file", name, why));
   std::FILE* f = std::fopen(file.c_str(), "rb");
   if (!f)
     throw JsonError(fmt::format("{}: cannot be opened: {}", name, std::strerror(errno)));

@@ -3,6 +3,8 @@
 // slab.cpp, and the layers file.
 #include "translucent/reference/layered_slab.h"
 
+#include "translucent/io/input_file.h"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -321,9 +323,8 @@ std::vector<SlabLayer> parseSlabLayers(const std::string& text, const std::strin
 }
 
 std::vector<SlabLayer> loadSlabLayers(const std::string& path) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec))
-    throw ParameterError(fmt::format("{}: is a folder: expected a layers file (JSON)", path));
+  if (const std::string why = io::irregularInput(path); !why.empty())
+    throw ParameterError(fmt::format("{}: {}: expected a layers file (JSON)", path, why));
   std::ifstream in(path, std::ios::binary);
   if (!in) throw ParameterError(fmt::format("{}: cannot open the layers file", path));
   std::ostringstream text;

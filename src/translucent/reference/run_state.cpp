@@ -136,7 +136,8 @@ DecodedRunState decodeRunState(std::string_view bytes) {
       throw std::runtime_error("the payload is longer than its arrays");
     out.header_json = header.at("run").dump();
   } catch (const nlohmann::json::exception& e) {
-    throw std::runtime_error(fmt::format("the header lacks a field or has a wrong type ({})", e.what()));
+    throw std::runtime_error(
+        fmt::format("the header lacks a field or has a wrong type ({})", io::jsonErrorText(e)));
   }
   return out;
 }

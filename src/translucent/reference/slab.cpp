@@ -68,8 +68,10 @@ void TraceOptions::validate() const {
         radial_max));
   if (angle_bins < 0)
     throw ParameterError(fmt::format("trace: angle_bins is {}: expected >= 0", angle_bins));
-  if (static_cast<int64_t>(radial_bins) * std::max(angle_bins, 1) > (1 << 24))
-    throw ParameterError("trace: radial_bins x angle_bins exceeds 2^24 bins");
+  // Either alone too (angle bins alone size their own tallies: 10^9 ended in std::bad_alloc).
+  if (static_cast<int64_t>(std::max(radial_bins, 1)) * std::max(angle_bins, 1) > (1 << 24))
+    throw ParameterError(fmt::format("trace: radial_bins ({}) x angle_bins ({}) exceeds 2^24 bins",
+                                     radial_bins, angle_bins));
 }
 
 namespace detail {

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "translucent/scene/scene.h"
 
+#include "translucent/io/input_file.h"
+
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
@@ -502,10 +504,8 @@ std::vector<std::pair<std::string, std::filesystem::path>> inputFiles(const Scen
 Scene loadScene(const std::filesystem::path& path) {
   // A directory opens as a stream on Linux and reads as nothing, which JSON reports as a parse
   // error at byte 1: say what is wrong instead.
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec))
-    throw ParameterError(fmt::format("scene file '{}' is a directory: expected a file",
-                                     path.string()));
+  if (const std::string why = io::irregularInput(path); !why.empty())
+    throw ParameterError(fmt::format("scene file '{}' {}: expected a file", path.string(), why));
   std::ifstream f(path, std::ios::binary);
   if (!f)
     throw ParameterError(fmt::format("scene file '{}' cannot be opened: {}", path.string(),
