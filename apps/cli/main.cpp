@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <exception>
 #include <regex>
+#include <set>
 #include <sstream>
 #include <string>
 
@@ -95,10 +96,27 @@ std::string usageMessage(const CLI::ParseError& e, CLI::App& app) {
                      what, command.empty() ? "" : " ", command);
 }
 
+// CLI11 converts an empty value of a number option to 0 (`--points ''`) or leaves an optional
+// one unset (`--rmax ''`, `--thickness ''`: a semi-infinite slab), silently: every number option
+// of every command refuses an empty value instead, naming itself.
+void refuseEmptyNumbers(CLI::App& app) {
+  static const std::set<std::string> numbers = {"FLOAT", "INT", "UINT", "NUMBER", "INT64", "UINT64"};
+  for (CLI::Option* opt : app.get_options()) {
+    if (opt->get_expected_min() < 1 || !numbers.contains(opt->get_type_name())) continue;
+    opt->check(CLI::Validator(
+        [](std::string& value) {
+          return value.empty() ? std::string("empty value: expected a number") : std::string();
+        },
+        "", ""));
+  }
+  for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) refuseEmptyNumbers(*sub);
+}
+
 int run(int argc, char** argv) {
   CLI::App app{
       "Translucent: render, compare and validate translucent (subsurface-scattering) materials."};
   translucent::cli::addAllCommands(app);
+  refuseEmptyNumbers(app);
   translucent::cli::setCommandLine(argc, argv);
   try {
     app.parse(argc, argv);

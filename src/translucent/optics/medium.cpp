@@ -3,6 +3,8 @@
 
 #include <fmt/format.h>
 
+#include <utility>
+
 #include "translucent/optics/fresnel.h"
 #include "translucent/optics/quadrature.h"
 
@@ -21,11 +23,21 @@ void checkCoefficient(const char* name, double v, const std::string& channel) {
         fmt::format("{}{} is {}: expected a non-negative coefficient", name, where(channel), v));
 }
 
+// Legal numbers that lead nowhere are refused with the others: an index of refraction of 1e-320,
+// a scale of 1e308 or a coefficient of 1e300 gave NaN profiles or empty radius grids whose
+// messages named something else. The bounds are far outside any material.
+constexpr double kMinEta = 1e-2, kMaxEta = 1e2;
+constexpr double kMinScale = 1e-9, kMaxScale = 1e9;
+constexpr double kMaxCoefficient = 1e12;  // per medium unit (1/mm for the presets)
+
 void checkShared(double g, double eta) {
   if (!std::isfinite(g) || std::abs(g) >= 1.0)
     throw ParameterError(fmt::format("g is {}: expected a mean cosine in (-1, 1)", g));
   if (!std::isfinite(eta) || eta <= 0.0)
     throw ParameterError(fmt::format("eta is {}: expected a positive index of refraction", eta));
+  if (eta < kMinEta || eta > kMaxEta)
+    throw ParameterError(fmt::format("eta is {}: expected an index of refraction in [{:g}, {:g}]",
+                                     eta, kMinEta, kMaxEta));
 }
 
 }  // namespace
@@ -44,6 +56,19 @@ void Medium::validate() const {
   checkShared(g, eta);
   if (!std::isfinite(scale) || scale <= 0.0)
     throw ParameterError(fmt::format("scale is {}: expected a positive number", scale));
+  if (scale < kMinScale || scale > kMaxScale)
+    throw ParameterError(fmt::format("scale is {}: expected medium units per scene unit in "
+                                     "[{:g}, {:g}]", scale, kMinScale, kMaxScale));
+  // The coefficients as given (messages name those values, not the ones times the scale).
+  for (int c = 0; c < 3; ++c) {
+    const auto k = static_cast<size_t>(c);
+    checkCoefficient("sigma_a", sigma_a[k], kChannelNames[c]);
+    checkCoefficient("sigma_s", sigma_s[k], kChannelNames[c]);
+    for (const auto& [name, v] : {std::pair{"sigma_a", sigma_a[k]}, std::pair{"sigma_s", sigma_s[k]}})
+      if (v > kMaxCoefficient)
+        throw ParameterError(fmt::format("{} ({} channel) is {}: expected at most {:g} per unit "
+                                         "length", name, kChannelNames[c], v, kMaxCoefficient));
+  }
   for (int c = 0; c < 3; ++c) channel(c).validate(kChannelNames[c]);
 }
 
