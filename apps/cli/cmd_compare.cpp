@@ -464,8 +464,8 @@ Parsed parseOptions(const CompareArgs& a) {
   if (a.frames < 1) throw ParameterError(fmt::format("--frames {}: expected at least 1", a.frames));
   if (a.warmup < 0) throw ParameterError(fmt::format("--warmup {}: expected 0 or more", a.warmup));
   if (a.threads < 0) throw ParameterError(fmt::format("--threads {}: expected >= 0", a.threads));
-  if (!std::isfinite(a.budget) || a.budget < 0.0)
-    throw ParameterError(fmt::format("--budget {}: expected seconds >= 0 (0: no limit)", a.budget));
+  if (!std::isfinite(a.budget) || a.budget < 0.0 || a.budget > 1e9)
+    throw ParameterError(fmt::format("--budget {}: expected seconds in [0, 1e9] (0: no limit)", a.budget));
   if (a.time && !std::isfinite(*a.time))
     throw ParameterError(fmt::format("--time {}: expected a finite time", *a.time));
   if (!a.cache.empty() && a.no_cache)

@@ -174,8 +174,8 @@ void runRender(const RenderArgs& a) {
   if (a.frames > kMaxFrames)
     throw ParameterError(fmt::format("--frames {}: expected at most {} (render a longer animation "
                                      "in parts, each from its own --time)", a.frames, kMaxFrames));
-  if (!(std::isfinite(a.fps) && a.fps > 0.0))
-    throw ParameterError(fmt::format("--fps {}: expected a finite number of frames per second > 0",
+  if (!(std::isfinite(a.fps) && a.fps >= 1e-3 && a.fps <= 1e4))
+    throw ParameterError(fmt::format("--fps {}: expected frames per second in [0.001, 10000]",
                                      a.fps));
   if (a.time && !std::isfinite(*a.time))
     throw ParameterError(fmt::format("--time {}: expected a finite time", *a.time));

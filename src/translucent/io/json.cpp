@@ -72,6 +72,10 @@ nlohmann::json parseJson(std::string_view text, const std::string& what, int max
     throw JsonError(fmt::format("{}: not valid JSON: arrays and objects nest deeper than {} "
                                 "levels (at {}): expected a flatter document",
                                 what, max_depth, textPosition(text, at)));
+  // nlohmann's parser ends a document at a NUL byte and ignores what follows (a layers file
+  // with NULs after it was accepted); JSON text never holds one, escaped strings aside.
+  if (const size_t nul = text.find('\0'); nul != std::string_view::npos)
+    throw JsonError(fmt::format("{}: not valid JSON: a NUL byte at {}", what, textPosition(text, nul)));
   try {
     return nlohmann::json::parse(text);
   } catch (const nlohmann::json::exception& e) {  // syntax errors (with line and column), ranges

@@ -30,8 +30,10 @@ void Camera::validate() const {
   if (width < 1 || height < 1 || width > 16384 || height > 16384)
     throw ParameterError(fmt::format(
         "camera: resolution is {}x{}: expected width and height in [1, 16384]", width, height));
-  if (projection == Projection::Pinhole && !(fov > 0.0 && fov < 180.0))
-    throw ParameterError(fmt::format("camera: fov is {}: expected degrees in (0, 180)", fov));
+  // A field of view of 1e-320 degrees rendered black and one of 179.99999 NaN metrics: the
+  // bounds are far outside any camera a picture is made with.
+  if (projection == Projection::Pinhole && !(fov >= 1e-3 && fov <= 179.0))
+    throw ParameterError(fmt::format("camera: fov is {}: expected degrees in [0.001, 179]", fov));
   if (projection == Projection::Orthographic && !(std::isfinite(view_height) && view_height > 0.0))
     throw ParameterError(
         fmt::format("camera: view_height is {}: expected a finite value > 0", view_height));

@@ -17,8 +17,9 @@ bool finiteNonZero(const glm::dvec3& v) {
 }  // namespace
 
 void SphereScene::validate() const {
-  if (!std::isfinite(radius) || !(radius > 0.0))
-    throw ParameterError(fmt::format("sphere: radius is {}: expected a finite value > 0", radius));
+  // (1e-320 and 1e300 failed later as a camera at its own look-at point or with no up.)
+  if (!std::isfinite(radius) || !(radius >= 1e-6 && radius <= 1e6))
+    throw ParameterError(fmt::format("sphere: radius is {}: expected a value in [1e-6, 1e6]", radius));
   if (!finiteNonZero(light_direction))
     throw ParameterError("sphere: light direction must be a finite non-zero vector");
   if (!std::isfinite(irradiance) || !(irradiance > 0.0))

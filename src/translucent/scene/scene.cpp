@@ -53,6 +53,10 @@ std::filesystem::path resolve(const std::filesystem::path& p, const std::filesys
 // search path so that toJson can write that name back.
 std::filesystem::path resolveFile(const Reader& r, Scene& s, const std::string& name,
                                   const std::filesystem::path& base_dir, const std::string& key) {
+  // A "\u0000" in a file name cut it short where the system opened it ("cube.obj\u0000x" read
+  // cube.obj).
+  if (name.find('\0') != std::string::npos)
+    r.fail(key, "holds a NUL character: expected a file name");
   const ResolvedFile f = resolveSceneFile(name, base_dir, r.what, key);
   if (f.on_search_path) s.data_names[f.path] = name;
   return f.path;
@@ -300,6 +304,9 @@ Scene parseScene(const std::string& text, const std::filesystem::path& base_dir,
   s.mesh_rotate = r.vec3(mesh, "rotate", "mesh", glm::dvec3(0.0));
   s.mesh_scale = r.number(mesh, "scale", "mesh", 1.0);
   requirePositive(r, s.mesh_scale, "mesh.scale");
+  // 1e-320 made every triangle of zero area, an error that blamed the mesh file.
+  if (s.mesh_scale < 1e-9 || s.mesh_scale > 1e9)
+    r.fail("mesh.scale", fmt::format("is {}: expected a factor in [1e-9, 1e9]", s.mesh_scale));
   s.mesh_translate = r.vec3(mesh, "translate", "mesh", glm::dvec3(0.0));
   if (mesh.contains("deform")) {
     const json& d = mesh["deform"];

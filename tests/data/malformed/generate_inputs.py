@@ -100,7 +100,7 @@ sc("mesh_scale_negative.json", scene(mesh__scale=-2), "mesh.scale: is -2: expect
 sc("gamma_zero.json", scene(display={"gamma": 0}), "display.gamma: is 0: expected a finite value > 0")
 sc("cone_angle_zero.json", scene(cone_angle=0), "cone_angle: is 0: expected degrees in (0, 90]")
 sc("cone_angle_180.json", scene(cone_angle=180), "cone_angle: is 180: expected degrees in (0, 90]")
-sc("fov_180.json", scene(camera__fov=180), "camera: fov is 180: expected degrees in (0, 180)")
+sc("fov_180.json", scene(camera__fov=180), "camera: fov is 180: expected degrees in [0.001, 179]")
 sc("near_after_far.json", scene(camera__near=5, camera__far=1), "camera: near 5 and far 1: expected 0 (automatic) or 0 < near < far")
 sc("camera_at_look_at.json", scene(camera__position=[0, 0, 0]), "camera: look_at equals position")
 # Inside the object (the tetrahedron, normalised: its centroid is at [-0.25, -0.25, -0.25]): a
