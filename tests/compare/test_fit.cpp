@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <memory>
 
 #include "translucent/compare/compare.h"
 #include "translucent/compare/compare_run.h"
@@ -16,20 +17,26 @@
 namespace translucent::analysis {
 namespace {
 
-scene::Scene cube() {
-  scene::Scene s = scene::loadScene(TRANSLUCENT_CUBE_SCENE);
-  s.camera.width = 48;
-  s.camera.height = 36;
-  return s;
-}
+// The cube at 48x36 with compare's masks and the empirical technique prepared on it.
+struct Cube {
+  scene::Scene s;
+  Masks masks;
+  gpu::Context gl;
+  std::unique_ptr<techniques::Technique> t;
+  Cube() : s(scene::loadScene(TRANSLUCENT_CUBE_SCENE)) {
+    s.camera.width = 48;
+    s.camera.height = 36;
+    masks = compareMasks(s, scene::loadSceneMesh(s), {});
+    t = makeTechniqueSpec("empirical", &s);
+    t->prepare(s, gl);
+  }
+};
 
 TEST(Fit, TheEmpiricalShaderRecoversAnImageOfItsOwn) {
-  const scene::Scene s = cube();
-  const geometry::TriangleMesh mesh = scene::loadSceneMesh(s);
-  const Masks masks = compareMasks(s, mesh, {});
-  gpu::Context gl;
-  auto t = makeTechniqueSpec("empirical", &s);
-  t->prepare(s, gl);
+  Cube cube;
+  const scene::Scene& s = cube.s;
+  const Masks& masks = cube.masks;
+  auto& t = cube.t;
   // The target: the shader at values away from its defaults (within the fitted ranges).
   const std::vector<std::pair<std::string, double>> truth = {
       {"ka", 0.5}, {"kd_red", 0.3}, {"kd_green", 0.7}, {"kd_blue", 0.45},
@@ -78,12 +85,10 @@ TEST(Fit, TheEmpiricalShaderRecoversAnImageOfItsOwn) {
 }
 
 TEST(Fit, RefusesWhatItCannotFit) {
-  const scene::Scene s = cube();
-  const geometry::TriangleMesh mesh = scene::loadSceneMesh(s);
-  const Masks masks = compareMasks(s, mesh, {});
-  gpu::Context gl;
-  auto t = makeTechniqueSpec("empirical", &s);
-  t->prepare(s, gl);
+  Cube cube;
+  const scene::Scene& s = cube.s;
+  const Masks& masks = cube.masks;
+  auto& t = cube.t;
   const CompareImage target = renderTimed(*t, "empirical", s, 0, 0).images.radiance;
   const std::vector<FitParameter> not_a_number = {{"smoothing", 0.0, 1.0, false}};
   EXPECT_THROW(fitTechnique(*t, s, target, masks.interior, not_a_number), ParameterError);

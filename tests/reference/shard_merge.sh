@@ -98,18 +98,22 @@ RES=(pathtrace slab --material Skimmilk --channel g --photons 4e7 --radial-bins 
 "$T" "${RES[@]}" --device cpu --json res-one.json --csv res-one.csv 2>/dev/null
 "$T" "${RES[@]}" --shard 0/2 --partial res-0.tpart 2>/dev/null
 blocks_done() { sed -n 2p "$1" | grep -o '"blocks_done":[0-9]*' | cut -d: -f2; }
+# Waits until process $1 catches SIGTERM (bit 15 of SigCgt, 0x4000), then $2 seconds more (it
+# has traced a little).
+wait_for_term_handler() {
+  for _ in $(seq 300); do
+    caught=$(awk '/^SigCgt:/ {print $2}' "/proc/$1/status" 2>/dev/null || true)
+    [ "$(cat "/proc/$1/comm" 2>/dev/null)" = translucent ] && [ -n "$caught" ] &&
+      [ $((0x$caught & 0x4000)) -ne 0 ] && break
+    sleep 0.05
+  done
+  sleep "$2"
+}
 stops=0 done_before=0
 for attempt in 1 2 3; do
   "$T" "${RES[@]}" --threads 1 --shard 1/2 --partial res-1.tpart 2>res-run.txt &
   pid=$!
-  # Until it catches SIGTERM (bit 15 of SigCgt, 0x4000) and has traced a little.
-  for _ in $(seq 300); do
-    caught=$(awk '/^SigCgt:/ {print $2}' "/proc/$pid/status" 2>/dev/null || true)
-    [ "$(cat "/proc/$pid/comm" 2>/dev/null)" = translucent ] && [ -n "$caught" ] &&
-      [ $((0x$caught & 0x4000)) -ne 0 ] && break
-    sleep 0.05
-  done
-  sleep 0.7
+  wait_for_term_handler "$pid" 0.7
   [ "$attempt" -eq 3 ] || kill -TERM "$pid" 2>/dev/null || true
   rc=0
   wait "$pid" || rc=$?
@@ -163,13 +167,7 @@ mkdir -p sres-one sres-merged
 "$T" "${SRES[@]}" --shard 0/2 --partial sres-0.tpart 2>/dev/null
 "$T" "${SRES[@]}" --threads 1 --shard 1/2 --partial sres-1.tpart 2>sres-run.txt &
 pid=$!
-for _ in $(seq 300); do
-  caught=$(awk '/^SigCgt:/ {print $2}' "/proc/$pid/status" 2>/dev/null || true)
-  [ "$(cat "/proc/$pid/comm" 2>/dev/null)" = translucent ] && [ -n "$caught" ] &&
-    [ $((0x$caught & 0x4000)) -ne 0 ] && break
-  sleep 0.05
-done
-sleep 1
+wait_for_term_handler "$pid" 1
 kill -TERM "$pid" 2>/dev/null || true
 rc=0
 wait "$pid" || rc=$?
