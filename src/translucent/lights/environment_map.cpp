@@ -14,7 +14,10 @@
 #include "translucent/optics/medium.h"
 
 namespace translucent::lights {
+
 namespace {
+
+constexpr float kMaxEnvironmentRadiance = 1e20f;  // [W/(m² sr)] per texel and channel
 
 constexpr double kPi = std::numbers::pi;
 
@@ -56,6 +59,12 @@ EnvironmentMap EnvironmentMap::load(const std::filesystem::path& file) {
     if (!std::isfinite(img.rgb[i]))
       throw ParameterError(fmt::format("environment map '{}': pixel {} holds {}: expected finite "
                                        "radiance", file.string(), i / 3, img.rgb[i]));
+    // Finite but near float's limit, a texel overflows the sums and products made of it (3e38
+    // gave NaN pixels): far beyond any measured sky (the sun's disc is ~1e9).
+    if (img.rgb[i] > kMaxEnvironmentRadiance)
+      throw ParameterError(fmt::format("environment map '{}': pixel {} holds {}: expected radiance "
+                                       "at most {:g}", file.string(), i / 3, img.rgb[i],
+                                       kMaxEnvironmentRadiance));
     if (img.rgb[i] < 0.0f) {
       img.rgb[i] = 0.0f;
       ++clamped;

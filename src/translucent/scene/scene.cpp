@@ -406,6 +406,10 @@ Scene parseScene(const std::string& text, const std::filesystem::path& base_dir,
   if (!doc.contains("lights")) r.fail("lights", "required (an array of lights)");
   const json& lights = doc["lights"];
   if (!lights.is_array() || lights.empty()) r.fail("lights", fmt::format("{}: expected a non-empty array", Reader::describe(lights)));
+  // Each light may cost a technique a shadow map or light-view map of megabytes: 1,000 lights
+  // made render allocate without bound (6 GB in 5 s).
+  if (lights.size() > kMaxLights)
+    r.fail("lights", fmt::format("holds {} lights: expected at most {}", lights.size(), kMaxLights));
   for (size_t i = 0; i < lights.size(); ++i)
     s.lights.push_back(parseLight(r, s, lights[i], fmt::format("lights[{}]", i), base_dir));
 

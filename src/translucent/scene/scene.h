@@ -131,6 +131,8 @@ struct EnvironmentLight {
 // that channel's colour; a channel of colour 0 emits nothing and is fine): a fainter light
 // renders black in 32-bit images. parseScene refuses such a light, and a light of colour 0.
 inline constexpr double kMinLightPower = 1e-30;
+// The most lights a scene may hold (parseScene refuses more).
+inline constexpr size_t kMaxLights = 64;
 
 struct Light {
   std::variant<reference::DirectionalLight, reference::PointLight, reference::BeamLight,
