@@ -349,7 +349,10 @@ struct Isolated {
 struct TempFile {
   std::string path;
   explicit TempFile(const char* suffix) {
-    std::string t = std::string("/tmp/translucent-technique-XXXXXX") + suffix;
+    // In the system's temporary folder ($TMPDIR), named by mkstemps: its template ends in six
+    // 'X' before the suffix.
+    std::string t = (fs::temp_directory_path() / "translucent-technique-").string() +
+                    std::string(6, 'X') + suffix;
     const int fd = mkstemps(t.data(), static_cast<int>(std::strlen(suffix)));
     if (fd < 0)
       throw std::runtime_error(fmt::format("cannot create a temporary file: {}", std::strerror(errno)));

@@ -16,7 +16,6 @@
 #include <cmath>
 #include <filesystem>
 #include <optional>
-#include <set>
 #include <string>
 #include <vector>
 
@@ -29,9 +28,9 @@
 #include "translucent/compare/compare_run.h"
 #include "translucent/compare/fit.h"
 #include "translucent/compare/leaderboard.h"
+#include "translucent/compare/report.h"
 #include "translucent/geometry/atomic_file.h"
 #include "translucent/gpu/context.h"
-#include "translucent/io/json.h"
 #include "translucent/scene/scene.h"
 #include "translucent/techniques/registry.h"
 
@@ -64,37 +63,6 @@ struct FitArgs {
 json num(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 
 std::string pct(double v) { return std::isfinite(v) ? fmt::format("{:.2f}%", 100.0 * v) : "n/a"; }
-
-// The folder: created, or empty, or a previous fit's (its fit.json lists the files it wrote,
-// which are removed); anything else needs --force, so a user's files are never overwritten.
-void prepareFolder(const fs::path& dir, bool force) {
-  std::error_code ec;
-  if (!fs::exists(dir, ec)) {
-    fs::create_directories(dir, ec);
-    if (ec) throw ParameterError(fmt::format("--out '{}': cannot create the folder: {}", dir.string(), ec.message()));
-    return;
-  }
-  if (!fs::is_directory(dir, ec))
-    throw ParameterError(fmt::format("--out '{}': exists and is not a folder", dir.string()));
-  std::set<std::string> ours;
-  if (fs::exists(dir / "fit.json", ec)) {
-    try {
-      const json j = io::readJsonFile(dir / "fit.json");
-      if (j.value("generator", "") == kGenerator)
-        for (const auto& f : j.at("files")) ours.insert(f.get<std::string>());
-    } catch (const std::exception&) {
-      // not ours: handled below
-    }
-    if (!ours.empty()) ours.insert("fit.json");
-  }
-  for (const auto& e : fs::directory_iterator(dir, ec)) {
-    const std::string name = e.path().filename().string();
-    if (!ours.contains(name) && !force)
-      throw ParameterError(fmt::format("--out '{}': holds '{}', which is not a previous fit's "
-                                       "(give an empty folder, or --force)", dir.string(), name));
-  }
-  for (const std::string& f : ours) fs::remove(dir / f, ec);
-}
 
 void writeText(const fs::path& path, const std::string& text) {
   if (const std::string why = geometry::writeFileAtomically(path, text); !why.empty())
@@ -267,7 +235,9 @@ void runFit(const FitArgs& a) {
     scenes.push_back(a.scene);
   if (!beginWork()) return;
   const fs::path out = fs::absolute(a.out);
-  prepareFolder(out, a.force);
+  // Created, or empty, or a previous fit's (its fit.json lists the files it wrote, which are
+  // removed); anything else needs --force, so a user's files are never overwritten.
+  analysis::prepareOwnedFolder(out, a.force, {}, "--out", "fit.json", kGenerator, "a previous fit");
   const fs::path cacheDir = a.cache.empty() ? analysis::defaultReferenceCacheDirectory() : fs::path(a.cache);
   const std::optional<analysis::ReferenceCache> cache =
       a.no_cache ? std::nullopt : std::optional<analysis::ReferenceCache>(cacheDir);

@@ -379,12 +379,13 @@ void runShard(const RunArgs& a, Tracer& tracer, uint64_t photons, const std::str
     bar.end();
   }
   reference::RunState state;
+  const bool cpu = tracer.device() == "cpu";
   uint64_t done = range.blocks;
   if (st.partial) {
     const uint64_t merged = st.photons.empty() ? 0 : st.photons[0] / reference::kBlockPhotons;
-    done = tracer.device() == "cpu" ? resumed + std::min(left, merged) : resumed;
+    done = cpu ? resumed + std::min(left, merged) : resumed;
   }
-  if (!st.partial || tracer.device() == "cpu") tracer.write(state);
+  if (!st.partial || cpu) tracer.write(state);
   if (checkpoint) {
     if (state.sums.empty() && state.counts.empty())
       state = checkpoint->state;

@@ -43,7 +43,7 @@ mkdir -p "$W/mine"
 echo keep > "$W/mine/notes.txt"
 if "$T" fit empirical "$SCENE" --reference model --samples 2e4 --width 32 --height 24 --no-cache \
      --max-evaluations 5 --out "$W/mine" 2>"$W/mine.log"; then fail "a folder with a user's file was used"; fi
-grep -q "not a previous fit" "$W/mine.log" || { cat "$W/mine.log"; fail "unclear refusal"; }
+grep -q "not part of a previous fit" "$W/mine.log" || { cat "$W/mine.log"; fail "unclear refusal"; }
 [ "$(cat "$W/mine/notes.txt")" = keep ] || fail "the user's file changed"
 # Relative names (run from the scene's data folder): the fitted scene still finds its mesh from
 # another folder, and compare's technique worker finds it too (it reads the scene compare

@@ -354,8 +354,9 @@ pre{background:#f4f4f4;padding:8px;white-space:pre-wrap;word-break:break-all}
 
 }  // namespace
 
-void prepareReportDirectory(const fs::path& dir, bool force, const fs::path& ignore,
-                            const std::string& option) {
+void prepareOwnedFolder(const fs::path& dir, bool force, const fs::path& ignore,
+                        const std::string& option, const std::string& manifest,
+                        const std::string& generator, const std::string& what) {
   std::error_code ec;
   if (!fs::exists(dir, ec)) {
     fs::create_directories(dir, ec);
@@ -366,18 +367,18 @@ void prepareReportDirectory(const fs::path& dir, bool force, const fs::path& ign
   }
   if (!fs::is_directory(dir, ec))
     throw ParameterError(fmt::format("{} '{}': exists and is not a folder", option, dir.string()));
-  // The previous report's files, if there is one.
+  // The previous run's files, if there is one.
   std::set<std::string> ours;
-  const fs::path previous = dir / "report.json";
+  const fs::path previous = dir / manifest;
   if (fs::exists(previous, ec)) {
     try {
       const json j = io::readJsonFile(previous);
-      if (j.value("generator", "") == kGenerator) {
-        ours.insert("report.json");
+      if (j.value("generator", "") == generator) {
+        ours.insert(manifest);
         for (const auto& name : j.at("files")) ours.insert(name.get<std::string>());
       }
     } catch (const std::exception&) {
-      ours.clear();  // not a report of ours
+      ours.clear();  // not one of ours
     }
   }
   std::vector<fs::path> remove;
@@ -388,12 +389,18 @@ void prepareReportDirectory(const fs::path& dir, bool force, const fs::path& ign
       remove.push_back(entry.path());
     } else if (!force) {
       throw ParameterError(fmt::format(
-          "{} '{}': the folder holds '{}', which is not part of a previous compare report; "
-          "choose an empty or new folder, or pass --force to write into it anyway",
-          option, dir.string(), name));
+          "{} '{}': the folder holds '{}', which is not part of {}; choose an empty or new "
+          "folder, or pass --force to write into it anyway",
+          option, dir.string(), name, what));
     }
   }
   for (const auto& p : remove) fs::remove(p, ec);
+}
+
+void prepareReportDirectory(const fs::path& dir, bool force, const fs::path& ignore,
+                            const std::string& option) {
+  prepareOwnedFolder(dir, force, ignore, option, "report.json", kGenerator,
+                     "a previous compare report");
 }
 
 namespace {

@@ -100,6 +100,15 @@ struct CompareReport {
   MaterialReferences material{"homogeneous", true, ""};
 };
 
+// A folder a command writes its files into: created when missing; otherwise it may hold only
+// the files that its `manifest` (a JSON file in it whose "generator" is `generator`) lists, which
+// are removed, and `ignore`; anything else is refused naming `option`, the folder and the file
+// ("not part of <what>") unless `force`, so that a user's files are never overwritten.
+void prepareOwnedFolder(const std::filesystem::path& dir, bool force,
+                        const std::filesystem::path& ignore, const std::string& option,
+                        const std::string& manifest, const std::string& generator,
+                        const std::string& what);
+
 // Checks `dir` and removes a previous report's files (see the header comment). `ignore` (e.g.
 // a cache folder inside `dir`) is left alone. Throws ParameterError naming `option`, the folder and
 // the first file that is not ours unless `force`.
