@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <string>
 
 #include "common.h"
@@ -37,6 +38,45 @@ py::object toPython(const nlohmann::json& j) {
   }
 }
 
+namespace {
+
+// Where json.dumps(allow_nan=False) found a NaN or an infinity: the first non-finite float under
+// `o` as a Python subscript path (what + '["lights"][0]["irradiance"]'), or "" if none is found
+// within the depth limit (lists, tuples, dicts and NumPy arrays, through tolist()).
+std::string nonFinitePath(const py::handle& o, const std::string& path, int depth,
+                          double& value) {
+  if (depth > io::kMaxJsonDepth) return "";
+  if (py::isinstance<py::float_>(o)) {
+    value = o.cast<double>();
+    return std::isfinite(value) ? "" : path;
+  }
+  if (py::isinstance<py::dict>(o)) {
+    for (const auto& [k, v] : py::reinterpret_borrow<py::dict>(o)) {
+      std::string p = nonFinitePath(v, fmt::format("{}[{}]", path, reprOf(k)), depth + 1, value);
+      if (!p.empty()) return p;
+    }
+    return "";
+  }
+  if (py::isinstance<py::list>(o) || py::isinstance<py::tuple>(o)) {
+    size_t i = 0;
+    for (const auto& v : py::reinterpret_borrow<py::sequence>(o)) {
+      std::string p = nonFinitePath(v, fmt::format("{}[{}]", path, i++), depth + 1, value);
+      if (!p.empty()) return p;
+    }
+    return "";
+  }
+  if (!py::isinstance<py::str>(o) && py::hasattr(o, "tolist")) {
+    try {
+      return nonFinitePath(o.attr("tolist")(), path, depth + 1, value);
+    } catch (const py::error_already_set&) {
+      return "";
+    }
+  }
+  return "";
+}
+
+}  // namespace
+
 nlohmann::json fromPython(const py::handle& o, const std::string& what) {
   // NumPy arrays and scalars become lists and numbers (tolist), everything else as json.dumps
   // takes it.
@@ -54,9 +94,15 @@ nlohmann::json fromPython(const py::handle& o, const std::string& what) {
   } catch (py::error_already_set& e) {
     // RecursionError (a RuntimeError) for nesting past Python's limit, ValueError for NaN,
     // TypeError for another type; the key or index is not known here, the value's kind is.
-    if (e.matches(PyExc_ValueError))
+    if (e.matches(PyExc_ValueError)) {
+      // json.dumps says only "Out of range float values are not JSON compliant": name the value.
+      double value = 0.0;
+      if (const std::string at = nonFinitePath(o, what, 0, value); !at.empty())
+        throw py::value_error(fmt::format(
+            "{} is {}: expected a finite number (JSON has no NaN or infinity)", at, value));
       throw py::value_error(
           fmt::format("{}: {}", what, py::str(e.value()).cast<std::string>()));
+    }
     if (e.matches(PyExc_RecursionError))  // as parseJson's depth limit: ValueError
       throw py::value_error(fmt::format("{}: nested too deeply to be JSON (at most {} levels)",
                                        what, io::kMaxJsonDepth));

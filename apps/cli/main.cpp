@@ -97,26 +97,28 @@ std::string usageMessage(const CLI::ParseError& e, CLI::App& app) {
 }
 
 // CLI11 converts an empty value of a number option to 0 (`--points ''`) or leaves an optional
-// one unset (`--rmax ''`, `--thickness ''`: a semi-infinite slab), silently: every number option
-// of every command refuses an empty value instead, naming itself.
-void refuseEmptyNumbers(CLI::App& app) {
+// one unset (`--rmax ''`, `--thickness ''`: a semi-infinite slab; `--layers ''`: no layers file,
+// then a message about the medium), silently: every option of every command that takes a value
+// refuses an empty one instead, naming itself and what it expected.
+void refuseEmptyValues(CLI::App& app) {
   static const std::set<std::string> numbers = {"FLOAT", "INT", "UINT", "NUMBER", "INT64", "UINT64"};
   for (CLI::Option* opt : app.get_options()) {
-    if (opt->get_expected_min() < 1 || !numbers.contains(opt->get_type_name())) continue;
+    if (opt->get_expected_min() < 1) continue;
+    const std::string expected = numbers.contains(opt->get_type_name()) ? "a number" : "a value";
     opt->check(CLI::Validator(
-        [](std::string& value) {
-          return value.empty() ? std::string("empty value: expected a number") : std::string();
+        [expected](std::string& value) {
+          return value.empty() ? "empty value '': expected " + expected : std::string();
         },
         "", ""));
   }
-  for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) refuseEmptyNumbers(*sub);
+  for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) refuseEmptyValues(*sub);
 }
 
 int run(int argc, char** argv) {
   CLI::App app{
       "Translucent: render, compare and validate translucent (subsurface-scattering) materials."};
   translucent::cli::addAllCommands(app);
-  refuseEmptyNumbers(app);
+  refuseEmptyValues(app);
   translucent::cli::setCommandLine(argc, argv);
   try {
     app.parse(argc, argv);

@@ -48,3 +48,14 @@ for _cls in (BssrdfModel, Medium, Model, Preset, Profiles, Renderer, Scene):
     except (AttributeError, TypeError):  # pragma: no cover - older pybind11
         pass
 del _cls
+
+# An argument that no signature accepts raises TypeError or ValueError naming it (not pybind11's
+# list of signatures): _arguments.py.
+from . import _arguments  # noqa: E402
+
+_arguments.wrap(globals(),
+                ["compare", "fdr", "gl_info", "integrate_sphere", "invert", "model", "model_names",
+                 "pathtrace_mesh", "pathtrace_slab", "pathtrace_sphere", "preset", "presets",
+                 "profile", "render", "share_directory", "technique_parameters", "techniques"],
+                [BssrdfModel, Medium, Model, Preset, Profiles, Renderer, Scene])
+del _arguments

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <ostream>
 #include <random>
@@ -99,6 +100,21 @@ TEST_P(EveryModelAndPreset, EnergyIntegralEqualsTotalReflectance) {
   // The model's Rd(α', η) used by inversion is the same quantity.
   const auto& m = p->medium();
   EXPECT_NEAR(model(GetParam().model).totalReflectance(m.reducedAlbedo(), m.eta), rd, 1e-4 * rd);
+}
+
+// R(∞) = 0: far radii give 0, never NaN (the closed forms' r² + z² overflows near r = 1e154, and
+// inf/inf is NaN), and every radius up to the guard gives a finite R >= 0.
+TEST_P(EveryModelAndPreset, FarRadiiGiveZeroNotNaN) {
+  const auto p = makeProfile();
+  const double far = p->farRadius();
+  EXPECT_DOUBLE_EQ(far, 1e30 * p->medium().reducedMeanFreePath());
+  for (const double r : {2.0 * far, 1e154, 5e300, 1e308, std::numeric_limits<double>::max(),
+                         std::numeric_limits<double>::infinity()})
+    EXPECT_EQ(p->R(r), 0.0) << "r = " << r;
+  for (double r = p->medium().reducedMeanFreePath(); r <= far; r *= 10.0) {
+    const double v = p->R(r);
+    EXPECT_TRUE(std::isfinite(v) && v >= 0.0) << "R(" << r << ") = " << v;
+  }
 }
 
 TEST_P(EveryModelAndPreset, NinetyFivePercentRadiusHoldsNinetyFivePercent) {

@@ -47,7 +47,7 @@ TEST(ProfileTable, RejectsTooFewEntries) {
 class ClampedInverseR : public RadialProfile {
  public:
   ClampedInverseR() : RadialProfile(preset("Marble").medium().channel(0)) {}
-  double R(double r) const override { return std::exp(-r) / std::max(r, 1e-6); }
+  double evaluate(double r) const override { return std::exp(-r) / std::max(r, 1e-6); }
 };
 
 TEST(ProfileTable, ClampedSingularityIsTabulatedAsOne) {

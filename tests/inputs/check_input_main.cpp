@@ -10,12 +10,13 @@
 //   translucent_check_input pointcloud-cache FILE  the file as the point-cloud cache entry of a
 //                                                fixed mesh and sampling (loadOrSamplePointCloud)
 //   translucent_check_input atlas-cache FILE     the same for the atlas cache (loadOrBuildAtlas)
-//   translucent_check_input write-seeds DIR      writes valid cache files and EXRs for generate.py
+//   translucent_check_input write-seeds DIR      writes valid cache files, EXRs and a VDB for generate.py
 //
 // Exit status: 1 with the error on stderr; 3 with "warning: ..." on stderr when the input was
 // accepted with a warning (a clamped texel, a cache file regenerated with a note); 0 when it was
 // accepted silently (a corpus file must never do that); 2 for a usage error. A crash is a signal.
 #include <fmt/format.h>
+#include <openvdb/openvdb.h>
 #include <unistd.h>
 
 #include <cstdio>
@@ -138,6 +139,22 @@ int check(const std::string& family, const fs::path& file) {
     analysis::writeExr((file / "negative.exr").string(), 16, 8, rgb, {}, {});
     std::vector<float> one(3, 1.0f);
     analysis::writeExr((file / "one_pixel.exr").string(), 1, 1, one, {}, {});
+    // Voxel grids whose background neither absorbs nor scatters (σa = σs = 0 outside the 2³
+    // voxels set): a photon that left them flew on forever before the check.
+    openvdb::initialize();
+    auto sa = openvdb::FloatGrid::create(0.0f);
+    sa->setName("sigma_a");
+    auto ss = openvdb::FloatGrid::create(0.0f);
+    ss->setName("sigma_s");
+    for (int z = 0; z < 2; ++z)
+      for (int y = 0; y < 2; ++y)
+        for (int x = 0; x < 2; ++x) {
+          sa->tree().setValue(openvdb::Coord(x, y, z), 0.1f);
+          ss->tree().setValue(openvdb::Coord(x, y, z), 1.0f);
+        }
+    openvdb::io::File vdb((file / "zero_background.vdb").string());
+    vdb.write({sa, ss});
+    vdb.close();
     return 0;
   } else {
     std::fprintf(stderr, "unknown family '%s': expected scene, bssrdf, image, pointcloud-cache, "

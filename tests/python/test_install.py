@@ -86,7 +86,7 @@ def test_installed_package_works_from_another_folder(venv):
     assert pathlib.Path(got["share"]) == package / "share" / "translucent"
     assert (package / "share" / "translucent" / "shaders").is_dir()
     assert (package / "share" / "translucent" / "data" / "presets").is_dir()
-    for f in ["__init__.py", "__init__.pyi", "_results.py", "py.typed"]:
+    for f in ["__init__.py", "__init__.pyi", "_arguments.py", "_results.py", "py.typed"]:
         assert f in got["files"], got["files"]
     assert any(f.startswith("_translucent") and f.endswith(".so") for f in got["files"])
     # Marble's dipole Rd: the closed form, per channel.

@@ -833,6 +833,31 @@ TEST(Scene, RefusesJsonNestedTooDeeplyInsteadOfCrashing) {
   EXPECT_NO_THROW((void)io::parseJson("[\"" + std::string(5000, '[') + "\\\"\"]", "x"));
 }
 
+// A number beyond a double's range is named by its line, column and key (nlohmann's message has
+// none of them), abbreviated when long.
+TEST(Scene, NumberOverflowNamesItsPlaceAndKey) {
+  const std::string huge = "1" + std::string(400, '0');
+  auto message = [](const std::string& text) {
+    try {
+      (void)io::parseJson(text, "s.json");
+    } catch (const io::JsonError& e) {
+      return std::string(e.what());
+    }
+    return std::string("(accepted)");
+  };
+  const std::string width = message("{\"camera\": {\"fov\": 30,\n \"width\": " + huge + "}}");
+  EXPECT_NE(width.find("s.json: not valid JSON: the number 100000000000… (401 characters) at line 2, "
+                       "column 11 (camera.width) is beyond the range of a double"),
+            std::string::npos)
+      << width;
+  // In an array, after a string that holds the same digits and a key with a comma in it.
+  const std::string light = message("{\"a,b\": \"" + huge + "\", \"lights\": [{}, {\"irradiance\": [1, -" +
+                                    huge + "]}]}");
+  EXPECT_NE(light.find("(lights[1].irradiance[1])"), std::string::npos) << light;
+  EXPECT_NE(message("[1e400]").find("the number 1e400 at line 1, column 2 ([0])"), std::string::npos)
+      << message("[1e400]");
+}
+
 // A light must emit something in a channel it lights, and not so little that the image is black
 // (or, before, that the tracer's exact sums aborted): refused with the light and the value.
 TEST(Scene, RefusesBlackAndTooFaintLights) {

@@ -88,7 +88,7 @@ class BetterDipoleProfile final : public RadialProfile {
     rd_ = betterDipoleRd(alphaPrime, b);
   }
 
-  double R(double r) const override {
+  double evaluate(double r) const override {
     // Beyond σtr r = 745, e^{-σtr r} (a bound of both sources' decay) is below the smallest
     // double: R is 0 there, and r² would overflow (r = 1e308 gave inf · 0 = NaN).
     if (sigmaTr_ * r > 745.0) return 0.0;

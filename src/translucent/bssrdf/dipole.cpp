@@ -32,7 +32,7 @@ class DipoleProfile final : public RadialProfile {
   // of z_r in the first term and an extra 1/σt' in the second; Jensen's form (used here) is
   //   R(r) = α'/(4π) [ z_r (σtr d_r + 1) e^{-σtr d_r} / d_r³ + z_v (σtr d_v + 1) e^{-σtr d_v} / d_v³ ]
   // which follows from Eq. 2.21 applied to the dipole fluence Eq. 2.33.
-  double R(double r) const override {
+  double evaluate(double r) const override {
     const double r2 = r * r;
     const double dr = std::sqrt(r2 + zr_ * zr_), dv = std::sqrt(r2 + zv_ * zv_);
     const double real = zr_ * (sigmaTr_ * dr + 1.0) * std::exp(-sigmaTr_ * dr) / (dr * dr * dr);

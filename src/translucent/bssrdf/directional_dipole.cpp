@@ -75,7 +75,7 @@ class DirectionalDipoleProfile final : public RadialProfile, public DirectionalP
   }
 
   // The kernel on the plane z = 0 with the light along the normal (the pencil beam).
-  double R(double r) const override {
+  double evaluate(double r) const override {
     const glm::dvec3 n(0.0, 0.0, 1.0);
     return R(glm::dvec3(0.0), n, n, glm::dvec3(r, 0.0, 0.0), n);
   }

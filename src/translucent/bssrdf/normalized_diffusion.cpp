@@ -170,7 +170,7 @@ class NormalizedDiffusionProfile final : public RadialProfile {
     d_ = ld / scalingFactor(A_);
   }
 
-  double R(double r) const override {
+  double evaluate(double r) const override {
     if (!(r > 0.0)) return A_ > 0.0 ? std::numeric_limits<double>::infinity() : 0.0;
     return A_ * (std::exp(-r / d_) + std::exp(-r / (3.0 * d_))) / (8.0 * std::numbers::pi * d_ * r);
   }

@@ -434,7 +434,7 @@ class PhotonBeamProfile final : public RadialProfile {
     rd_ = multipleRd(m) + singleRd(m);
   }
 
-  double R(double r) const override {
+  double evaluate(double r) const override {
     if (table_.covers(r)) return table_(r);
     if (r > table_.lastRadius() && table_.vanishesBeyond()) return 0.0;
     return direct(r);

@@ -4,7 +4,7 @@
 // A Model (dipole, better dipole, ...) is stateless and registered by name (bssrdf/registry.h).
 // For one colour channel of a medium it creates a RadialProfile: R(r), the radially symmetric
 // diffuse reflectance of a semi-infinite medium lit by a normally incident pencil beam (the
-// searchlight problem, seed 2.3), per unit area per unit incident flux [1/length²].
+// searchlight problem of Jensen et al. 2001), per unit area per unit incident flux [1/length²].
 //
 // The base class supplies, for any R(r), an exact radial sampler: r is drawn with density
 // p(r) = 2π r R(r) / Rd_table on [0, r_max], where the cumulative integral is tabulated with
@@ -31,13 +31,18 @@ struct RadialSample {
 
 class RadialProfile {
  public:
-  explicit RadialProfile(const ScalarMedium& medium) : medium_(medium) {}
+  explicit RadialProfile(const ScalarMedium& medium)
+      : medium_(medium), far_radius_(1e30 * medium.reducedMeanFreePath()) {}
   virtual ~RadialProfile() = default;
   RadialProfile(const RadialProfile&) = delete;
   RadialProfile& operator=(const RadialProfile&) = delete;
 
-  // R(r) [1/length²]; per unit area, per unit incident flux.
-  virtual double R(double r) const = 0;
+  // R(r) [1/length²]; per unit area, per unit incident flux. Every model through one guard:
+  // beyond farRadius() (10^30 reduced mean free paths) R is 0, as it is in double precision for
+  // every profile that decays at least exponentially, and where the closed forms would overflow
+  // (r² + z_r² = inf gives inf/inf = NaN at r ~ 1e154): R(∞) = 0, never NaN.
+  double R(double r) const { return r > far_radius_ ? 0.0 : evaluate(r); }
+  double farRadius() const { return far_radius_; }
   // Total diffuse reflectance Rd = 2π ∫0^∞ R(r) r dr (Eq. 3.1). Default: the tabulated integral.
   virtual double Rd() const;
 
@@ -59,6 +64,9 @@ class RadialProfile {
   const Cumulative& cumulative() const;
 
  protected:
+  // The model's R(r) for 0 <= r <= farRadius() (R() above applies the guard).
+  virtual double evaluate(double r) const = 0;
+
   // Length scale on which R varies near the source, used to place the table's first panels.
   // Default: the reduced mean free path ℓ'.
   virtual double innerScale() const;
@@ -68,6 +76,7 @@ class RadialProfile {
 
  private:
   ScalarMedium medium_;
+  double far_radius_;
   mutable std::once_flag built_;
   mutable Cumulative cumulative_;
 };

@@ -138,7 +138,7 @@ class QuantizedDiffusionProfile final : public RadialProfile {
                                       kTableHi * lp, p.sigma_tr, kTablePerDecade);
   }
 
-  double R(double r) const override {
+  double evaluate(double r) const override {
     if (table_.covers(r)) return table_(r);
     if (r > table_.lastRadius() && table_.vanishesBeyond()) return 0.0;
     return quanta_.R(r);

@@ -290,7 +290,7 @@ class TabulatedProfile final : public RadialProfile {
   TabulatedProfile(const ScalarMedium& m, const TabulatedModel& model)
       : RadialProfile(m), model_(model), c_(m.channel), scale_(m.scale) {}
   // r_scene = r_mm / scale and R_scene = R_mm · scale² (the table is in mm).
-  double R(double r) const override { return model_.Rmm(c_, r * scale_) * scale_ * scale_; }
+  double evaluate(double r) const override { return model_.Rmm(c_, r * scale_) * scale_ * scale_; }
 
  protected:
   // The table's panels start below its first positive radius.

@@ -2,7 +2,8 @@
 """Writes the malformed-input corpus beyond meshes (issue #15 §8): scenes/, bssrdf/, images/ and
 caches/, each with manifest.txt ("FILE EXPECTED MESSAGE TEXT"), replayed by tests/inputs.
 
-The cache and EXR seeds (caches/valid_*, images/valid.exr, ...) come from a built tool:
+The cache, EXR and VDB seeds (caches/valid_*, images/valid.exr, scenes/assets/*.vdb, ...) come
+from a built tool:
     build/release/tests/inputs/translucent_check_input write-seeds /tmp/seeds
     python3 tests/data/malformed/generate_inputs.py /tmp/seeds
 Each file is written once, here, from a description of what is wrong with it; the expected text
@@ -172,6 +173,14 @@ write(os.path.join(HERE, "scenes", "directory.json", "README"), "A folder named 
 scenes.append(("directory.json", "is a folder: expected a file"))
 write(os.path.join(HERE, "scenes", "assets", "broken.bssrdf"), "radial\n::begin shader\n::end shader\n")
 write(os.path.join(HERE, "scenes", "assets", "corrupt.exr"), b"v/1\x01\x02\x00\x00\x00garbage after the EXR magic")
+# Voxel grids that neither absorb nor scatter outside the voxels set (written by write-seeds with
+# OpenVDB): `pathtrace mesh` never finished on such a medium.
+if SEEDS:
+    shutil.copy(os.path.join(SEEDS, "zero_background.vdb"), os.path.join(HERE, "scenes", "assets", "zero_background.vdb"))
+if os.path.exists(os.path.join(HERE, "scenes", "assets", "zero_background.vdb")):
+    sc("voxels_zero_background.json",
+       scene(material={"type": "voxels", "file": "assets/zero_background.vdb", "sigma_a": "sigma_a", "sigma_s": "sigma_s"}),
+       "zero_background.vdb', grids 'sigma_a' and 'sigma_s'): sigma_a is 0 and sigma_s' is 0 in channel red at the background")
 manifest("scenes", ["The malformed-scene corpus: FILE, then the text its error must contain (literally); the",
                     "message must also name the file (tests/inputs/check_malformed_input.cmake). Files it",
                     "names are under assets/. Regenerate with ../generate_inputs.py."], scenes)
