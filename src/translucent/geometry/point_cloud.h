@@ -111,6 +111,11 @@ void writePointCloudPly(const PointCloud& cloud, const std::filesystem::path& pa
 // irradiance_r/g/b are optional; other properties and elements are skipped. The result is validate()d. Throws PointCloudError naming
 // the file and what was expected.
 PointCloud readPointCloudPly(const std::filesystem::path& path);
+// Whether `path` is a PLY point cloud rather than a mesh: a PLY header (read up to end_header,
+// at most 64 KiB) with a `vertex` element that has an `area` or `radius` property and no `face`
+// element of triangles (no element named "face", or one with 0 instances). False for anything
+// else, unreadable files included (the mesh reader then says what is wrong).
+bool isPointCloudPly(const std::filesystem::path& path);
 // The same for a cache file: the header must hold the content hash that writePointCloudPly
 // writes ("comment content_hash <hex>") and the data must match it; a tampered or truncated file
 // throws PointCloudError (readPointCloudPly checks the hash too, when there is one).

@@ -210,6 +210,35 @@ void writePointCloudPly(const PointCloud& cloud, const fs::path& path) {
 // ---- Reading -------------------------------------------------------------------------------
 PointCloud readPointCloudPly(const fs::path& path) { return readPly(path, false); }
 
+bool isPointCloudPly(const fs::path& path) {
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) return false;
+  std::ifstream in(path, std::ios::binary);
+  std::string header(64 * 1024, '\0');
+  in.read(header.data(), static_cast<std::streamsize>(header.size()));
+  header.resize(static_cast<size_t>(in.gcount()));
+  const size_t end = header.find("end_header");
+  if (header.rfind("ply", 0) != 0 || end == std::string::npos) return false;
+  std::istringstream lines(header.substr(0, end));
+  std::string line, element;
+  bool vertexHasArea = false, faces = false;
+  while (std::getline(lines, line)) {
+    std::istringstream ls(line);
+    std::string word;
+    ls >> word;
+    if (word == "element") {
+      long long count = 0;
+      ls >> element >> count;
+      if (element == "face" && count > 0) faces = true;
+    } else if (word == "property" && element == "vertex") {
+      std::string type, name;
+      ls >> type >> name;
+      if (type != "list" && (name == "area" || name == "radius")) vertexHasArea = true;
+    }
+  }
+  return vertexHasArea && !faces;
+}
+
 PointCloud readPointCloudCache(const fs::path& path) { return readPly(path, true); }
 
 namespace {

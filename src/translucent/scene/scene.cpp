@@ -6,10 +6,12 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <numbers>
@@ -588,40 +590,94 @@ void saveScene(const Scene& scene, const std::filesystem::path& path) {
   if (!f) throw ParameterError(fmt::format("scene file '{}' cannot be written", path.string()));
 }
 
-void placeMesh(const Scene& scene, geometry::TriangleMesh& mesh) {
-  // Normalise (seed 3.6.1: one basic unit along the longest axis), then rotate, scale, move.
-  glm::dvec3 centre(0.0);
+namespace {
+
+// The placement of a mesh or point cloud whose bounding box is `b`: normalise (the explorer
+// paper's one basic unit along the longest axis, §3.6.1), then rotate, scale, move.
+struct Placement {
+  glm::dvec3 centre{0.0};
   double unit = 1.0;
+  glm::dmat3 rot{1.0};
+  double scale = 1.0;
+  glm::dvec3 translate{0.0};
+  glm::dvec3 point(const glm::dvec3& p) const { return scale * (rot * ((p - centre) * unit)) + translate; }
+  double length() const { return scale * unit; }  // how lengths scale
+};
+
+Placement placementFor(const Scene& scene, const geometry::Bounds& b) {
+  Placement pl;
   if (scene.mesh_normalize) {
-    const geometry::Bounds b = mesh.bounds();
     const glm::dvec3 extent = b.upper - b.lower;
     const double longest = std::max({extent.x, extent.y, extent.z});
     if (!(longest > 0.0) || !std::isfinite(longest))
       throw geometry::MeshError(fmt::format("mesh '{}': its bounding box has no extent: expected "
                                             "a mesh with area", scene.mesh_file.string()));
-    centre = b.center();
-    unit = 1.0 / longest;
+    pl.centre = b.center();
+    pl.unit = 1.0 / longest;
   }
-  const glm::dmat3 rot = rotation(scene.mesh_rotate);
-  for (glm::dvec3& p : mesh.positions)
-    p = scene.mesh_scale * (rot * ((p - centre) * unit)) + scene.mesh_translate;
-  for (glm::dvec3& n : mesh.normals) n = rot * n;
+  pl.rot = rotation(scene.mesh_rotate);
+  pl.scale = scene.mesh_scale;
+  pl.translate = scene.mesh_translate;
+  return pl;
+}
+
+void apply(const Placement& pl, geometry::TriangleMesh& mesh) {
+  for (glm::dvec3& p : mesh.positions) p = pl.point(p);
+  for (glm::dvec3& n : mesh.normals) n = pl.rot * n;
+}
+
+geometry::Bounds pointBounds(const geometry::PointCloud& cloud) {
+  geometry::Bounds b{glm::dvec3(std::numeric_limits<double>::infinity()),
+                     glm::dvec3(-std::numeric_limits<double>::infinity())};
+  for (const glm::vec3& p : cloud.positions) {
+    b.lower = glm::min(b.lower, glm::dvec3(p));
+    b.upper = glm::max(b.upper, glm::dvec3(p));
+  }
+  return b;
+}
+
+}  // namespace
+
+void placeMesh(const Scene& scene, geometry::TriangleMesh& mesh) {
+  apply(placementFor(scene, mesh.bounds()), mesh);
 }
 
 geometry::TriangleMesh loadSceneMesh(const Scene& scene, geometry::HoleFillStats* fill,
-                                     geometry::AlphaWrapStats* wrap) {
-  geometry::TriangleMesh mesh = loadRestMesh(scene, fill, wrap);
+                                     geometry::AlphaWrapStats* wrap,
+                                     std::optional<ScenePoints>* points) {
+  geometry::TriangleMesh mesh = loadRestMesh(scene, fill, wrap, points);
   if (!geometry::isIdentity(scene.mesh_deform, scene.time)) {
     geometry::deformMesh(scene.mesh_deform, scene.time, mesh);
     mesh.validate(fmt::format("{} (deformed by mesh.deform at time {})", scene.mesh_file.string(),
                               scene.time));
+    // The points stay in the rest pose: a technique that deforms moves them with their triangles.
   }
   return mesh;
 }
 
 geometry::TriangleMesh loadRestMesh(const Scene& scene, geometry::HoleFillStats* fill,
-                                    geometry::AlphaWrapStats* wrap) {
-  geometry::TriangleMesh mesh = geometry::loadMesh(scene.mesh_file.string());
+                                    geometry::AlphaWrapStats* wrap,
+                                    std::optional<ScenePoints>* points) {
+  if (points) points->reset();
+  geometry::TriangleMesh mesh;
+  std::optional<ScenePoints> cloud;
+  std::vector<uint32_t> vertexOfPoint;
+  if (geometry::isPointCloudPly(scene.mesh_file)) {
+    // A point cloud: the surface through its points, for everything that needs triangles.
+    cloud.emplace();
+    try {
+      cloud->cloud = geometry::readPointCloudPly(scene.mesh_file);
+    } catch (const geometry::PointCloudError& e) {
+      throw geometry::MeshError(e.what());
+    }
+    mesh = geometry::reconstructSurface(
+        cloud->cloud,
+        fmt::format("point cloud '{}' (mesh.file; its surface is reconstructed)",
+                    scene.mesh_file.string()),
+        &cloud->reconstruction, &vertexOfPoint);
+  } else {
+    mesh = geometry::loadMesh(scene.mesh_file.string());
+  }
   if (scene.mesh_wrap) {
     const std::string what = fmt::format("mesh file '{}' (mesh.wrap)", scene.mesh_file.string());
     mesh = geometry::loadOrAlphaWrap(mesh, *scene.mesh_wrap, what,
@@ -636,8 +692,33 @@ geometry::TriangleMesh loadRestMesh(const Scene& scene, geometry::HoleFillStats*
                                             st.unfilled, st.holes));
     if (fill) *fill = st;
   }
-  placeMesh(scene, mesh);
+  // A point cloud is placed by its points' bounding box, so that the mesh and the points move
+  // together whatever the reconstruction, a wrap or a fill did to the bounds.
+  const Placement pl = placementFor(scene, cloud ? pointBounds(cloud->cloud) : mesh.bounds());
+  apply(pl, mesh);
   mesh.validate(scene.mesh_file.string());
+  if (cloud && points) {
+    geometry::PointCloud& c = cloud->cloud;
+    const double areaScale = pl.length() * pl.length();
+    for (size_t i = 0; i < c.size(); ++i) {
+      c.positions[i] = glm::vec3(pl.point(glm::dvec3(c.positions[i])));
+      c.normals[i] = glm::vec3(glm::normalize(pl.rot * glm::dvec3(c.normals[i])));
+      c.areas[i] = static_cast<float>(static_cast<double>(c.areas[i]) * areaScale);
+    }
+    // Each point's triangle: one that has the point as a vertex (the reconstruction's triangles
+    // survive unless a wrap or a fill changed them).
+    c.faces.clear();
+    const bool sameTriangles = !scene.mesh_wrap && !scene.mesh_fill_holes;
+    if (sameTriangles && cloud->reconstruction.unused_points == 0) {
+      std::vector<uint32_t> triangleOfVertex(mesh.vertexCount(), 0);
+      for (size_t t = 0; t < mesh.triangles.size(); ++t)
+        for (int k = 0; k < 3; ++k) triangleOfVertex[mesh.triangles[t][k]] = static_cast<uint32_t>(t);
+      c.faces.resize(c.size());
+      for (size_t i = 0; i < c.size(); ++i) c.faces[i] = triangleOfVertex[vertexOfPoint[i]];
+    }
+    c.irradiance.clear();
+    *points = std::move(cloud);
+  }
   return mesh;
 }
 

@@ -98,6 +98,8 @@
 #include "translucent/geometry/deform.h"
 #include "translucent/geometry/hole_filling.h"
 #include "translucent/geometry/mesh.h"
+#include "translucent/geometry/point_cloud.h"
+#include "translucent/geometry/surface_reconstruction.h"
 #include "translucent/io/image_io.h"
 #include "translucent/material/material.h"
 #include "translucent/material/material_desc.h"
@@ -219,11 +221,27 @@ void saveScene(const Scene& scene, const std::filesystem::path& path);
 // transformed by the deformation). Vertex normals follow the rotation. With mesh_wrap the file's
 // triangles are replaced by their alpha wrap first (cached in geometry::defaultCacheDirectory();
 // `wrap`, when given, receives the statistics and notes).
+//
+// A PLY point cloud as mesh.file (geometry::isPointCloudPly: x y z, nx ny nz and area or radius
+// per point, no faces; what `translucent pointcloud` writes) is rendered from its points: the
+// mesh is the surface reconstructed through them (geometry/surface_reconstruction.h), placed by
+// the points' bounding box, and `points`, when given, receives the points placed the same way
+// (ScenePoints), which the point-cloud technique uses as its samples instead of sampling the
+// reconstructed surface. For a triangle mesh `points` is left empty.
+struct ScenePoints {
+  // Positions and normals placed like the mesh (normals rotated), areas scaled by the square of
+  // the placement's scale; faces: per point the reconstructed mesh's triangle it is a vertex of
+  // (empty where a point is not a vertex, or mesh.wrap or mesh.fill_holes changed the triangles).
+  geometry::PointCloud cloud;
+  geometry::ReconstructionStats reconstruction;
+};
 geometry::TriangleMesh loadSceneMesh(const Scene& scene, geometry::HoleFillStats* fill = nullptr,
-                                     geometry::AlphaWrapStats* wrap = nullptr);
+                                     geometry::AlphaWrapStats* wrap = nullptr,
+                                     std::optional<ScenePoints>* points = nullptr);
 // The same without the deformation: the rest pose (what GPU deformation starts from).
 geometry::TriangleMesh loadRestMesh(const Scene& scene, geometry::HoleFillStats* fill = nullptr,
-                                    geometry::AlphaWrapStats* wrap = nullptr);
+                                    geometry::AlphaWrapStats* wrap = nullptr,
+                                    std::optional<ScenePoints>* points = nullptr);
 // One line on what fillHoles did ("3 holes filled (2 faired, 1 refined without fairing), 120
 // triangles added, 0.12% of the area"), for logs and reports.
 std::string describeHoleFill(const geometry::HoleFillStats& fill);

@@ -340,7 +340,8 @@ bool ClosedMeshState::loadClosedMesh(const scene::Scene& s, bool gpuDeform) {
   if (key == meshKey && gpuMesh && state == deformState) return false;
   bool loaded = false;
   if (key != meshKey || !gpuMesh) {
-    geometry::TriangleMesh m = gpuDeform ? scene::loadRestMesh(s) : scene::loadSceneMesh(s);
+    geometry::TriangleMesh m = gpuDeform ? scene::loadRestMesh(s, nullptr, nullptr, &filePoints)
+                                         : scene::loadSceneMesh(s, nullptr, nullptr, &filePoints);
     openEdges = allowOpen ? m.openEdgeCount() : 0;
     if (!allowOpen)
       m.requireClosed(fmt::format("mesh file '{}' (the pointcloud technique renders open meshes)",

@@ -209,6 +209,9 @@ struct ClosedMeshState {
   // meshes; openEdges is then their count (0: closed).
   bool allowOpen = false;
   size_t openEdges = 0;
+  // When the scene's mesh file is a point cloud: its points, placed (scene::ScenePoints; the
+  // mesh is then the surface reconstructed through them).
+  std::optional<scene::ScenePoints> filePoints;
   // Loads the scene's mesh unless it is the one loaded (same key); true when it did (a GPU
   // deformation to a new time alone returns false). Throws geometry::MeshError naming the file
   // for an open mesh unless allowOpen.

@@ -279,21 +279,31 @@ struct PointCloudTechnique::Impl : techniques::ClosedMeshState {
   void buildGeometry() {
     if (!geometryDirty && !motionDirty) return;
     if (geometryDirty) {
-      geometry::SamplingOptions opt;
-      opt.count = static_cast<size_t>(params.getInt("points"));
-      opt.seed = static_cast<uint64_t>(params.getInt("seed"));
-      opt.method = geometry::parseSamplingMethod(params.getEnum("sampling"));
-      geometry::CachedPointCloud cached = geometry::loadOrSamplePointCloud(rest, opt);
       if (openEdges > 0)
         notes.push_back(fmt::format("pointcloud: the mesh is open ({} edges not shared by two "
                                     "triangles): its winding is taken as outward as given, and "
                                     "light reaches its back only through the surface",
                                     openEdges));
-      notes.push_back(fmt::format("point cloud: {} points {} {}", opt.count,
-                                  cached.fromCache ? "read from" : "sampled, cached in",
-                                  cached.file.string()));
-      if (!cached.note.empty()) notes.push_back("point cloud cache: " + cached.note);
-      restCloud = std::move(cached.cloud);
+      if (filePoints) {
+        // A point-cloud file: its own points are the samples (the explorer paper renders such
+        // files directly); the reconstructed surface only draws the G-buffer.
+        restCloud = filePoints->cloud;
+        notes.push_back(fmt::format("point cloud: the {} points of the mesh file (points, "
+                                    "sampling and seed do not apply); surface reconstructed for "
+                                    "display: {}",
+                                    restCloud.size(), geometry::describe(filePoints->reconstruction)));
+      } else {
+        geometry::SamplingOptions opt;
+        opt.count = static_cast<size_t>(params.getInt("points"));
+        opt.seed = static_cast<uint64_t>(params.getInt("seed"));
+        opt.method = geometry::parseSamplingMethod(params.getEnum("sampling"));
+        geometry::CachedPointCloud cached = geometry::loadOrSamplePointCloud(rest, opt);
+        notes.push_back(fmt::format("point cloud: {} points {} {}", opt.count,
+                                    cached.fromCache ? "read from" : "sampled, cached in",
+                                    cached.file.string()));
+        if (!cached.note.empty()) notes.push_back("point cloud cache: " + cached.note);
+        restCloud = std::move(cached.cloud);
+      }
       restCloud.irradiance.clear();
       restBarycentrics.clear();
     }
