@@ -6,8 +6,9 @@
 //     sqrt(P_c(r) P_o(r)) = exp((ln P_c(r) + ln P_o(r)) / 2),
 // with ln P piecewise linear in r (Eq. 9), the tail beyond r_s the last segment of ln(r² P)
 // extended while it decreases, and P = 0 beyond 3 r_s. The shading point's profile is the
-// barycentric interpolation (of ln P) of its triangle's vertex profiles; the G-buffer's position
-// w holds 1 + the triangle index (gbuffer.frag with PC_HETERO).
+// barycentric interpolation (of ln P) of its triangle's vertex profiles, or with PC_PROFILE_ATLAS
+// the profile texture's at its atlas UV; the G-buffer's position w holds 1 + the triangle index
+// (gbuffer.frag with PC_HETERO).
 // Needs PC_PROFILE_NODES = n + 1 (>= 2).
 #pragma once
 
@@ -40,14 +41,33 @@ vec3 pcClampedBarycentric(vec3 a, vec3 b, vec3 c, vec3 x) {
   return vec3(u, v, w) / (u + v + w);
 }
 
+#ifdef PC_PROFILE_ATLAS
+// Profiles at texture resolution (material/profile_atlas.h): layer k of the array holds node k of
+// every texel; a point on triangle `tri` at barycentrics b reads them, bilinearly, at the UV
+// Σ b_j uv_j of the triangle's corners in the atlas.
+layout(binding = 12) uniform sampler2DArray PcProfileAtlas;
+layout(std430, binding = 17) readonly buffer PcTriangleUvs { vec2 pcTriangleUv[]; };  // 3 per triangle
+
+vec3 pcSurfaceNode(uint tri, vec3 b, uint k) {
+  vec2 uv = b.x * pcTriangleUv[3u * tri] + b.y * pcTriangleUv[3u * tri + 1u] +
+            b.z * pcTriangleUv[3u * tri + 2u];
+  return texture(PcProfileAtlas, vec3(uv, float(k))).xyz;
+}
+#else
+// Node k of the profile of a point on triangle `tri` at barycentrics b: the interpolation (of
+// ln P) of the triangle's vertex profiles.
+vec3 pcSurfaceNode(uint tri, vec3 b, uint k) {
+  uvec4 t = pcTriangle[tri];
+  return b.x * pcVertexProfile[t.x * PC_M + k].xyz + b.y * pcVertexProfile[t.y * PC_M + k].xyz +
+         b.z * pcVertexProfile[t.z * PC_M + k].xyz;
+}
+#endif
+
 // The shading point's profile on triangle `tri` at x.
 void pcHeteroShadingInit(vec3 x, uint tri) {
   uvec4 t = pcTriangle[tri];
   vec3 bc = pcClampedBarycentric(pcVertex[t.x].xyz, pcVertex[t.y].xyz, pcVertex[t.z].xyz, x);
-  float u = bc.x, v = bc.y, w = bc.z;
-  for (uint k = 0u; k < PC_M; ++k)
-    pcShading[k] = u * pcVertexProfile[t.x * PC_M + k].xyz + v * pcVertexProfile[t.y * PC_M + k].xyz +
-                   w * pcVertexProfile[t.z * PC_M + k].xyz;
+  for (uint k = 0u; k < PC_M; ++k) pcShading[k] = pcSurfaceNode(tri, bc, k);
 }
 
 struct PcSegment {

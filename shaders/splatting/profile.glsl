@@ -2,7 +2,8 @@
 // Per-point profiles of the splatting technique (src/techniques/splatting/splatting_technique.h):
 // Eq. 8 between two surface points, each on a triangle of the (possibly deformed) mesh, their
 // ln P nodes the barycentric interpolation of the triangle's vertex profiles (computed once at
-// the rest pose, material/point_profiles.h). The segment arithmetic (Eq. 9, the tail) is
+// the rest pose, material/point_profiles.h) or, with PC_PROFILE_ATLAS, read from the profile
+// texture at the point's atlas UV (material/profile_atlas.h). The segment arithmetic (Eq. 9, the tail) is
 // pointcloud/hetero.glsl's; the barycentrics use the deformed vertex buffer (GpuMesh's
 // interleaved floats) so that they stay valid under deformation.
 // Needs PC_PROFILE_NODES = n + 1.
@@ -23,12 +24,9 @@ vec3 spBarycentric(vec3 x, uint tri) {
   return pcClampedBarycentric(spVertex(t.x), spVertex(t.y), spVertex(t.z), x);
 }
 
-// Node k of the interpolated profile of a point on `tri` with barycentrics `b`.
-vec3 spNode(uint tri, vec3 b, uint k) {
-  uvec4 t = pcTriangle[tri];
-  return b.x * pcVertexProfile[t.x * PC_M + k].xyz + b.y * pcVertexProfile[t.y * PC_M + k].xyz +
-         b.z * pcVertexProfile[t.z * PC_M + k].xyz;
-}
+// Node k of the profile of a point on `tri` with barycentrics `b` (the vertex profiles'
+// interpolation, or the profile texture's: hetero.glsl pcSurfaceNode).
+vec3 spNode(uint tri, vec3 b, uint k) { return pcSurfaceNode(tri, b, k); }
 
 // ln P of that point at the distance of segment s (Eq. 9: linear in the nodes, so interpolating
 // the two nodes of the segment equals interpolating every node first).

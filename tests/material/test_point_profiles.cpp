@@ -195,7 +195,7 @@ TEST(PointProfiles, ManyDistinctMedia) {
   const auto prof = bssrdf::profiles(bssrdf::model("dipole"), marble);
   EXPECT_NEAR(pp.radius(), prof[0]->radiusForFraction(0.95), 2e-3 * pp.radius());
   EXPECT_LT(pp.node(19999, 0, 16), pp.node(0, 0, 16));  // more absorption: a steeper fall
-  EXPECT_LT(seconds, 3.0);
+  // (Its time is printed, not asserted: speed is measured by the benchmarks.)
 }
 
 TEST(PointProfiles, Errors) {

@@ -122,7 +122,7 @@ MainWindow::MainWindow(ExplorerState& state, MainWindowOptions options, QWidget*
   });
   file->addAction(QStringLiteral("Load &mesh…"), this, [this] {
     const QString f = QFileDialog::getOpenFileName(this, QStringLiteral("Load mesh"), QString(),
-                                                   QStringLiteral("Meshes (*.obj *.ply *.off);;All files (*)"));
+                                                   QStringLiteral("Meshes and point clouds (*.obj *.ply *.off);;All files (*)"));
     if (!f.isEmpty()) viewport_->loadMesh(f);
   });
   file->addAction(QStringLiteral("&Copy command line"), this, [this] {

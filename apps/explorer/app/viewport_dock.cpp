@@ -221,7 +221,7 @@ void ViewportDock::buildControls(QWidget* panel) {
   auto* load = new QPushButton(QStringLiteral("Load mesh…"));
   connect(load, &QPushButton::clicked, this, [this] {
     const QString f = QFileDialog::getOpenFileName(this, QStringLiteral("Load mesh"), QString(),
-                                                   QStringLiteral("Meshes (*.obj *.ply *.off);;All files (*)"));
+                                                   QStringLiteral("Meshes and point clouds (*.obj *.ply *.off);;All files (*)"));
     if (!f.isEmpty()) loadMesh(f);
   });
   sf->addRow(QStringLiteral("Mesh"), mesh_label_);

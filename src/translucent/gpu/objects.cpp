@@ -133,6 +133,28 @@ void allocateTexture2D(const Texture& t, GLsizei levels, GLenum format, GLsizei 
                               "(0x{:04x})", what, width, height, levels, format, e));
 }
 
+void allocateTexture2DArray(const Texture& t, GLenum format, GLsizei width, GLsizei height,
+                            GLsizei layers, const std::string& what) {
+  GLint maxSize = 0, maxLayers = 0;
+  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxSize);
+  glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &maxLayers);
+  if (width < 1 || height < 1 || width > maxSize || height > maxSize || layers < 1 ||
+      layers > maxLayers)
+    throw GlError(fmt::format("{}: an array texture of {}x{} texels and {} layers: expected each "
+                              "side in [1, {}] (GL_MAX_TEXTURE_SIZE) and layers in [1, {}] "
+                              "(GL_MAX_ARRAY_TEXTURE_LAYERS)",
+                              what, width, height, layers, maxSize, maxLayers));
+  drainGlErrors();
+  glTextureStorage3D(t.id(), 1, format, width, height, layers);
+  const GLenum e = glGetError();
+  if (e == GL_OUT_OF_MEMORY)
+    outOfMemory(what, static_cast<double>(bytesPerTexel(format)) * width * height * layers,
+                fmt::format("{}x{} texels, {} layers", width, height, layers));
+  if (e != GL_NO_ERROR)
+    throw GlError(fmt::format("{}: glTextureStorage3D({}x{}x{}, format 0x{:04x}) failed (0x{:04x})",
+                              what, width, height, layers, format, e));
+}
+
 void allocateBuffer(const Buffer& b, std::size_t bytes, const void* data, GLbitfield flags,
                     const std::string& what) {
   if (bytes > static_cast<std::size_t>(std::numeric_limits<GLsizeiptr>::max()))

@@ -116,6 +116,10 @@ class VertexArray : public GlObject<detail::VertexArrayTraits> {
 // be in [1, GL_MAX_TEXTURE_SIZE].
 void allocateTexture2D(const Texture& t, GLsizei levels, GLenum format, GLsizei width,
                        GLsizei height, const std::string& what);
+// allocateTexture2DArray: glTextureStorage3D(t, 1 level, format, width, height, layers) of a
+// GL_TEXTURE_2D_ARRAY; sides in [1, GL_MAX_TEXTURE_SIZE], layers in [1, GL_MAX_ARRAY_TEXTURE_LAYERS].
+void allocateTexture2DArray(const Texture& t, GLenum format, GLsizei width, GLsizei height,
+                            GLsizei layers, const std::string& what);
 // allocateBuffer: glNamedBufferStorage(b, bytes, data, flags); bytes must fit GLsizeiptr.
 void allocateBuffer(const Buffer& b, std::size_t bytes, const void* data, GLbitfield flags,
                     const std::string& what);

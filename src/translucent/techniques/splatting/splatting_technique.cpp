@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <map>
 #include <optional>
 #include <string>
 
@@ -17,6 +18,7 @@
 #include "translucent/gpu/pass_timer.h"
 #include "translucent/material/material.h"
 #include "translucent/material/material_desc.h"
+#include "translucent/material/profile_atlas.h"
 #include "translucent/material/surface_uv.h"
 #include <fmt/ranges.h>
 #include "translucent/scene/scene.h"
@@ -37,8 +39,10 @@ enum Binding : GLuint {
   kVertexProfiles = 11,
   kTriangles = 13,
   kMeshFloats = 14,
-  kVertexRp = 15
+  kVertexRp = 15,
+  kTriangleUvs = 17  // hetero.glsl's, with PC_PROFILE_ATLAS
 };
+constexpr GLuint kProfileAtlasUnit = 12;  // hetero.glsl's PcProfileAtlas
 
 constexpr int kRpSteps = 128;        // midpoint steps over [0, r_cut] for the 95% radius
 constexpr size_t kMeanProfiles = 512;  // vertex profiles averaged into P̄ (Eq. 15), at most
@@ -75,6 +79,14 @@ std::vector<ParameterInfo> parameterInfos(bool shah) {
     out.push_back(ParameterInfo::floating("lambda_m", 8.0, 0.0, 100.0,
                                           "λm of the bilateral upsampling (Eq. 17)", ""));
   }
+  out.push_back(ParameterInfo::enumeration(
+      "profile_storage", "vertex", {"vertex", "texture"},
+      "where a heterogeneous material's per-point profiles (Eqs. 8-9) are kept: at the mesh's "
+      "vertices, interpolated across each triangle, or in a texture over the surface atlas, as "
+      "the paper stores them (detail finer than the triangles)"));
+  out.push_back(ParameterInfo::integer("profile_texels", 256, 16, 4096,
+                                       "side of the profile texture (profile_storage texture)",
+                                       "texels"));
   out.push_back(techniques::radianceConventionParameter());
   for (ParameterInfo& p : techniques::specularParameters()) out.push_back(std::move(p));
   return out;
@@ -98,13 +110,19 @@ struct SplattingTechnique::Impl : techniques::ClosedMeshState {
   std::optional<material::MaterialDesc> profileDesc;  // and their material
   material::PointProfiles profiles;
   gpu::Buffer vertexProfileBuffer, triangleBuffer, vertexRpBuffer;
+  // profile_storage texture: the profiles at the atlas' texels (material/profile_atlas.h), as a
+  // 2D array texture of n + 1 layers, and the triangles' corner UVs.
+  std::optional<material::ProfileAtlas> profileAtlas;
+  gpu::Texture profileAtlasTexture;
+  gpu::Buffer triangleUvBuffer;
   std::vector<float> vertexRp;  // R_P per vertex: the 95% radius of its widest channel
   MeanProfile meanProfile{1024};
   MeanProfile firstProfile{1024};  // vertex 0's normalised profile alone (Fig. 3b's second plot)
   std::optional<RbarTable> rbar;
   std::optional<techniques::FramePlot> radiusPlot;  // Fig. 3b for the current profiles and ε
   double rbarEpsilon = -1.0;
-  int programNodes = 0;
+  std::string programKey;  // the nodes and profile storage the programs were built for
+  std::vector<std::string> notes;  // for the next frame (then cleared)
 
   std::optional<gpu::ShaderProgram> mapProgram, gbufferProgram, splatProgram, radianceProgram,
       downsampleProgram, upsampleProgram, irradianceMipProgram;
@@ -144,9 +162,11 @@ struct SplattingTechnique::Impl : techniques::ClosedMeshState {
   techniques::SpecularPass specular;
 
   void buildPrograms(int nodes) {
-    if (splatProgram && programNodes == nodes) return;
-    const gpu::Defines d{{"PC_HETERO", "1"}, {"PC_PROFILE_NODES", std::to_string(nodes)},
-                         {"LVM_PRIMITIVE_ID", "1"}};
+    const std::string key = fmt::format("{}{}", nodes, profileAtlas ? " atlas" : "");
+    if (splatProgram && programKey == key) return;
+    gpu::Defines d{{"PC_HETERO", "1"}, {"PC_PROFILE_NODES", std::to_string(nodes)},
+                   {"LVM_PRIMITIVE_ID", "1"}};
+    if (profileAtlas) d.push_back({"PC_PROFILE_ATLAS", "1"});
     mapProgram.emplace(
         gpu::ShaderProgram::graphics("common/light_view_map.vert", "common/light_view_map.frag", d));
     gbufferProgram.emplace(
@@ -156,7 +176,7 @@ struct SplattingTechnique::Impl : techniques::ClosedMeshState {
     downsampleProgram.emplace(gpu::ShaderProgram::compute("splatting/downsample.comp"));
     upsampleProgram.emplace(gpu::ShaderProgram::compute("splatting/upsample.comp", d));
     irradianceMipProgram.emplace(gpu::ShaderProgram::compute("splatting/irradiance_mip.comp", d));
-    programNodes = nodes;
+    programKey = key;
     gpu::checkGlError("building the splatting programs");
   }
 
@@ -189,10 +209,40 @@ struct SplattingTechnique::Impl : techniques::ClosedMeshState {
     mapsDirty = true;
   }
 
-  // Per-vertex profiles at the rest pose (once per mesh and material).
+  // R_P of profile i: the 95% radius of its widest channel (midpoint rule on [0, r_cut]), and
+  // that channel.
+  static std::pair<double, int> rpOf(const material::PointProfiles& p, size_t i) {
+    std::array<std::vector<double>, 3> cum;
+    for (auto& c : cum) c.assign(kRpSteps + 1, 0.0);
+    const double dr = p.cutRadius() / kRpSteps;
+    for (int k = 0; k < kRpSteps; ++k) {
+      const double r = (k + 0.5) * dr;
+      const glm::dvec3 pv = p.at(i, r);
+      for (int c = 0; c < 3; ++c) cum[size_t(c)][size_t(k) + 1] = cum[size_t(c)][size_t(k)] + pv[c] * r * dr;
+    }
+    double rp = 0.0;
+    int widest = 0;
+    for (int c = 0; c < 3; ++c) {
+      const auto& e = cum[size_t(c)];
+      int k = 0;
+      while (k < kRpSteps && e[size_t(k) + 1] < 0.95 * e.back()) ++k;
+      const double r = (k + 1) * dr;
+      if (r > rp) {
+        rp = r;
+        widest = c;
+      }
+    }
+    return {rp, widest};
+  }
+
+  // Per-vertex profiles at the rest pose (once per mesh, material and profile storage), and with
+  // profile_storage texture the profiles at the texels of an atlas of the rest mesh.
   void buildProfiles(const scene::Scene& s) {
     const geometry::TriangleMesh& restMesh = rest.positions.empty() ? mesh : rest;
-    const std::string key = meshKey + "|" + scene::mediumKey(s);
+    const bool texture = params.getEnum("profile_storage") == "texture";
+    const int texels = params.getInt("profile_texels");
+    const std::string key = fmt::format("{}|{}|{}", meshKey, scene::mediumKey(s),
+                                        texture ? std::to_string(texels) : std::string("vertex"));
     if (key == profileKey && profileDesc && *profileDesc == s.material) return;
     profileKey.clear();
     const material::Material mat = scene::restMaterial(s, restMesh);
@@ -205,11 +255,26 @@ struct SplattingTechnique::Impl : techniques::ClosedMeshState {
     // A surface map (Kind::Surface) is read at each vertex's UV in the rest pose's default atlas,
     // as the point cloud reads it for its vertices (material/surface_uv.h: a vertex on a chart
     // seam takes the UV of the first triangle that uses it), so the map follows a deformation.
+    std::optional<geometry::Atlas> surfaceAtlas;
     std::vector<glm::vec2> uvs;
-    if (mat.kind == material::Material::Kind::Surface)
-      uvs = material::vertexAtlasUvs(restMesh,
-                                     geometry::loadOrBuildAtlas(restMesh, geometry::AtlasOptions{}).atlas);
-    profiles = material::PointProfiles::build(mat, material::PointProfiles::surfaceMedia(mat, vp, vn, uvs));
+    if (mat.kind == material::Material::Kind::Surface) {
+      surfaceAtlas = geometry::loadOrBuildAtlas(restMesh, geometry::AtlasOptions{}).atlas;
+      uvs = material::vertexAtlasUvs(restMesh, *surfaceAtlas);
+    }
+    profileAtlas.reset();
+    material::ProfileOptions vertexOptions;
+    if (texture) {
+      // The texels' profiles first: their r_s (the largest 95% radius over the surface) is the
+      // grid of the vertex profiles too, so that Eq. 8 combines nodes of one grid.
+      geometry::AtlasOptions ao;
+      ao.size = uint32_t(texels);
+      const geometry::CachedAtlas atlas = geometry::loadOrBuildAtlas(restMesh, ao);
+      profileAtlas = material::buildProfileAtlas(restMesh, atlas.atlas, mat, {},
+                                                 surfaceAtlas ? &*surfaceAtlas : nullptr);
+      vertexOptions = {profileAtlas->segments, profileAtlas->radius};
+    }
+    profiles = material::PointProfiles::build(mat, material::PointProfiles::surfaceMedia(mat, vp, vn, uvs),
+                                              vertexOptions);
     const int m = profiles.segments() + 1;
     std::vector<glm::vec4> nodes;
     nodes.reserve(profiles.size() * size_t(m));
@@ -224,41 +289,66 @@ struct SplattingTechnique::Impl : techniques::ClosedMeshState {
     // R_P per vertex (the 95% radius of the widest channel, midpoint rule on [0, r_cut]) and the
     // mean normalised profile P̄ (Eqs. 15-16) over at most kMeanProfiles vertices.
     vertexRp.assign(profiles.size(), 0.0f);
-    const double rc = profiles.cutRadius(), dr = rc / kRpSteps;
     meanProfile = MeanProfile(1024);
     firstProfile = MeanProfile(1024);
     radiusPlot.reset();
     const size_t stride = std::max<size_t>(1, profiles.size() / kMeanProfiles);
     for (size_t v = 0; v < profiles.size(); ++v) {
-      std::array<std::vector<double>, 3> cum;
-      for (auto& c : cum) c.assign(kRpSteps + 1, 0.0);
-      for (int i = 0; i < kRpSteps; ++i) {
-        const double r = (i + 0.5) * dr;
-        const glm::dvec3 pv = profiles.at(v, r);
-        for (int c = 0; c < 3; ++c) cum[size_t(c)][size_t(i) + 1] = cum[size_t(c)][size_t(i)] + pv[c] * r * dr;
-      }
-      double rp = 0.0;
-      int widest = 0;
-      for (int c = 0; c < 3; ++c) {
-        const auto& e = cum[size_t(c)];
-        int i = 0;
-        while (i < kRpSteps && e[size_t(i) + 1] < 0.95 * e.back()) ++i;
-        const double r = (i + 1) * dr;
-        if (r > rp) {
-          rp = r;
-          widest = c;
-        }
-      }
+      const auto [rp, widest] = rpOf(profiles, v);
       vertexRp[v] = float(rp);
       if (v % stride == 0)
-        meanProfile.add([&, v, widest](double r) { return profiles.at(v, r)[widest]; }, rp);
-      if (v == 0) firstProfile.add([&, widest](double r) { return profiles.at(0, r)[widest]; }, rp);
+        meanProfile.add([&, v, w = widest](double r) { return profiles.at(v, r)[w]; }, rp);
+      if (v == 0) firstProfile.add([&, w = widest](double r) { return profiles.at(0, r)[w]; }, rp);
+    }
+    if (profileAtlas) {
+      // A splat's radius is interpolated from its triangle's vertices: each vertex takes the
+      // largest R_P of the texels on the triangles around it, so that no texel's profile is cut
+      // shorter than its own 95% radius. The distinct profiles only (a field of a few media).
+      const material::ProfileAtlas& pa = *profileAtlas;
+      std::map<std::vector<double>, float> seen;
+      for (size_t i = 0; i < pa.owned; ++i) {
+        std::vector<double> nodesOf(pa.profiles.nodes().begin() + std::ptrdiff_t(i * size_t(m) * 3),
+                                    pa.profiles.nodes().begin() + std::ptrdiff_t((i + 1) * size_t(m) * 3));
+        auto it = seen.find(nodesOf);
+        if (it == seen.end())
+          it = seen.emplace(std::move(nodesOf), float(rpOf(pa.profiles, i).first)).first;
+        const glm::uvec3 t = restMesh.triangles[pa.texel_triangle[i]];
+        for (int k = 0; k < 3; ++k) vertexRp[t[k]] = std::max(vertexRp[t[k]], it->second);
+      }
+      uploadProfileAtlas(pa);
+      notes.push_back(fmt::format("{}: per-point profiles in a {}² texture over the surface atlas "
+                                  "({} texels on the surface, {} segments on [0, r_s = {:.4g}])",
+                                  techniqueName(), pa.size, pa.owned, pa.segments, pa.radius));
     }
     vertexRpBuffer = gpu::makeStorageBuffer(std::span<const float>(vertexRp));
     rbarEpsilon = -1.0;
     buildPrograms(m);
     profileKey = key;
     profileDesc = s.material;
+  }
+
+  void uploadProfileAtlas(const material::ProfileAtlas& pa) {
+    const GLsizei n = GLsizei(pa.size), layers = GLsizei(pa.segments + 1);
+    profileAtlasTexture = gpu::Texture::create(GL_TEXTURE_2D_ARRAY);
+    gpu::allocateTexture2DArray(profileAtlasTexture, GL_RGBA32F, n, n, layers,
+                                fmt::format("{}: profile texture", techniqueName()));
+    glTextureSubImage3D(profileAtlasTexture.id(), 0, 0, 0, 0, n, n, layers, GL_RGBA, GL_FLOAT,
+                        pa.nodes.data());
+    glTextureParameteri(profileAtlasTexture.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTextureParameteri(profileAtlasTexture.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTextureParameteri(profileAtlasTexture.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTextureParameteri(profileAtlasTexture.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    triangleUvBuffer = gpu::makeStorageBuffer(std::span<const glm::vec2>(pa.triangle_uvs));
+    gpu::checkGlError("uploading the profile texture");
+  }
+
+  // The profiles for a pass that reads them (splatting/profile.glsl).
+  void bindProfiles() const {
+    gpu::bindStorage(kVertexProfiles, vertexProfileBuffer);
+    if (profileAtlas) {
+      gpu::bindStorage(kTriangleUvs, triangleUvBuffer);
+      glBindTextureUnit(kProfileAtlasUnit, profileAtlasTexture.id());
+    }
   }
 
 
@@ -327,7 +417,7 @@ struct SplattingTechnique::Impl : techniques::ClosedMeshState {
     gpu::bindStorage(kTriangles, triangleBuffer);
     gpu::bindStorage(kMeshFloats, gpuMesh->vertexBuffer());
     gpu::bindStorage(kVertexRp, vertexRpBuffer);
-    gpu::bindStorage(kVertexProfiles, vertexProfileBuffer);
+    bindProfiles();
     p.set("SpFloatsPerVertex", gpuMesh->floatsPerVertex());
     st.map->bind(p, 1);
     glBindTextureUnit(4, st.hierA.id());
@@ -393,6 +483,8 @@ struct SplattingTechnique::Impl : techniques::ClosedMeshState {
     if (!timer) timer.emplace();
     if (!emptyVao.id()) emptyVao = gpu::VertexArray::create();
     techniques::Frame frame;
+    frame.notes = std::move(notes);
+    notes.clear();
     const size_t pixels = size_t(width) * size_t(height);
     if (pixels != outPixels) {
       radianceOut = gpu::makeStorageBuffer(pixels * sizeof(glm::vec4));
@@ -476,7 +568,7 @@ struct SplattingTechnique::Impl : techniques::ClosedMeshState {
       glBlendFunc(GL_ONE, GL_ONE);
       const gpu::ShaderProgram& p = *splatProgram;
       p.use();
-      gpu::bindStorage(kVertexProfiles, vertexProfileBuffer);
+      bindProfiles();
       gpu::bindStorage(kTriangles, triangleBuffer);
       gpu::bindStorage(kMeshFloats, gpuMesh->vertexBuffer());
       gpu::bindStorage(kVertexRp, vertexRpBuffer);
@@ -538,7 +630,7 @@ struct SplattingTechnique::Impl : techniques::ClosedMeshState {
       auto t = timer->scope("accumulation");
       glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
       const gpu::ShaderProgram& p = *upsampleProgram;
-      gpu::bindStorage(kVertexProfiles, vertexProfileBuffer);
+      bindProfiles();
       gpu::bindStorage(kTriangles, triangleBuffer);
       gpu::bindStorage(kMeshFloats, gpuMesh->vertexBuffer());
       gpu::bindStorage(kVertexRp, vertexRpBuffer);
@@ -602,6 +694,10 @@ void SplattingTechnique::setParameter(std::string_view name, const techniques::P
   const techniques::ParameterValue checked = techniques::checkedValue(impl_->params.info(name), value);
   if (!impl_->params.set(name, checked)) return;
   if (name == "irradiance_size" && impl_->scene) impl_->prepareLights(*impl_->scene);
+  if ((name == "profile_storage" || name == "profile_texels") && impl_->scene) {
+    impl_->buildProfiles(*impl_->scene);
+    impl_->mapsDirty = true;  // the irradiance hierarchy holds R_P
+  }
 }
 
 techniques::ParameterValue SplattingTechnique::parameter(std::string_view name) const {
