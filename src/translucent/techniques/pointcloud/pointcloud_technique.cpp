@@ -24,6 +24,8 @@
 #include "translucent/material/surface_uv.h"
 #include "translucent/techniques/common/gl_resources.h"
 #include "translucent/techniques/common/light_shadows.h"
+#include "translucent/material/profile_atlas.h"
+#include "translucent/techniques/common/profile_atlas_gpu.h"
 #include "translucent/techniques/common/profile_kernel.h"
 #include "translucent/techniques/common/specular.h"
 #include "translucent/techniques/common/surface_irradiance.h"
@@ -90,6 +92,8 @@ std::vector<ParameterInfo> parameterInfos() {
       techniques::radianceConventionParameter(),
   };
   for (ParameterInfo& p : techniques::specularParameters()) infos.push_back(std::move(p));
+  // Heterogeneous materials: the shading points' profiles at the vertices or in a texture.
+  for (ParameterInfo& p : techniques::profileStorageParameters()) infos.push_back(std::move(p));
   // The shared irradiance pass's shadow and environment settings (surface_irradiance.h).
   for (ParameterInfo& p : techniques::lightingParameters()) infos.push_back(std::move(p));
   return infos;
@@ -147,6 +151,9 @@ struct PointCloudTechnique::Impl : techniques::ClosedMeshState {
   bool hetero = false;
   bool heteroDirty = true;
   material::PointProfiles cloudProfiles, vertexProfiles;
+  // profile_storage texture: the shading points' profiles at the texels of an atlas instead.
+  std::optional<material::ProfileAtlas> profileAtlas;
+  techniques::GpuProfileAtlas gpuProfileAtlas;
   gpu::Buffer pointProfiles, nodeProfiles, vertexProfileBuffer, meshVertices, meshTriangles;
   std::optional<gpu::ShaderProgram> gbufferHetero, refitHetero;
   int heteroProgramNodes = 0;
@@ -247,6 +254,20 @@ struct PointCloudTechnique::Impl : techniques::ClosedMeshState {
     vertexProfiles = material::PointProfiles::build(
         mat, material::PointProfiles::surfaceMedia(mat, vp, vn, vertexUvs),
         {cloudProfiles.segments(), cloudProfiles.radius()});
+    profileAtlas.reset();
+    if (params.getEnum("profile_storage") == "texture") {
+      // On the grid of the cloud's profiles (Eq. 8 combines a point's nodes with these).
+      geometry::AtlasOptions ao;
+      ao.size = uint32_t(params.getInt("profile_texels"));
+      std::optional<geometry::Atlas> surfaceAtlas;
+      if (mat.kind == material::Material::Kind::Surface)
+        surfaceAtlas = geometry::loadOrBuildAtlas(rest, geometry::AtlasOptions{}).atlas;
+      profileAtlas = material::buildProfileAtlas(
+          mesh, geometry::loadOrBuildAtlas(mesh, ao).atlas, mat,
+          {cloudProfiles.segments(), cloudProfiles.radius()}, surfaceAtlas ? &*surfaceAtlas : nullptr);
+      gpuProfileAtlas = techniques::uploadProfileAtlas(*profileAtlas, "pointcloud: profile texture");
+      notes.push_back(techniques::describeProfileAtlas("pointcloud", *profileAtlas));
+    }
     const HeteroProfiles slots = heteroProfiles(octree, cloudProfiles);
     pointProfiles = gpu::makeStorageBuffer(std::span<const glm::vec4>(slots.points));
     nodeProfiles = gpu::makeStorageBuffer(slots.stride() * octree.nodeCount() * sizeof(glm::vec4));
@@ -379,9 +400,10 @@ struct PointCloudTechnique::Impl : techniques::ClosedMeshState {
     const bool wantShader = params.getEnum("kernel") == "shader";
     // Heterogeneous: the PC_HETERO variant with n + 1 profile nodes (0: homogeneous).
     const int heteroNodes = hetero ? (profileOptions.segments + 1) : 0;
-    const std::string key = fmt::format("{}|{}|{}|{}|{}", scene::mediumKey(s),
+    const bool profileTexture = hetero && params.getEnum("profile_storage") == "texture";
+    const std::string key = fmt::format("{}|{}|{}|{}|{}|{}", scene::mediumKey(s),
                                         params.getInt("table_size"), wantShader, stackSize,
-                                        heteroNodes);
+                                        heteroNodes, profileTexture);
     if (key == kernelKey && radianceProgram) return;
     kernelKey.clear();  // until this build succeeds: a failure must not leave a stale kernel
     if (hetero && wantShader)
@@ -425,13 +447,14 @@ struct PointCloudTechnique::Impl : techniques::ClosedMeshState {
     std::shared_ptr<const bssrdf::BssrdfFile> bssrdfFile;
     if (wantShader) bssrdfFile = std::make_shared<const bssrdf::BssrdfFile>(evaluator->file());
     const bool directional = directionalKernel;
-    auto recipe = [stack, bssrdfFile, heteroNodes, directional]() {
+    auto recipe = [stack, bssrdfFile, heteroNodes, directional, profileTexture]() {
       gpu::ShaderPreprocessor pp = bssrdfFile ? gpu::bssrdfPreprocessor(*bssrdfFile) : gpu::ShaderPreprocessor();
       pp.define("PC_STACK_SIZE", std::to_string(stack));
       if (directional) pp.define("PC_DIRECTIONAL", "1");
       if (heteroNodes > 0) {
         pp.define("PC_HETERO", "1");
         pp.define("PC_PROFILE_NODES", std::to_string(heteroNodes));
+        if (profileTexture) pp.define("PC_PROFILE_ATLAS", "1");
       }
       gpu::SourceFile kernel;
       kernel.path = bssrdfFile ? "<pointcloud kernel: .bssrdf shader>" : "<pointcloud kernel: table>";
@@ -476,6 +499,7 @@ struct PointCloudTechnique::Impl : techniques::ClosedMeshState {
       gpu::bindStorage(kVertexProfiles, vertexProfileBuffer);
       gpu::bindStorage(kMeshVertices, meshVertices);
       gpu::bindStorage(kMeshTriangles, meshTriangles);
+      if (profileAtlas) gpuProfileAtlas.bind();
     }
 
     // The irradiance of every light at the points (the shared pass), then bound for the refit and
@@ -607,6 +631,7 @@ const std::vector<techniques::ParameterInfo>& PointCloudTechnique::parameters() 
 void PointCloudTechnique::setParameter(std::string_view name, const techniques::ParameterValue& value) {
   if (!impl_->params.set(name, value)) return;
   if (name == "points" || name == "sampling" || name == "seed") impl_->geometryDirty = true;
+  if (name == "profile_storage" || name == "profile_texels") impl_->heteroDirty = true;
   if (name == "shadow_map_size" && impl_->scene) impl_->prepareLights(*impl_->scene);
   if (name.starts_with("shadow_") || name.starts_with("ibl_")) impl_->lightingDirty = true;
 }

@@ -22,6 +22,7 @@
 #include "translucent/material/surface_uv.h"
 #include <fmt/ranges.h>
 #include "translucent/scene/scene.h"
+#include "translucent/techniques/common/profile_atlas_gpu.h"
 #include "translucent/techniques/common/profile_kernel.h"
 #include "translucent/techniques/common/specular.h"
 #include "translucent/techniques/splatting/splatting_math.h"
@@ -39,10 +40,8 @@ enum Binding : GLuint {
   kVertexProfiles = 11,
   kTriangles = 13,
   kMeshFloats = 14,
-  kVertexRp = 15,
-  kTriangleUvs = 17  // hetero.glsl's, with PC_PROFILE_ATLAS
+  kVertexRp = 15
 };
-constexpr GLuint kProfileAtlasUnit = 12;  // hetero.glsl's PcProfileAtlas
 
 constexpr int kRpSteps = 128;        // midpoint steps over [0, r_cut] for the 95% radius
 constexpr size_t kMeanProfiles = 512;  // vertex profiles averaged into P̄ (Eq. 15), at most
@@ -79,14 +78,7 @@ std::vector<ParameterInfo> parameterInfos(bool shah) {
     out.push_back(ParameterInfo::floating("lambda_m", 8.0, 0.0, 100.0,
                                           "λm of the bilateral upsampling (Eq. 17)", ""));
   }
-  out.push_back(ParameterInfo::enumeration(
-      "profile_storage", "vertex", {"vertex", "texture"},
-      "where a heterogeneous material's per-point profiles (Eqs. 8-9) are kept: at the mesh's "
-      "vertices, interpolated across each triangle, or in a texture over the surface atlas, as "
-      "the paper stores them (detail finer than the triangles)"));
-  out.push_back(ParameterInfo::integer("profile_texels", 256, 16, 4096,
-                                       "side of the profile texture (profile_storage texture)",
-                                       "texels"));
+  for (ParameterInfo& p : techniques::profileStorageParameters()) out.push_back(std::move(p));
   out.push_back(techniques::radianceConventionParameter());
   for (ParameterInfo& p : techniques::specularParameters()) out.push_back(std::move(p));
   return out;
@@ -113,8 +105,7 @@ struct SplattingTechnique::Impl : techniques::ClosedMeshState {
   // profile_storage texture: the profiles at the atlas' texels (material/profile_atlas.h), as a
   // 2D array texture of n + 1 layers, and the triangles' corner UVs.
   std::optional<material::ProfileAtlas> profileAtlas;
-  gpu::Texture profileAtlasTexture;
-  gpu::Buffer triangleUvBuffer;
+  techniques::GpuProfileAtlas gpuProfileAtlas;
   std::vector<float> vertexRp;  // R_P per vertex: the 95% radius of its widest channel
   MeanProfile meanProfile{1024};
   MeanProfile firstProfile{1024};  // vertex 0's normalised profile alone (Fig. 3b's second plot)
@@ -315,10 +306,9 @@ struct SplattingTechnique::Impl : techniques::ClosedMeshState {
         const glm::uvec3 t = restMesh.triangles[pa.texel_triangle[i]];
         for (int k = 0; k < 3; ++k) vertexRp[t[k]] = std::max(vertexRp[t[k]], it->second);
       }
-      uploadProfileAtlas(pa);
-      notes.push_back(fmt::format("{}: per-point profiles in a {}² texture over the surface atlas "
-                                  "({} texels on the surface, {} segments on [0, r_s = {:.4g}])",
-                                  techniqueName(), pa.size, pa.owned, pa.segments, pa.radius));
+      gpuProfileAtlas =
+          techniques::uploadProfileAtlas(pa, fmt::format("{}: profile texture", techniqueName()));
+      notes.push_back(techniques::describeProfileAtlas(techniqueName(), pa));
     }
     vertexRpBuffer = gpu::makeStorageBuffer(std::span<const float>(vertexRp));
     rbarEpsilon = -1.0;
@@ -327,28 +317,10 @@ struct SplattingTechnique::Impl : techniques::ClosedMeshState {
     profileDesc = s.material;
   }
 
-  void uploadProfileAtlas(const material::ProfileAtlas& pa) {
-    const GLsizei n = GLsizei(pa.size), layers = GLsizei(pa.segments + 1);
-    profileAtlasTexture = gpu::Texture::create(GL_TEXTURE_2D_ARRAY);
-    gpu::allocateTexture2DArray(profileAtlasTexture, GL_RGBA32F, n, n, layers,
-                                fmt::format("{}: profile texture", techniqueName()));
-    glTextureSubImage3D(profileAtlasTexture.id(), 0, 0, 0, 0, n, n, layers, GL_RGBA, GL_FLOAT,
-                        pa.nodes.data());
-    glTextureParameteri(profileAtlasTexture.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTextureParameteri(profileAtlasTexture.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTextureParameteri(profileAtlasTexture.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTextureParameteri(profileAtlasTexture.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    triangleUvBuffer = gpu::makeStorageBuffer(std::span<const glm::vec2>(pa.triangle_uvs));
-    gpu::checkGlError("uploading the profile texture");
-  }
-
   // The profiles for a pass that reads them (splatting/profile.glsl).
   void bindProfiles() const {
     gpu::bindStorage(kVertexProfiles, vertexProfileBuffer);
-    if (profileAtlas) {
-      gpu::bindStorage(kTriangleUvs, triangleUvBuffer);
-      glBindTextureUnit(kProfileAtlasUnit, profileAtlasTexture.id());
-    }
+    if (profileAtlas) gpuProfileAtlas.bind();
   }
 
 
