@@ -35,11 +35,15 @@ class Ramp final : public VolumeField {
   LocalMedium m_;
 };
 
+geometry::Atlas atlasOf(const geometry::TriangleMesh& mesh, uint32_t size) {
+  geometry::AtlasOptions ao;
+  ao.size = size;
+  return geometry::buildAtlas(mesh, ao);
+}
+
 TEST(ProfileAtlas, TexelsHoldTheProfilesOfTheirSurfacePoints) {
   const geometry::TriangleMesh mesh = geometry::makeIcosphere(2, 1.0);
-  geometry::AtlasOptions ao;
-  ao.size = 64;
-  const geometry::Atlas atlas = geometry::buildAtlas(mesh, ao);
+  const geometry::Atlas atlas = atlasOf(mesh, 64);
   Material mat;
   mat.kind = Material::Kind::Volume;
   mat.medium = preset("Skin1").medium(10.0);
@@ -104,9 +108,7 @@ TEST(ProfileAtlas, TexelsHoldTheProfilesOfTheirSurfacePoints) {
 
 TEST(ProfileAtlas, RefusesASurfaceMapWithoutItsAtlasAndAMismatchedAtlas) {
   const geometry::TriangleMesh mesh = geometry::makeIcosphere(1, 1.0);
-  geometry::AtlasOptions ao;
-  ao.size = 32;
-  const geometry::Atlas atlas = geometry::buildAtlas(mesh, ao);
+  const geometry::Atlas atlas = atlasOf(mesh, 32);
   Material mat;
   mat.medium = preset("Marble").medium(10.0);
   mat.model = "dipole";
