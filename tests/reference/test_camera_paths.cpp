@@ -510,6 +510,60 @@ TEST(CameraPaths, AgreesWithTheLightMethodInAHeterogeneousSphere) {
   EXPECT_EQ(cam.majorantViolations(), 0u);
 }
 
+// One walk for the three channels (RgbPaths: the free flights by one-sample MIS over the
+// channels) against a walk per channel, on channels whose σt differ by 3x, under a sun and a
+// point light, by scattering order: the same expected images (per pixel within the Bonferroni
+// bound of the difference's standard error, and the image means within 3.5 standard errors),
+// for a third of the paths.
+TEST(CameraPaths, OneWalkForThreeChannelsEqualsAWalkPerChannel) {
+  const auto mesh = geometry::makeIcosphere(3);
+  Medium m;
+  m.sigma_a = {0.2, 2.0, 6.0};
+  m.sigma_s = {3.0, 3.0, 3.0};
+  m.g = 0.3;
+  m.eta = 1.0;
+  m.scale = 1.0;
+  const std::vector<Light> lights = {Light{DirectionalLight{{-0.3, 1.0, 0.5}, 1.0}, {1.0, 0.9, 0.8}},
+                                     Light{PointLight{{1.5, 0.5, 1.0}, 0.5}, {0.6, 0.8, 1.0}}};
+  Camera camera;
+  camera.position = {0.4, 0.6, 3.2};
+  camera.fov = 40.0;
+  camera.width = camera.height = 10;
+  std::vector<CameraImages> images;
+  std::vector<CameraPathStats> stats;
+  for (const bool joint : {true, false}) {
+    CameraPathOptions o;
+    o.seed = joint ? 21 : 22;
+    o.threads = 2;
+    o.split_orders = true;
+    o.joint_channels = joint;
+    CameraPathTracer t(mesh, m, lights, camera, o);
+    t.addPass(256);
+    images.push_back(t.images());
+    stats.push_back(t.stats());
+  }
+  // A third of the walks (not exactly: a walk of the exitance image starts only where its
+  // cosine-distributed direction is above the surface, by each walk's own random stream).
+  EXPECT_NEAR(double(stats[1].paths) / double(stats[0].paths), 3.0, 0.01);
+  const double bound = bonferroniZ(3 * 100, 0.01);
+  for (const auto member : {&CameraImages::cone_radiance, &CameraImages::exitance}) {
+    const McImage& a = images[0].*member;
+    const McImage& b = images[1].*member;
+    for (int c = 0; c < 3; ++c) {
+      SCOPED_TRACE(::testing::Message() << "channel " << c);
+      expectAgree(a.average(allPixels(a), c), b.average(allPixels(b), c), 3.5, "image mean");
+      EXPECT_GT(a.average(allPixels(a), c).value, 0.0);
+      for (int y = 0; y < 10; ++y)
+        for (int x = 0; x < 10; ++x) {
+          const Estimate p = a.pixel(x, y, c), q = b.pixel(x, y, c);
+          const double se = std::hypot(p.std_error, q.std_error);
+          if (se > 0.0) EXPECT_LT(std::abs(p.value - q.value), bound * se) << "pixel " << x << ", " << y;
+          else EXPECT_EQ(p.value, q.value);
+        }
+    }
+  }
+}
+
 TEST(CameraPaths, SameImagesOnAnyThreadCountAndPassSplit) {
   const auto cube = geometry::makeBox(glm::dvec3(-0.5), glm::dvec3(0.5));
   Medium medium;

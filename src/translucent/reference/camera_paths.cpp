@@ -6,9 +6,11 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <stdexcept>
 
 #include <glm/geometric.hpp>
@@ -312,6 +314,184 @@ class ChannelPaths {
   double sigmaT_ = 1.0, albedo_ = 0.0, g_ = 0.0;
 };
 
+// The three channels of a homogeneous medium along one path (CameraPathOptions::joint_channels):
+// the paths of ChannelPaths, with the free flights of the three channels combined by one-sample
+// multiple importance sampling (the balance heuristic over the channels, Veach 1997 §9.2.4; the
+// "chromatic media" estimator of Pharr, Jakob & Humphreys, pbrt-v4 §14.2): a flight's length is
+// drawn from one channel chosen uniformly, so its density is the mean over the channels,
+//     p(t) = (1/3) Σ_c σt_c e^{-σt_c t}       (a collision at t),
+//     P(d) = (1/3) Σ_c e^{-σt_c d}            (no collision before the boundary at d),
+// and channel c's throughput is multiplied by σs_c e^{-σt_c t} / p(t), or by e^{-σt_c d} / P(d):
+// unbiased for every channel whatever the others, and with weights near 1 where the channels'
+// σt are close. One camera ray, one walk, one shadow ray per light and collision then serve
+// three channels. The phase function must be the same in every channel (one g).
+class RgbPaths {
+ public:
+  RgbPaths(const MeshBody& body, std::span<const Light> lights,
+           std::span<const ScalarMedium> channels, uint64_t longPath)
+      : body_(body), lights_(lights), longPath_(longPath), eps_(body.epsilon()),
+        g_(channels[0].g) {
+    for (size_t c = 0; c < 3; ++c) {
+      sigmaT_[c] = channels[c].sigmaT();
+      sigmaS_[c] = channels[c].sigma_s;
+    }
+  }
+
+  // ChannelPaths::radiance for the three channels: out[c][0] single scattering, out[c][1] the rest.
+  void radiance(glm::dvec3 x, glm::dvec3 d, Rng& rng, Counters& k, double out[3][2]) const {
+    ++k.paths;
+    glm::dvec3 beta(1.0);
+    uint64_t scatters = 0;
+    bool onSurface = true;
+    SurfaceHit hit;
+    for (;;) {
+      const size_t hero = std::min<size_t>(2, static_cast<size_t>(3.0 * uniform01(rng)));
+      const double s = -std::log(1.0 - uniform01(rng)) / sigmaT_[hero];
+      if (body_.intersect(x, d, onSurface ? eps_ : 0.0, s, hit)) {
+        // The boundary first: every channel's chance of getting there over P(d).
+        double P = 0.0;
+        glm::dvec3 T;
+        for (int c = 0; c < 3; ++c) {
+          T[c] = std::exp(-sigmaT_[size_t(c)] * hit.t);
+          P += T[c] / 3.0;
+        }
+        if (!(P > 0.0)) return;
+        beta *= T / P;
+        x += hit.t * d;
+        // On straight in air (eta 1) to where the line meets the body again.
+        if (!body_.intersect(x, d, eps_, kInf, hit)) return;
+        x += hit.t * d;
+        onSurface = true;
+        continue;
+      }
+      x += s * d;
+      onSurface = false;
+      ++k.events;
+      double p = 0.0;
+      glm::dvec3 f;
+      for (int c = 0; c < 3; ++c) {
+        const double e = std::exp(-sigmaT_[size_t(c)] * s);
+        p += sigmaT_[size_t(c)] * e / 3.0;
+        f[c] = sigmaS_[size_t(c)] * e;
+      }
+      if (!(p > 0.0)) return;
+      beta *= f / p;
+      const double top = std::max({beta.x, beta.y, beta.z});
+      if (!(top > 0.0)) return;
+      glm::dvec3 direct3(0.0);
+      direct(x, d, rng, k, direct3);
+      for (int c = 0; c < 3; ++c) out[c][scatters == 0 ? 0 : 1] += beta[c] * direct3[c];
+      ++scatters;
+      if (longPath_ != 0 && scatters > longPath_) {
+        if (rng.next() >= detail::kSurviveThreshold) return;
+        beta *= detail::kSurviveBoost;
+      }
+      if (top < kRoulette) {
+        // Russian roulette on the largest channel: survive with probability top / kRoulette.
+        if (!(uniform01(rng) * kRoulette < top)) return;
+        beta *= kRoulette / top;
+      }
+      const double mu = static_cast<double>(sampleHgCosine(static_cast<float>(g_), rng.uniform()));
+      const double phi = 2.0 * kPi * uniform01(rng);
+      const double sinT = std::sqrt(std::max(0.0, 1.0 - mu * mu));
+      glm::dvec3 t1, t2;
+      tangentFrame(d, t1, t2);
+      d = glm::normalize(sinT * std::cos(phi) * t1 + sinT * std::sin(phi) * t2 + mu * d);
+    }
+  }
+
+  // ChannelPaths::unscattered for the three channels.
+  void unscattered(const glm::dvec3& x, const glm::dvec3& n, const glm::dvec3& v, double cosCone,
+                   double coneMeasure, Counters& k, double b0[3], double c0[3]) const {
+    for (int c = 0; c < 3; ++c) b0[c] = c0[c] = 0.0;
+    for (const Light& light : lights_) {
+      glm::dvec3 w, li;
+      double dist = kInf;
+      if (!incident(light, x, w, li, dist)) continue;
+      const double mu = -glm::dot(n, w);
+      if (!(mu > 0.0)) continue;
+      ++k.shadowRays;
+      const glm::dvec3 e = li * mu * transmittance(x, w, dist, true);
+      const bool inCone = cosCone < 1.0 && glm::dot(-w, v) >= cosCone;
+      for (int c = 0; c < 3; ++c) {
+        b0[c] += e[c];
+        if (inCone) c0[c] += e[c] / (coneMeasure * glm::dot(n, v));
+      }
+    }
+  }
+
+ private:
+  // Σ over the lights of p(d·ω_l) L_l T(x, light), per channel (ChannelPaths::direct).
+  void direct(const glm::dvec3& x, const glm::dvec3& d, Rng&, Counters& k, glm::dvec3& sum) const {
+    for (const Light& light : lights_) {
+      glm::dvec3 w, li;
+      double dist = kInf;
+      if (!incident(light, x, w, li, dist)) continue;
+      const double phase = hgCosineDensity(glm::dot(d, w), g_) / (2.0 * kPi);
+      if (!(phase > 0.0) || !(std::max({li.x, li.y, li.z}) > 0.0)) continue;
+      ++k.shadowRays;
+      sum += phase * li * transmittance(x, w, dist, false);
+    }
+  }
+
+  // ChannelPaths::incident for the three channels at once.
+  bool incident(const Light& light, const glm::dvec3& x, glm::dvec3& w, glm::dvec3& li,
+                double& dist) const {
+    double e = 0.0;
+    dist = kInf;
+    if (const auto* dl = std::get_if<DirectionalLight>(&light.emitter)) {
+      w = dl->direction;
+      e = dl->irradiance;
+    } else if (const auto* pl = std::get_if<PointLight>(&light.emitter)) {
+      w = pl->position - x;
+      dist = glm::length(w);
+      if (!(dist > 0.0)) return false;
+      w /= dist;
+      e = pl->intensity / (dist * dist);
+    } else if (const auto* bl = std::get_if<BeamLight>(&light.emitter)) {
+      const glm::dvec3 r = x - bl->origin;
+      const double along = glm::dot(r, bl->direction);
+      if (!(along > 0.0) || glm::length(r - along * bl->direction) > bl->radius) return false;
+      w = -bl->direction;
+      dist = along;
+      e = bl->power / (kPi * bl->radius * bl->radius);
+    } else {
+      return false;  // refused by the tracer (refusal())
+    }
+    li = e * glm::dvec3(light.color[0], light.color[1], light.color[2]);
+    return true;
+  }
+
+  // Per channel e^{-σt_c ℓ}, ℓ the length of x + t w, t in (0, dist], inside the body
+  // (ChannelPaths::transmittance; one walk of the ray for the three channels).
+  glm::dvec3 transmittance(glm::dvec3 x, const glm::dvec3& w, double dist, bool onSurface) const {
+    const double least = std::min({sigmaT_[0], sigmaT_[1], sigmaT_[2]});
+    double length = 0.0;
+    bool inside = true;
+    SurfaceHit hit;
+    for (;;) {
+      const bool h = body_.intersect(x, w, onSurface ? eps_ : 0.0, dist, hit);
+      const double len = h ? hit.t : dist;
+      if (inside && len > 0.0) length += len;
+      if (least * length > kOpaqueDepth) return glm::dvec3(0.0);
+      if (!h) break;
+      x += hit.t * w;
+      if (std::isfinite(dist)) dist = std::max(0.0, dist - hit.t);
+      inside = !inside;
+      onSurface = true;
+    }
+    return {std::exp(-sigmaT_[0] * length), std::exp(-sigmaT_[1] * length),
+            std::exp(-sigmaT_[2] * length)};
+  }
+
+  const MeshBody& body_;
+  std::span<const Light> lights_;
+  uint64_t longPath_;
+  double eps_;
+  double g_;
+  std::array<double, 3> sigmaT_{}, sigmaS_{};
+};
+
 std::vector<ScalarMedium> materialChannels(const material::Material& m) {
   if (m.kind == material::Material::Kind::Surface)
     throw ParameterError(
@@ -470,6 +650,11 @@ CameraPathStats CameraPathTracer::addPass(uint64_t samples, const ProgressCallba
     paths.emplace_back(body_, lights_, volume_ ? nullptr : &channels_[c], volume_ ? &*volume_ : nullptr,
                        static_cast<int>(c), options_.long_path_roulette);
   const int images = options_.exitance ? 3 : 1;
+  // One walk for the three channels of a homogeneous medium with one phase function (RgbPaths).
+  const bool joint = options_.joint_channels && !volume_ && nc == 3 &&
+                     channels_[0].g == channels_[1].g && channels_[1].g == channels_[2].g;
+  std::optional<RgbPaths> rgb;
+  if (joint) rgb.emplace(body_, lights_, channels_, options_.long_path_roulette);
 
   // One block per row: per pixel, channel, image and order the sums of the samples and squares.
   struct Row {
@@ -491,9 +676,13 @@ CameraPathStats CameraPathTracer::addPass(uint64_t samples, const ProgressCallba
       const double measure = camera_.pixelMeasure(i, static_cast<int>(j));
       Rng shiftRng(seedKey, (uint64_t{1} << 63) | pixel);
       const uint32_t sx = shiftRng.next(), sy = shiftRng.next();
-      for (size_t c = 0; c < nc; ++c) {
+      // Separate: one walk per channel (its own random stream); joint: one walk for all three
+      // (RgbPaths), on the stream of channel 0.
+      const size_t groups = joint ? 1 : nc;
+      for (size_t gi = 0; gi < groups; ++gi) {
+        const size_t c0 = joint ? 0 : gi, c1 = joint ? nc : gi + 1;
         for (uint64_t s = first; s < first + samples; ++s) {
-          Rng rng(seedKey, ((pixel * nc + c) << 32) + s);
+          Rng rng(seedKey, ((pixel * nc + gi) << 32) + s);
           const uint32_t si = static_cast<uint32_t>(s);
           glm::dvec3 o, d;
           camera_.ray(i + shifted(vanDerCorput(si), sx),
@@ -504,15 +693,27 @@ CameraPathStats CameraPathTracer::addPass(uint64_t samples, const ProgressCallba
             const double cosT = glm::dot(d, forward);
             wPix = cosT * cosT * cosT * planeArea / measure;
           }
-          Scores sc{};
+          std::array<Scores, 3> sc{};  // per channel
           SurfaceHit hit;
           if (body_.intersect(o, d, 0.0, kInf, hit)) {
             const glm::dvec3 x = o + hit.t * d;
             const glm::dvec3 nrm = glm::dot(hit.normal, d) < 0.0 ? hit.normal : -hit.normal;
-            double L[2] = {0.0, 0.0};
+            // The radiance arriving at x along -dir, per channel of the group and order part.
+            auto trace = [&](const glm::dvec3& dir, double out[3][2]) {
+              if (joint) {
+                rgb->radiance(x, dir, rng, row.k, out);
+              } else {
+                double one[2] = {0.0, 0.0};
+                paths[gi].radiance(x, dir, rng, row.k, one);
+                out[gi][0] = one[0];
+                out[gi][1] = one[1];
+              }
+            };
             if (!cone) {
-              paths[c].radiance(x, d, rng, row.k, L);
-              for (size_t k = 0; k < 2; ++k) sc[0][k + 1] = wPix * L[k];
+              double L[3][2] = {};
+              trace(d, L);
+              for (size_t c = c0; c < c1; ++c)
+                for (size_t k = 0; k < 2; ++k) sc[c][0][k + 1] = wPix * L[c][k];
             } else {
               // ω uniform in the cone about v = -d; weight (n·ω) Ω_c / (π sin²θc (n·v)).
               const glm::dvec3 v = -d;
@@ -525,9 +726,11 @@ CameraPathStats CameraPathTracer::addPass(uint64_t samples, const ProgressCallba
                   glm::normalize(sinA * std::cos(phi) * t1 + sinA * std::sin(phi) * t2 + cosA * v);
               const double nOm = glm::dot(nrm, om), nV = glm::dot(nrm, v);
               if (nOm > 0.0 && nV > 0.0) {
-                paths[c].radiance(x, -om, rng, row.k, L);
+                double L[3][2] = {};
+                trace(-om, L);
                 const double f = wPix * nOm * coneSolidAngle / (kPi * sin2Cone * nV);
-                for (size_t k = 0; k < 2; ++k) sc[0][k + 1] = f * L[k];
+                for (size_t c = c0; c < c1; ++c)
+                  for (size_t k = 0; k < 2; ++k) sc[c][0][k + 1] = f * L[c][k];
               }
             }
             if (options_.exitance) {
@@ -538,35 +741,42 @@ CameraPathStats CameraPathTracer::addPass(uint64_t samples, const ProgressCallba
               glm::dvec3 t1, t2;
               tangentFrame(nrm, t1, t2);
               const glm::dvec3 om = glm::normalize(px * t1 + py * t2 + pz * nrm);
-              double Lb[2] = {0.0, 0.0};
-              if (pz > 0.0) paths[c].radiance(x, -om, rng, row.k, Lb);
-              for (size_t k = 0; k < 2; ++k) {
-                sc[1][k + 1] = wPix * kPi * Lb[k];
-                sc[2][k + 1] = wPix * Lb[k];  // Ft B / π with Ft = 1 (η = 1)
-              }
+              double Lb[3][2] = {};
+              if (pz > 0.0) trace(-om, Lb);
+              for (size_t c = c0; c < c1; ++c)
+                for (size_t k = 0; k < 2; ++k) {
+                  sc[c][1][k + 1] = wPix * kPi * Lb[c][k];
+                  sc[c][2][k + 1] = wPix * Lb[c][k];  // Ft B / π with Ft = 1 (η = 1)
+                }
             }
             if (options_.exitance || cone) {
               // The light that crossed the body unscattered and leaves at x (ChannelPaths::
               // unscattered), after the paths so that their random streams do not depend on it.
-              double b0 = 0.0, c0 = 0.0;
-              paths[c].unscattered(x, nrm, -d, cone ? cosCone : 1.0, kPi * sin2Cone, rng, row.k,
-                                   b0, c0);
-              sc[0][0] = wPix * c0;
-              if (options_.exitance) {
-                sc[1][0] = wPix * b0;
-                sc[2][0] = wPix * b0 / kPi;
+              double b0[3] = {}, cc0[3] = {};
+              if (joint)
+                rgb->unscattered(x, nrm, -d, cone ? cosCone : 1.0, kPi * sin2Cone, row.k, b0, cc0);
+              else
+                paths[gi].unscattered(x, nrm, -d, cone ? cosCone : 1.0, kPi * sin2Cone, rng, row.k,
+                                      b0[gi], cc0[gi]);
+              for (size_t c = c0; c < c1; ++c) {
+                sc[c][0][0] = wPix * cc0[c];
+                if (options_.exitance) {
+                  sc[c][1][0] = wPix * b0[c];
+                  sc[c][2][0] = wPix * b0[c] / kPi;
+                }
               }
             }
           }
-          for (int im = 0; im < images; ++im) {
-            const auto& v = sc[static_cast<size_t>(im)];
-            const double total = v[0] + v[1] + v[2];
-            for (size_t k = 0; k < 4; ++k) {
-              const double val = k < 3 ? v[k] : total;
-              row.s[slot(i, c, im, k)] += val;
-              row.s2[slot(i, c, im, k)] += val * val;
+          for (size_t c = c0; c < c1; ++c)
+            for (int im = 0; im < images; ++im) {
+              const auto& v = sc[c][static_cast<size_t>(im)];
+              const double total = v[0] + v[1] + v[2];
+              for (size_t k = 0; k < 4; ++k) {
+                const double val = k < 3 ? v[k] : total;
+                row.s[slot(i, c, im, k)] += val;
+                row.s2[slot(i, c, im, k)] += val * val;
+              }
             }
-          }
         }
       }
     }
