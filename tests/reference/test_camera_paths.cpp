@@ -23,6 +23,7 @@
 #include "test_fields.h"
 #include "translucent/geometry/icosphere.h"
 #include "translucent/geometry/mesh.h"
+#include "translucent/lights/environment_map.h"
 #include "translucent/reference/camera_paths.h"
 #include "translucent/reference/mesh_tracer.h"
 #include "translucent/reference/phase.h"
@@ -335,7 +336,8 @@ TEST(CameraPaths, PointLightMatchesTheClosedFormsOfUnscatteredAndSingleScattered
 // method's estimate rests on a handful of photons (relative error > 0.3) are left out of the map,
 // and so are pixels darker than `darkFraction` times the image mean (see the point-light test).
 void expectMethodsAgree(const CameraImages& cam, const CameraImages& light, int channels,
-                        double meanPower, size_t minPixels, double darkFraction = 0.0) {
+                        double meanPower, size_t minPixels, double darkFraction = 0.0,
+                        double alpha = 0.01) {
   const auto all = allPixels(cam.exitance);
   for (int c = 0; c < channels; ++c) {
     for (const auto& [name, a, b] :
@@ -354,7 +356,7 @@ void expectMethodsAgree(const CameraImages& cam, const CameraImages& light, int 
           z.push_back((p.value - q.value) / std::hypot(p.std_error, q.std_error));
         }
       ASSERT_GE(z.size(), minPixels);
-      const double bound = bonferroniZ(static_cast<int>(z.size()), 0.01);
+      const double bound = bonferroniZ(static_cast<int>(z.size()), alpha);
       double worst = 0.0;
       for (const double v : z) worst = std::max(worst, std::abs(v));
       EXPECT_LT(worst, bound) << z.size() << " pixels";
@@ -562,6 +564,92 @@ TEST(CameraPaths, OneWalkForThreeChannelsEqualsAWalkPerChannel) {
         }
     }
   }
+}
+
+// Environment lights: a sky (brighter and bluer towards +y, a warm patch near the horizon) on a
+// sphere, with a sun; the camera method (its environment by next-event estimation and by the
+// escaping paths, combined by the balance heuristic) against the light method, for one walk per
+// channel and for one walk for the three; and against a furnace: a non-absorbing sphere under a
+// constant sky sends back exactly the sky's radiance in every direction (what enters leaves).
+TEST(CameraPaths, EnvironmentLightsAgreeWithTheLightMethod) {
+  const auto mesh = geometry::makeIcosphere(3);
+  lights::EnvironmentMap sky = lights::EnvironmentMap::constant(glm::vec3(0.0f), 32, 16);
+  for (int y = 0; y < 16; ++y)
+    for (int x = 0; x < 32; ++x) {
+      float* p = &sky.rgb[(size_t(y) * 32 + size_t(x)) * 3];
+      const float up = 1.0f - float(y) / 16.0f;  // 1 at the zenith (+y), 0 at the nadir
+      p[0] = 0.2f + 0.6f * up;
+      p[1] = 0.3f + 0.8f * up;
+      p[2] = 0.4f + 1.2f * up;
+      if (y == 7 && (x == 5 || x == 6)) p[0] = p[1] = 20.0f;  // a warm patch near the horizon
+    }
+  const std::vector<Light> lights = {
+      Light{EnvironmentLight::make(std::make_shared<const lights::EnvironmentMap>(sky), 30.0, 1.0),
+            {1.0, 1.0, 1.0}},
+      Light{DirectionalLight{glm::normalize(glm::dvec3(0.4, 1.0, 0.3)), 0.5}, {1.0, 0.9, 0.8}}};
+  Medium m;
+  m.sigma_a = {0.3, 0.8, 1.5};
+  m.sigma_s = {4.0, 4.0, 4.0};
+  m.g = 0.3;
+  m.eta = 1.0;
+  m.scale = 1.0;
+  Camera camera;
+  camera.position = {0.0, 0.6, 3.4};
+  camera.fov = 40.0;
+  camera.width = camera.height = 10;
+  TracerOptions lo;
+  lo.seed = 31;
+  lo.threads = 2;
+  MeshPathTracer light(mesh, m, lights, camera, 10.0, lo);
+  light.addPass(4'000'000);
+  std::vector<CameraImages> images;
+  for (const bool joint : {true, false}) {
+    SCOPED_TRACE(joint ? "one walk for three channels" : "a walk per channel");
+    CameraPathOptions o;
+    o.seed = joint ? 32 : 33;
+    o.threads = 2;
+    o.cone_half_angle = 10.0;
+    o.joint_channels = joint;
+    CameraPathTracer cam(mesh, m, lights, camera, o);
+    cam.addPass(512);
+    // Against the light method at a family-wise 0.1%: its per-pixel errors are heavy-tailed
+    // under the bright patch (the sample standard error of a pixel that few photons reach falls
+    // short: measured z -3.97 and -3.75 at one pixel each of exitance and cone radiance, for
+    // both walks alike, with other seeds), and both walks are compared with it.
+    expectMethodsAgree(cam.images(), light.images(), 3, 0.03, 30, 0.05, 0.001);
+    images.push_back(cam.images());
+  }
+  // The two walks against each other, independent estimates with well-behaved errors: 1%.
+  expectMethodsAgree(images[0], images[1], 3, 0.03, 30, 0.05);
+
+  // The furnace: no absorption, a constant sky L; every pixel on the sphere is L (the cone
+  // average too), exactly in expectation.
+  const glm::vec3 L(0.7f, 1.0f, 1.3f);
+  const std::vector<Light> grey = {
+      Light{EnvironmentLight::make(std::make_shared<const lights::EnvironmentMap>(
+                                       lights::EnvironmentMap::constant(L, 16, 8)),
+                                   0.0, 1.0),
+            {1.0, 1.0, 1.0}}};
+  Medium white = m;
+  white.sigma_a = {0.0, 0.0, 0.0};
+  CameraPathOptions o;
+  o.seed = 34;
+  o.threads = 2;
+  CameraPathTracer furnace(mesh, white, grey, camera, o);
+  furnace.addPass(64);
+  int tested = 0;
+  for (int y = 0; y < 10; ++y)
+    for (int x = 0; x < 10; ++x)
+      for (int c = 0; c < 3; ++c) {
+        const Estimate p = furnace.images().cone_radiance.pixel(x, y, c);
+        if (p.value == 0.0) continue;  // off the sphere
+        // Inside the sphere's silhouette (the pixel fully covered) the value is L.
+        const Estimate e = furnace.images().exitance.pixel(x, y, c);
+        if (!(e.value > 0.9 * kPi * double(L[c]))) continue;
+        EXPECT_NEAR(p.value, double(L[c]), 4.0 * p.std_error + 1e-9) << x << ", " << y << ", " << c;
+        ++tested;
+      }
+  EXPECT_GT(tested, 60);
 }
 
 TEST(CameraPaths, SameImagesOnAnyThreadCountAndPassSplit) {

@@ -9,12 +9,14 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <numbers>
 #include <optional>
 #include <stdexcept>
 
 #include <glm/geometric.hpp>
 
+#include "translucent/lights/environment_map.h"
 #include "translucent/reference/block_driver.h"
 #include "translucent/reference/phase.h"
 #include "translucent/reference/rng.h"
@@ -81,20 +83,27 @@ class ChannelPaths {
   }
 
   // The radiance arriving at the surface point x from inside along -d (d points into the body),
-  // split into its single-scattered part (out[0]) and the rest (out[1]).
-  void radiance(glm::dvec3 x, glm::dvec3 d, Rng& rng, Counters& k, double out[2]) const {
+  // split into its unscattered (out[0]: an environment seen through the body), single-scattered
+  // (out[1]) and multiply scattered (out[2]) parts.
+  void radiance(glm::dvec3 x, glm::dvec3 d, Rng& rng, Counters& k, double out[3]) const {
     ++k.paths;
     double beta = 1.0;
     uint64_t scatters = 0;
     bool onSurface = true;
+    double phasePdf = 0.0;  // of the last scattering's direction [1/sr] (none yet: 0)
     Collision col;
     for (;;) {
-      if (!flight(x, d, onSurface, rng, col)) return;  // escaped (or lost)
+      if (!flight(x, d, onSurface, rng, col)) {
+        // Escaped: the environment's radiance along -d, MIS-weighted against its sampling by
+        // next-event estimation at the last collision.
+        out[std::min<uint64_t>(scatters, 2)] += beta * escaped(d, phasePdf);
+        return;
+      }
       onSurface = false;
       ++k.events;
       beta *= col.albedo;
       if (!(beta > 0.0)) return;
-      out[scatters == 0 ? 0 : 1] += beta * direct(x, d, col.g, rng, k);
+      out[scatters == 0 ? 1 : 2] += beta * direct(x, d, col.g, rng, k);
       ++scatters;
       if (longPath_ != 0 && scatters > longPath_) {
         if (rng.next() >= detail::kSurviveThreshold) return;
@@ -113,10 +122,28 @@ class ChannelPaths {
       glm::dvec3 t1, t2;
       tangentFrame(d, t1, t2);
       d = glm::normalize(sinT * std::cos(phi) * t1 + sinT * std::sin(phi) * t2 + mu * d);
+      phasePdf = hgCosineDensity(mu, col.g) / (2.0 * kPi);
     }
   }
 
  private:
+  // Σ over the environment lights of L_c(ω) towards the escape direction ω, weighted by the
+  // balance heuristic against next-event estimation's density for it (phasePdf 0: a camera or
+  // exitance ray that met no collision, which next-event estimation cannot produce: weight 1).
+  double escaped(const glm::dvec3& w, double phasePdf) const {
+    double sum = 0.0;
+    for (const Light& light : lights_) {
+      const auto* env = std::get_if<EnvironmentLight>(&light.emitter);
+      if (!env) continue;
+      const double L = double(env->map->lookup(w, env->rotate)[c_]) * env->intensity * light.color[size_t(c_)];
+      if (!(L > 0.0)) continue;
+      const auto& sampler = env->samplers[size_t(c_)];
+      const double pdfLight = phasePdf > 0.0 && sampler ? sampler->pdf(w) : 0.0;
+      sum += L * (phasePdf > 0.0 ? phasePdf / (phasePdf + pdfLight) : 1.0);
+    }
+    return sum;
+  }
+
   // From x along d to the next real collision (x moved there, `col` its medium); false when the
   // path leaves the body for good. At η = 1 a flight that meets the boundary goes on straight in
   // air and re-enters where its line meets the body again.
@@ -175,6 +202,21 @@ class ChannelPaths {
   double direct(const glm::dvec3& x, const glm::dvec3& d, double g, Rng& rng, Counters& k) const {
     double sum = 0.0;
     for (const Light& light : lights_) {
+      if (const auto* env = std::get_if<EnvironmentLight>(&light.emitter)) {
+        // A direction from the channel's sampler (density ∝ its radiance), weighted by the
+        // balance heuristic against phase sampling (escaped()).
+        const auto& sampler = env->samplers[size_t(c_)];
+        if (!sampler) continue;
+        const double u1 = uniform01(rng), u2 = uniform01(rng);
+        const lights::EnvironmentSampler::Sample smp = sampler->sample({u1, u2});
+        if (!(smp.pdf > 0.0)) continue;
+        const double phase = hgCosineDensity(glm::dot(d, smp.direction), g) / (2.0 * kPi);
+        const double L = smp.radiance[size_t(c_)] * env->intensity * light.color[size_t(c_)];
+        if (!(L * phase > 0.0)) continue;
+        ++k.shadowRays;
+        sum += phase * L / (smp.pdf + phase) * transmittance(x, smp.direction, kInf, false, rng);
+        continue;
+      }
       glm::dvec3 w;
       double li = 0.0, dist = kInf;
       if (!incident(light, x, w, li, dist)) continue;
@@ -335,14 +377,21 @@ class RgbPaths {
       sigmaT_[c] = channels[c].sigmaT();
       sigmaS_[c] = channels[c].sigma_s;
     }
+    for (const Light& light : lights_) {
+      const auto* env = std::get_if<EnvironmentLight>(&light.emitter);
+      envSamplers_.push_back(env ? std::make_shared<const lights::EnvironmentSampler>(
+                                       *env->map, env->rotate, lights::SampleWeight::Luminance)
+                                 : nullptr);
+    }
   }
 
-  // ChannelPaths::radiance for the three channels: out[c][0] single scattering, out[c][1] the rest.
-  void radiance(glm::dvec3 x, glm::dvec3 d, Rng& rng, Counters& k, double out[3][2]) const {
+  // ChannelPaths::radiance for the three channels: out[c][0] unscattered, [1] single, [2] the rest.
+  void radiance(glm::dvec3 x, glm::dvec3 d, Rng& rng, Counters& k, double out[3][3]) const {
     ++k.paths;
     glm::dvec3 beta(1.0);
     uint64_t scatters = 0;
     bool onSurface = true;
+    double phasePdf = 0.0;
     SurfaceHit hit;
     for (;;) {
       const size_t hero = std::min<size_t>(2, static_cast<size_t>(3.0 * uniform01(rng)));
@@ -358,8 +407,13 @@ class RgbPaths {
         if (!(P > 0.0)) return;
         beta *= T / P;
         x += hit.t * d;
-        // On straight in air (eta 1) to where the line meets the body again.
-        if (!body_.intersect(x, d, eps_, kInf, hit)) return;
+        // On straight in air (eta 1) to where the line meets the body again, or to the
+        // environment (ChannelPaths::escaped).
+        if (!body_.intersect(x, d, eps_, kInf, hit)) {
+          const glm::dvec3 L = beta * escaped(d, phasePdf);
+          for (int c = 0; c < 3; ++c) out[c][std::min<uint64_t>(scatters, 2)] += L[c];
+          return;
+        }
         x += hit.t * d;
         onSurface = true;
         continue;
@@ -380,7 +434,7 @@ class RgbPaths {
       if (!(top > 0.0)) return;
       glm::dvec3 direct3(0.0);
       direct(x, d, rng, k, direct3);
-      for (int c = 0; c < 3; ++c) out[c][scatters == 0 ? 0 : 1] += beta[c] * direct3[c];
+      for (int c = 0; c < 3; ++c) out[c][scatters == 0 ? 1 : 2] += beta[c] * direct3[c];
       ++scatters;
       if (longPath_ != 0 && scatters > longPath_) {
         if (rng.next() >= detail::kSurviveThreshold) return;
@@ -397,6 +451,7 @@ class RgbPaths {
       glm::dvec3 t1, t2;
       tangentFrame(d, t1, t2);
       d = glm::normalize(sinT * std::cos(phi) * t1 + sinT * std::sin(phi) * t2 + mu * d);
+      phasePdf = hgCosineDensity(mu, g_) / (2.0 * kPi);
     }
   }
 
@@ -421,9 +476,38 @@ class RgbPaths {
   }
 
  private:
+  // ChannelPaths::escaped for the three channels; the environment's directions are sampled by
+  // luminance here (one density for the three channels).
+  glm::dvec3 escaped(const glm::dvec3& w, double phasePdf) const {
+    glm::dvec3 sum(0.0);
+    for (size_t i = 0; i < lights_.size(); ++i) {
+      const auto* env = std::get_if<EnvironmentLight>(&lights_[i].emitter);
+      if (!env) continue;
+      const glm::dvec3 L = glm::dvec3(env->map->lookup(w, env->rotate)) * env->intensity *
+                           glm::dvec3(lights_[i].color[0], lights_[i].color[1], lights_[i].color[2]);
+      const double pdfLight = phasePdf > 0.0 && envSamplers_[i] ? envSamplers_[i]->pdf(w) : 0.0;
+      sum += L * (phasePdf > 0.0 ? phasePdf / (phasePdf + pdfLight) : 1.0);
+    }
+    return sum;
+  }
+
   // Σ over the lights of p(d·ω_l) L_l T(x, light), per channel (ChannelPaths::direct).
-  void direct(const glm::dvec3& x, const glm::dvec3& d, Rng&, Counters& k, glm::dvec3& sum) const {
-    for (const Light& light : lights_) {
+  void direct(const glm::dvec3& x, const glm::dvec3& d, Rng& rng, Counters& k, glm::dvec3& sum) const {
+    for (size_t i = 0; i < lights_.size(); ++i) {
+      const Light& light = lights_[i];
+      if (const auto* env = std::get_if<EnvironmentLight>(&light.emitter)) {
+        if (!envSamplers_[i]) continue;
+        const double u1 = uniform01(rng), u2 = uniform01(rng);
+        const lights::EnvironmentSampler::Sample smp = envSamplers_[i]->sample({u1, u2});
+        if (!(smp.pdf > 0.0)) continue;
+        const double phase = hgCosineDensity(glm::dot(d, smp.direction), g_) / (2.0 * kPi);
+        if (!(phase > 0.0)) continue;
+        ++k.shadowRays;
+        const glm::dvec3 L = smp.radiance * env->intensity *
+                             glm::dvec3(light.color[0], light.color[1], light.color[2]);
+        sum += phase / (smp.pdf + phase) * L * transmittance(x, smp.direction, kInf, false);
+        continue;
+      }
       glm::dvec3 w, li;
       double dist = kInf;
       if (!incident(light, x, w, li, dist)) continue;
@@ -490,6 +574,8 @@ class RgbPaths {
   double eps_;
   double g_;
   std::array<double, 3> sigmaT_{}, sigmaS_{};
+  // Per light: the luminance sampler of an environment light (null for the others).
+  std::vector<std::shared_ptr<const lights::EnvironmentSampler>> envSamplers_;
 };
 
 std::vector<ScalarMedium> materialChannels(const material::Material& m) {
@@ -528,11 +614,6 @@ std::string CameraPathTracer::refusal(double eta, std::span<const Light> lights)
         "light method (`pathtrace mesh --method light`) traces it",
         eta);
   for (size_t i = 0; i < lights.size(); ++i) {
-    if (std::holds_alternative<EnvironmentLight>(lights[i].emitter))
-      return fmt::format(
-          "light {} is an environment light: the camera method does not sample environment "
-          "maps yet; the light method (`pathtrace mesh --method light`) traces it",
-          i + 1);
     if (const auto* b = std::get_if<BeamLight>(&lights[i].emitter); b && !(b->radius > 0.0))
       return fmt::format(
           "light {} is a pencil beam (radius 0): no shadow ray can hit it; the light method "
@@ -699,21 +780,18 @@ CameraPathStats CameraPathTracer::addPass(uint64_t samples, const ProgressCallba
             const glm::dvec3 x = o + hit.t * d;
             const glm::dvec3 nrm = glm::dot(hit.normal, d) < 0.0 ? hit.normal : -hit.normal;
             // The radiance arriving at x along -dir, per channel of the group and order part.
-            auto trace = [&](const glm::dvec3& dir, double out[3][2]) {
+            auto trace = [&](const glm::dvec3& dir, double out[3][3]) {
               if (joint) {
                 rgb->radiance(x, dir, rng, row.k, out);
               } else {
-                double one[2] = {0.0, 0.0};
-                paths[gi].radiance(x, dir, rng, row.k, one);
-                out[gi][0] = one[0];
-                out[gi][1] = one[1];
+                paths[gi].radiance(x, dir, rng, row.k, out[gi]);
               }
             };
             if (!cone) {
-              double L[3][2] = {};
+              double L[3][3] = {};
               trace(d, L);
               for (size_t c = c0; c < c1; ++c)
-                for (size_t k = 0; k < 2; ++k) sc[c][0][k + 1] = wPix * L[c][k];
+                for (size_t k = 0; k < 3; ++k) sc[c][0][k] = wPix * L[c][k];
             } else {
               // ω uniform in the cone about v = -d; weight (n·ω) Ω_c / (π sin²θc (n·v)).
               const glm::dvec3 v = -d;
@@ -726,11 +804,11 @@ CameraPathStats CameraPathTracer::addPass(uint64_t samples, const ProgressCallba
                   glm::normalize(sinA * std::cos(phi) * t1 + sinA * std::sin(phi) * t2 + cosA * v);
               const double nOm = glm::dot(nrm, om), nV = glm::dot(nrm, v);
               if (nOm > 0.0 && nV > 0.0) {
-                double L[3][2] = {};
+                double L[3][3] = {};
                 trace(-om, L);
                 const double f = wPix * nOm * coneSolidAngle / (kPi * sin2Cone * nV);
                 for (size_t c = c0; c < c1; ++c)
-                  for (size_t k = 0; k < 2; ++k) sc[c][0][k + 1] = f * L[c][k];
+                  for (size_t k = 0; k < 3; ++k) sc[c][0][k] = f * L[c][k];
               }
             }
             if (options_.exitance) {
@@ -741,12 +819,12 @@ CameraPathStats CameraPathTracer::addPass(uint64_t samples, const ProgressCallba
               glm::dvec3 t1, t2;
               tangentFrame(nrm, t1, t2);
               const glm::dvec3 om = glm::normalize(px * t1 + py * t2 + pz * nrm);
-              double Lb[3][2] = {};
+              double Lb[3][3] = {};
               if (pz > 0.0) trace(-om, Lb);
               for (size_t c = c0; c < c1; ++c)
-                for (size_t k = 0; k < 2; ++k) {
-                  sc[c][1][k + 1] = wPix * kPi * Lb[c][k];
-                  sc[c][2][k + 1] = wPix * Lb[c][k];  // Ft B / π with Ft = 1 (η = 1)
+                for (size_t k = 0; k < 3; ++k) {
+                  sc[c][1][k] = wPix * kPi * Lb[c][k];
+                  sc[c][2][k] = wPix * Lb[c][k];  // Ft B / π with Ft = 1 (η = 1)
                 }
             }
             if (options_.exitance || cone) {
@@ -759,10 +837,11 @@ CameraPathStats CameraPathTracer::addPass(uint64_t samples, const ProgressCallba
                 paths[gi].unscattered(x, nrm, -d, cone ? cosCone : 1.0, kPi * sin2Cone, rng, row.k,
                                       b0[gi], cc0[gi]);
               for (size_t c = c0; c < c1; ++c) {
-                sc[c][0][0] = wPix * cc0[c];
+                // (+=: an environment seen through the body is unscattered light from the walks.)
+                sc[c][0][0] += wPix * cc0[c];
                 if (options_.exitance) {
-                  sc[c][1][0] = wPix * b0[c];
-                  sc[c][2][0] = wPix * b0[c] / kPi;
+                  sc[c][1][0] += wPix * b0[c];
+                  sc[c][2][0] += wPix * b0[c] / kPi;
                 }
               }
             }

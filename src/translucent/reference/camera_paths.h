@@ -19,7 +19,8 @@
 //     tracking through the majorant grid (majorant_grid.h, Novák et al. 2018 section 4.1). A
 //     flight that meets the boundary leaves the body, flies on in air and re-enters where its
 //     line meets the body again with the rest of its free path (memoryless flights, transport.h);
-//     a path that escapes ends (delta lights cannot be hit);
+//     a path that escapes ends, picking up the environment lights' radiance along its direction
+//     (delta lights cannot be hit);
 //   - at every real collision the throughput β is multiplied by the local albedo σs/σt (the
 //     free-flight pdf σt T cancels T σs of the in-scattering integral), and next-event estimation
 //     adds β p(ω_l · d) L_l T(x, light) for every light (directional: irradiance E from ω_l; point:
@@ -29,6 +30,13 @@
 //     (η = 1: the boundary is invisible, so the mesh shadows itself by the medium it puts in the
 //     way): e^{-σt ℓ} for ℓ the length inside the body, or ratio tracking through the majorant
 //     grid for a field (Novák et al. 2018 section 5.2; a roulette at T < 0.01 keeps it short);
+//   - environment lights: next-event estimation samples a direction from the map's importance
+//     sampler (lights/environment_map.h; the channel's radiance, or the luminance when one walk
+//     serves three channels) and the escaping path sees the map after phase sampling: the two
+//     strategies are combined by the balance heuristic (Veach 1997, §9.2), p_light/(p_light +
+//     p_phase) on the shadow ray and p_phase/(p_light + p_phase) on the escape; a camera or
+//     exitance ray that crosses the body without a collision sees the map through it (weight 1:
+//     no other strategy makes that path), the unscattered part;
 //   - then the direction is sampled from the phase function (its pdf cancels it), with a
 //     throughput roulette (β < 1/4: survive with probability 4β at weight 1/4) and the long-path
 //     roulette of transport.h after `long_path_roulette` events.
@@ -65,7 +73,7 @@
 //     boundary towards a delta light (a directional, point or beam light has no area to hit by a
 //     refracted ray), so next-event estimation needs a specular-manifold walk (manifold NEE,
 //     Hanika, Droske & Fascione 2015), not implemented;
-//   - environment lights and pencil beams (radius 0).
+//   - pencil beams (radius 0).
 //
 // Determinism: channel c, pixel p and sample s draw from Rng(seed', ((p · channels + c) << 32) +
 // s) (rng.h), the pixel's shift from a stream of its own; rows are traced as blocks and their
@@ -150,8 +158,8 @@ class CameraPathTracer {
   const VolumeMedium* volume() const { return volume_ ? &*volume_ : nullptr; }
   uint64_t majorantViolations() const { return volume_ ? volume_->majorantViolations() : 0; }
 
-  // Why the camera method cannot render this scene ("" when it can): η ≠ 1, an environment light
-  // or a pencil beam (see the header comment). The constructors throw it as a ParameterError.
+  // Why the camera method cannot render this scene ("" when it can): η ≠ 1 or a pencil beam (see
+  // the header comment). The constructors throw it as a ParameterError.
   static std::string refusal(double eta, std::span<const Light> lights);
 
  private:

@@ -88,7 +88,7 @@ sc("camera_position_huge.json", scene(camera__position=[0, 0, 1e200]), f"camera.
 sc("mesh_rotate_huge.json", scene(mesh__rotate=[1e16, 0, 0]), f"mesh.rotate[0]: is 1e+16: {MAG}")
 sc("exposure_huge.json", scene(display={"exposure": 1e300}), f"display.exposure: is 1e+300: {MAG}")
 sc("irradiance_overflow_1e999.json", scene().replace('"direction": [0, 0, 1]', '"direction": [0, 0, 1], "irradiance": 1e999'),
-   "not valid JSON: number overflow parsing '1e999'")
+   "not valid JSON: the number 1e999 at line 1, column 147 (lights[0].irradiance) is beyond the range of a double")
 sc("nan_literal.json", scene().replace("[0, 0, 1]", "[0, 0, NaN]"), "not valid JSON")
 # Out of range.
 sc("irradiance_negative.json", scene(lights__0__irradiance=-1), "lights[0].irradiance: is -1: expected a finite value > 0")
