@@ -335,6 +335,26 @@ TEST(CameraPaths, PointLightMatchesTheClosedFormsOfUnscatteredAndSingleScattered
 // methods, for the exitance and the cone radiance of every channel; pixels where the light
 // method's estimate rests on a handful of photons (relative error > 0.3) are left out of the map,
 // and so are pixels darker than `darkFraction` times the image mean (see the point-light test).
+// An index-matched medium (η = 1, coefficients per scene unit) and a pinhole camera of 10×10
+// pixels looking at the origin: the sphere scenes below.
+Medium indexMatched(const Rgb& sigma_a, const Rgb& sigma_s, double g) {
+  Medium m;
+  m.sigma_a = sigma_a;
+  m.sigma_s = sigma_s;
+  m.g = g;
+  m.eta = 1.0;
+  m.scale = 1.0;
+  return m;
+}
+Camera sphereCamera(const glm::dvec3& position) {
+  Camera camera;
+  camera.position = position;
+  camera.look_at = {0.0, 0.0, 0.0};
+  camera.fov = 40.0;
+  camera.width = camera.height = 10;
+  return camera;
+}
+
 void expectMethodsAgree(const CameraImages& cam, const CameraImages& light, int channels,
                         double meanPower, size_t minPixels, double darkFraction = 0.0,
                         double alpha = 0.01) {
@@ -403,18 +423,9 @@ TEST(CameraPaths, AgreesWithTheLightMethodUnderASunOnThreeCubes) {
 // 0.00288 ± 0.00024 with 512, 2048 and 8192 samples). The image means test every pixel.
 TEST(CameraPaths, AgreesWithTheLightMethodUnderAPointLight) {
   const auto mesh = geometry::makeIcosphere(3);
-  Medium m;
-  m.sigma_a = {0.5, 1.0, 2.0};
-  m.sigma_s = {4.0, 4.0, 4.0};
-  m.g = 0.2;
-  m.eta = 1.0;
-  m.scale = 1.0;
+  const Medium m = indexMatched({0.5, 1.0, 2.0}, {4.0, 4.0, 4.0}, 0.2);
   const Light point{PointLight{{1.2, 1.5, 1.4}, 3.0}, {1.0, 0.8, 0.6}};
-  Camera camera;
-  camera.position = {0.0, 0.5, 3.5};
-  camera.look_at = {0.0, 0.0, 0.0};
-  camera.fov = 40.0;
-  camera.width = camera.height = 10;
+  const Camera camera = sphereCamera({0.0, 0.5, 3.5});
   CameraPathOptions o;
   o.seed = 13;
   o.threads = 2;
@@ -519,18 +530,10 @@ TEST(CameraPaths, AgreesWithTheLightMethodInAHeterogeneousSphere) {
 // for a third of the paths.
 TEST(CameraPaths, OneWalkForThreeChannelsEqualsAWalkPerChannel) {
   const auto mesh = geometry::makeIcosphere(3);
-  Medium m;
-  m.sigma_a = {0.2, 2.0, 6.0};
-  m.sigma_s = {3.0, 3.0, 3.0};
-  m.g = 0.3;
-  m.eta = 1.0;
-  m.scale = 1.0;
+  const Medium m = indexMatched({0.2, 2.0, 6.0}, {3.0, 3.0, 3.0}, 0.3);
   const std::vector<Light> lights = {Light{DirectionalLight{{-0.3, 1.0, 0.5}, 1.0}, {1.0, 0.9, 0.8}},
                                      Light{PointLight{{1.5, 0.5, 1.0}, 0.5}, {0.6, 0.8, 1.0}}};
-  Camera camera;
-  camera.position = {0.4, 0.6, 3.2};
-  camera.fov = 40.0;
-  camera.width = camera.height = 10;
+  const Camera camera = sphereCamera({0.4, 0.6, 3.2});
   std::vector<CameraImages> images;
   std::vector<CameraPathStats> stats;
   for (const bool joint : {true, false}) {
@@ -587,16 +590,8 @@ TEST(CameraPaths, EnvironmentLightsAgreeWithTheLightMethod) {
       Light{EnvironmentLight::make(std::make_shared<const lights::EnvironmentMap>(sky), 30.0, 1.0),
             {1.0, 1.0, 1.0}},
       Light{DirectionalLight{glm::normalize(glm::dvec3(0.4, 1.0, 0.3)), 0.5}, {1.0, 0.9, 0.8}}};
-  Medium m;
-  m.sigma_a = {0.3, 0.8, 1.5};
-  m.sigma_s = {4.0, 4.0, 4.0};
-  m.g = 0.3;
-  m.eta = 1.0;
-  m.scale = 1.0;
-  Camera camera;
-  camera.position = {0.0, 0.6, 3.4};
-  camera.fov = 40.0;
-  camera.width = camera.height = 10;
+  const Medium m = indexMatched({0.3, 0.8, 1.5}, {4.0, 4.0, 4.0}, 0.3);
+  const Camera camera = sphereCamera({0.0, 0.6, 3.4});
   TracerOptions lo;
   lo.seed = 31;
   lo.threads = 2;

@@ -68,6 +68,36 @@ struct Counters {
   uint64_t paths = 0, events = 0, shadowRays = 0;
 };
 
+// A delta light's direction ω_l from x (unit, towards it), its irradiance at x on a plane
+// perpendicular to ω_l before the light's colour (directional: E; point: I / r²; beam of radius
+// > 0: P / (π r²) inside its cylinder, downstream of its origin) and the distance to it (kInf for
+// a directional light); false where it does not light x, and for an environment light (sampled
+// apart).
+bool deltaIncident(const Light& light, const glm::dvec3& x, glm::dvec3& w, double& e,
+                   double& dist) {
+  dist = kInf;
+  if (const auto* dl = std::get_if<DirectionalLight>(&light.emitter)) {
+    w = dl->direction;
+    e = dl->irradiance;
+  } else if (const auto* pl = std::get_if<PointLight>(&light.emitter)) {
+    w = pl->position - x;
+    dist = glm::length(w);
+    if (!(dist > 0.0)) return false;
+    w /= dist;
+    e = pl->intensity / (dist * dist);
+  } else if (const auto* bl = std::get_if<BeamLight>(&light.emitter)) {
+    const glm::dvec3 r = x - bl->origin;
+    const double along = glm::dot(r, bl->direction);
+    if (!(along > 0.0) || glm::length(r - along * bl->direction) > bl->radius) return false;
+    w = -bl->direction;
+    dist = along;
+    e = bl->power / (kPi * bl->radius * bl->radius);
+  } else {
+    return false;
+  }
+  return true;
+}
+
 // One channel's paths through the body (camera_paths.h).
 class ChannelPaths {
  public:
@@ -258,34 +288,11 @@ class ChannelPaths {
   }
 
  private:
-  // The light's direction ω_l from x (unit, towards it), its irradiance at x on a plane
-  // perpendicular to ω_l in this channel (directional: E; point: I / r²; beam of radius > 0:
-  // P / (π r²) inside its cylinder, downstream of its origin) and the distance to it (kInf for a
-  // directional light); false where it does not light x.
+  // deltaIncident in this channel (times the light's colour).
   bool incident(const Light& light, const glm::dvec3& x, glm::dvec3& w, double& li,
                 double& dist) const {
-    const size_t ci = static_cast<size_t>(c_);
-    dist = kInf;
-    if (const auto* dl = std::get_if<DirectionalLight>(&light.emitter)) {
-      w = dl->direction;
-      li = dl->irradiance;
-    } else if (const auto* pl = std::get_if<PointLight>(&light.emitter)) {
-      w = pl->position - x;
-      dist = glm::length(w);
-      if (!(dist > 0.0)) return false;
-      w /= dist;
-      li = pl->intensity / (dist * dist);
-    } else if (const auto* bl = std::get_if<BeamLight>(&light.emitter)) {
-      const glm::dvec3 r = x - bl->origin;
-      const double along = glm::dot(r, bl->direction);
-      if (!(along > 0.0) || glm::length(r - along * bl->direction) > bl->radius) return false;
-      w = -bl->direction;
-      dist = along;
-      li = bl->power / (kPi * bl->radius * bl->radius);
-    } else {
-      return false;  // refused by the tracer (refusal())
-    }
-    li *= light.color[ci];
+    if (!deltaIncident(light, x, w, li, dist)) return false;
+    li *= light.color[static_cast<size_t>(c_)];
     return true;
   }
 
@@ -522,26 +529,7 @@ class RgbPaths {
   bool incident(const Light& light, const glm::dvec3& x, glm::dvec3& w, glm::dvec3& li,
                 double& dist) const {
     double e = 0.0;
-    dist = kInf;
-    if (const auto* dl = std::get_if<DirectionalLight>(&light.emitter)) {
-      w = dl->direction;
-      e = dl->irradiance;
-    } else if (const auto* pl = std::get_if<PointLight>(&light.emitter)) {
-      w = pl->position - x;
-      dist = glm::length(w);
-      if (!(dist > 0.0)) return false;
-      w /= dist;
-      e = pl->intensity / (dist * dist);
-    } else if (const auto* bl = std::get_if<BeamLight>(&light.emitter)) {
-      const glm::dvec3 r = x - bl->origin;
-      const double along = glm::dot(r, bl->direction);
-      if (!(along > 0.0) || glm::length(r - along * bl->direction) > bl->radius) return false;
-      w = -bl->direction;
-      dist = along;
-      e = bl->power / (kPi * bl->radius * bl->radius);
-    } else {
-      return false;  // refused by the tracer (refusal())
-    }
+    if (!deltaIncident(light, x, w, e, dist)) return false;
     li = e * glm::dvec3(light.color[0], light.color[1], light.color[2]);
     return true;
   }
