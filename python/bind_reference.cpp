@@ -269,7 +269,7 @@ void bindReference(py::module_& m) {
       py::arg("thickness") = py::none(), py::arg("theta") = 0.0, py::arg("phi") = 0.0,
       py::arg("photons") = 1e6, py::arg("seed") = 1, py::arg("threads") = 0,
       py::arg("radial_bins") = 0, py::arg("radial_max") = py::none(), py::arg("angle_bins") = 0,
-      py::arg("long_path_roulette") = 0, py::arg("absorption") = "analog",
+      py::arg("long_path_roulette") = 0, py::arg("absorption") = "auto",
       py::arg("kernel") = "lanes", py::arg("device") = "auto", py::arg("layers") = py::none(),
       py::arg("time_limit") = py::none(), py::arg("material") = py::none(), R"doc(
 The reference: Monte Carlo photon transport in a slab lit by a pencil beam (MCML's one-layer
@@ -284,7 +284,7 @@ dicts {"thickness": t or None (last layer only), "sigma_a", "sigma_s", "g"}, top
 name of such a JSON file; every layer at index eta.
 photons, seed, threads (0: all cores): the same seed gives the same result on any thread count.
 radial_bins, radial_max: the radial profile Rd(r) in annuli on [0, radial_max]; angle_bins: the
-exit angle tally. long_path_roulette, absorption ("analog" | "weighted"), kernel ("lanes" |
+exit angle tally. long_path_roulette, absorption ("auto" | "analog" | "weighted"; auto: weighted for slabs of reduced optical thickness <= 2), kernel ("lanes" |
 "portable" | "scalar"): as the CLI's options of the same names.
 device: "cpu", "gpu" (the GL compute-shader tracer, any GL 4.5 context; Philox streams, so it
 agrees with the CPU within the standard errors, not bit for bit) or "auto" (the GPU on a

@@ -245,8 +245,10 @@ void addPathtraceCommand(CLI::App& app) {
   cmd->add_option("--absorption", args->request.absorption,
                   "analog: Russian roulette on the albedo (Algorithm 1; fewest events per "
                   "photon, smallest Rd error per CPU second except in thin slabs); weighted: "
-                  "MCML's w *= albedo with roulette below 1e-4")
-      ->check(CLI::IsMember({"analog", "weighted"}))
+                  "MCML's w *= albedo with roulette below 1e-4; auto: weighted where the slab's "
+                  "reduced optical thickness σt'·d is at most 2, else analog (the faster to a "
+                  "given Rd error, as measured)")
+      ->check(CLI::IsMember({"auto", "analog", "weighted"}))
       ->capture_default_str();
   cmd->add_option("--kernel", args->request.kernel,
                   "lanes: 8 photons per SIMD loop (AVX2 if available); portable: the same "

@@ -114,7 +114,7 @@ def pathtrace_slab(*, sigma_a: Optional[float] = None, sigma_s: Optional[float] 
                    thickness: Optional[float] = None, theta: float = 0.0, phi: float = 0.0,
                    photons: float = 1e6, seed: int = 1, threads: int = 0, radial_bins: int = 0,
                    radial_max: Optional[float] = None, angle_bins: int = 0,
-                   long_path_roulette: int = 0, absorption: str = "analog",
+                   long_path_roulette: int = 0, absorption: str = "auto",
                    kernel: str = "lanes", device: str = "auto",
                    layers: Union[None, _PathLike, Sequence[Dict[str, Any]]] = None,
                    time_limit: Optional[float] = None) -> SlabResult: ...

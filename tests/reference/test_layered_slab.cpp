@@ -366,6 +366,48 @@ TEST(LayeredSlab, LayersFileErrorsNameFileIndexAndKey) {
   }
 }
 
+// --absorption auto (the default) picks the weighted walk for slabs of reduced optical thickness
+// σt'·d <= 2, the analog walk for thicker slabs, half-spaces and layered slabs; an explicit choice
+// is kept; both walks give the same Rd within their standard errors on a thin slab.
+TEST(SlabRequest, AutoAbsorptionIsWeightedForThinSlabsOnly) {
+  auto run = [](std::optional<double> thickness, const std::string& absorption) {
+    SlabRequest r;
+    r.sigma_a = 1.0;
+    r.sigma_s = 10.0;
+    r.g = 0.5;
+    r.eta = 1.3;
+    r.thickness = thickness;  // σt' = 1 + 5 = 6
+    r.absorption = absorption;
+    return makeSlabRun(r);
+  };
+  EXPECT_EQ(SlabRequest{}.absorption, "auto");
+  EXPECT_EQ(run(0.3, "auto").options.absorption, Absorption::Weighted);   // 1.8
+  EXPECT_EQ(run(0.34, "auto").options.absorption, Absorption::Analog);    // 2.04
+  EXPECT_EQ(run(std::nullopt, "auto").options.absorption, Absorption::Analog);
+  EXPECT_EQ(run(0.3, "analog").options.absorption, Absorption::Analog);
+  EXPECT_EQ(run(10.0, "weighted").options.absorption, Absorption::Weighted);
+  SlabRequest layered;
+  layered.eta = 1.3;
+  EXPECT_EQ(makeSlabRun(layered, std::vector<SlabLayer>{{0.1, 1.0, 10.0, 0.5}, {std::numeric_limits<double>::infinity(), 1.0, 10.0, 0.5}}, "l.json")
+                .options.absorption,
+            Absorption::Analog);
+  try {
+    (void)run(0.3, "implicit");
+    ADD_FAILURE() << "accepted";
+  } catch (const ParameterError& e) {
+    EXPECT_NE(std::string(e.what()).find("expected auto, analog or weighted"), std::string::npos)
+        << e.what();
+  }
+  // The two walks estimate the same Rd on the thin slab.
+  SlabRun a = run(0.3, "auto"), b = run(0.3, "analog");
+  a.options.photons = b.options.photons = 200'000;
+  a.options.threads = b.options.threads = 2;
+  b.options.seed = 2;
+  const SlabResult ra = traceSlabRun(a), rb = traceSlabRun(b);
+  EXPECT_NEAR(ra.diffuse_reflectance.value, rb.diffuse_reflectance.value,
+              3.5 * std::hypot(ra.diffuse_reflectance.std_error, rb.diffuse_reflectance.std_error));
+}
+
 // Layers whose walks would not end are refused before tracing, also where each layer alone
 // passes the estimate: without absorption a walk ends only by leaving (fuzz_layers).
 TEST(LayeredSlab, EndlessWalksInAStackAreRefusedBeforeTracing) {

@@ -149,8 +149,9 @@ TraceOptions buildOptions(const SlabRequest& a) {
   o.radial_max = a.radial_max.value_or(0.0);
   o.angle_bins = a.angle_bins;
   o.long_path_roulette = a.long_path_roulette;
-  if (a.absorption != "analog" && a.absorption != "weighted")
-    throw ParameterError(fmt::format("--absorption '{}': expected analog or weighted", a.absorption));
+  if (a.absorption != "analog" && a.absorption != "weighted" && a.absorption != "auto")
+    throw ParameterError(
+        fmt::format("--absorption '{}': expected auto, analog or weighted", a.absorption));
   if (a.kernel != "lanes" && a.kernel != "portable" && a.kernel != "scalar")
     throw ParameterError(fmt::format("--kernel '{}': expected lanes, portable or scalar", a.kernel));
   o.absorption = a.absorption == "weighted" ? Absorption::Weighted : Absorption::Analog;
@@ -159,6 +160,18 @@ TraceOptions buildOptions(const SlabRequest& a) {
                                       : Kernel::Lanes;
   o.validate();
   return o;
+}
+
+// --absorption auto: MCML's weighted walk (implicit capture, roulette below 1e-4) where it reaches
+// a given error on Rd in less CPU time than the analog walk, by bench_reference's measured Rd
+// efficiencies (BENCHMARKS.md, "Reference slab Monte Carlo against classic MCML"; weighted ÷
+// analog at reduced optical thickness σt'·d: 0.98 at 0.11, 1.43 at 0.65, 1.12 at 1.1, 0.40 at
+// 11, 0.43-0.50 for half-spaces): slabs with σt'·d <= 2; the analog walk for thicker slabs,
+// half-spaces and layered slabs (traced by the scalar walker either way).
+Absorption autoAbsorption(const SlabSetup& s, bool layered) {
+  if (layered || !s.finite()) return Absorption::Analog;
+  const double reducedDepth = (s.sigma_a + (1.0 - s.g) * s.sigma_s) * s.thickness;
+  return reducedDepth <= 2.0 ? Absorption::Weighted : Absorption::Analog;
 }
 
 void estimate(nlohmann::json& j, const std::string& key, const Estimate& e) {
@@ -173,6 +186,7 @@ SlabRun makeSlabRun(const SlabRequest& a, const std::optional<std::vector<SlabLa
   SlabRun run;
   run.setup = buildSetup(a, layers.has_value(), run.length_unit);
   run.options = buildOptions(a);
+  if (a.absorption == "auto") run.options.absorption = autoAbsorption(run.setup, layers.has_value());
   if (a.device != "cpu" && a.device != "gpu" && a.device != "auto")
     throw ParameterError(fmt::format("--device '{}': expected cpu, gpu or auto", a.device));
   run.device = a.device;

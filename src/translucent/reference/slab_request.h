@@ -29,7 +29,9 @@ struct SlabRequest {
   std::optional<double> radial_max;
   int angle_bins = 0;
   uint64_t long_path_roulette = 0;
-  std::string absorption = "analog", kernel = "lanes";
+  // auto: weighted for thin slabs (reduced optical thickness <= 2), analog elsewhere (the walk
+  // that reaches an error on Rd sooner: slab_request.cpp autoAbsorption).
+  std::string absorption = "auto", kernel = "lanes";
   std::string device = "auto";  // cpu | gpu | auto (reference/gpu/device.h opens it)
   // A time limit bounds the run (--time-limit: it stops between photons): an estimated total
   // beyond the bound below is traced then, up to the limit, instead of refused.
