@@ -68,6 +68,19 @@ struct Counters {
   uint64_t paths = 0, events = 0, shadowRays = 0;
 };
 
+// The next direction of a path travelling along d after a collision, from the Henyey-Greenstein
+// phase function about d (the light arriving along -d' scatters into -d with cos θ = d·d', the
+// same density as forwards), and its density per steradian (for the environment lights' MIS).
+glm::dvec3 samplePhase(const glm::dvec3& d, double g, Rng& rng, double& pdf) {
+  const double mu = static_cast<double>(sampleHgCosine(static_cast<float>(g), rng.uniform()));
+  const double phi = 2.0 * kPi * uniform01(rng);
+  const double sinT = std::sqrt(std::max(0.0, 1.0 - mu * mu));
+  glm::dvec3 t1, t2;
+  tangentFrame(d, t1, t2);
+  pdf = hgCosineDensity(mu, g) / (2.0 * kPi);
+  return glm::normalize(sinT * std::cos(phi) * t1 + sinT * std::sin(phi) * t2 + mu * d);
+}
+
 // A delta light's direction ω_l from x (unit, towards it), its irradiance at x on a plane
 // perpendicular to ω_l before the light's colour (directional: E; point: I / r²; beam of radius
 // > 0: P / (π r²) inside its cylinder, downstream of its origin) and the distance to it (kInf for
@@ -143,16 +156,7 @@ class ChannelPaths {
         if (!(uniform01(rng) * kRoulette < beta)) return;
         beta = kRoulette;
       }
-      // Henyey-Greenstein about the path's direction: the light arriving along -d' scatters into
-      // -d with cos θ = d·d', the same density as forwards.
-      const double mu = static_cast<double>(
-          sampleHgCosine(static_cast<float>(col.g), rng.uniform()));
-      const double phi = 2.0 * kPi * uniform01(rng);
-      const double sinT = std::sqrt(std::max(0.0, 1.0 - mu * mu));
-      glm::dvec3 t1, t2;
-      tangentFrame(d, t1, t2);
-      d = glm::normalize(sinT * std::cos(phi) * t1 + sinT * std::sin(phi) * t2 + mu * d);
-      phasePdf = hgCosineDensity(mu, col.g) / (2.0 * kPi);
+      d = samplePhase(d, col.g, rng, phasePdf);
     }
   }
 
@@ -437,8 +441,7 @@ class RgbPaths {
       }
       if (!(p > 0.0)) return;
       beta *= f / p;
-      const double top = std::max({beta.x, beta.y, beta.z});
-      if (!(top > 0.0)) return;
+      if (!(std::max({beta.x, beta.y, beta.z}) > 0.0)) return;
       glm::dvec3 direct3(0.0);
       direct(x, d, rng, k, direct3);
       for (int c = 0; c < 3; ++c) out[c][scatters == 0 ? 1 : 2] += beta[c] * direct3[c];
@@ -447,18 +450,13 @@ class RgbPaths {
         if (rng.next() >= detail::kSurviveThreshold) return;
         beta *= detail::kSurviveBoost;
       }
-      if (top < kRoulette) {
-        // Russian roulette on the largest channel: survive with probability top / kRoulette.
-        if (!(uniform01(rng) * kRoulette < top)) return;
-        beta *= kRoulette / top;
+      if (const double largest = std::max({beta.x, beta.y, beta.z}); largest < kRoulette) {
+        // Russian roulette on the largest channel (after the long-path step, as the per-channel
+        // walk): survive with probability largest / kRoulette.
+        if (!(uniform01(rng) * kRoulette < largest)) return;
+        beta *= kRoulette / largest;
       }
-      const double mu = static_cast<double>(sampleHgCosine(static_cast<float>(g_), rng.uniform()));
-      const double phi = 2.0 * kPi * uniform01(rng);
-      const double sinT = std::sqrt(std::max(0.0, 1.0 - mu * mu));
-      glm::dvec3 t1, t2;
-      tangentFrame(d, t1, t2);
-      d = glm::normalize(sinT * std::cos(phi) * t1 + sinT * std::sin(phi) * t2 + mu * d);
-      phasePdf = hgCosineDensity(mu, g_) / (2.0 * kPi);
+      d = samplePhase(d, g_, rng, phasePdf);
     }
   }
 
