@@ -18,6 +18,8 @@
 // (relit:0); relit:1 prepares the scene again before each frame (off the clock), as the explorer
 // does when a light moves, so that the frame regenerates the buffers as the seed's frames do.
 // Table 1's speed-ups compare relit frames.
+// BM_ProfileStorage: the splatting and point-cloud techniques' frames with their per-point profiles
+// at the vertices or in a texture over the surface atlas (profile_storage).
 // Run: build/release/bin/bench_splatting [--benchmark_filter=bunny]
 // On a software rasteriser a frame at 800×600 takes minutes to an hour: TRANSLUCENT_BENCH_SIZE=WxH
 // renders at another size (the labels say which) and TRANSLUCENT_BENCH_ITERATIONS=N times N
@@ -25,6 +27,7 @@
 #include <benchmark/benchmark.h>
 #include <fmt/format.h>
 
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <map>
@@ -139,6 +142,33 @@ void BM_Shah(benchmark::State& state) {
                              bench::small() ? ", irradiance 64²" : "", context().info().renderer));
 }
 
+// Per-point profiles at the vertices or in a texture over the surface atlas (the techniques'
+// profile_storage, material/profile_atlas.h): args (mesh, technique: 0 splatting with its
+// defaults, 1 the point cloud, texture: 0 vertex, 1 texture). Still frames; the preparation that
+// builds the profiles (and, for the texture, the 256² atlas' texels' profiles) is timed once off
+// the clock and reported as prepare_s (wall seconds, the atlas read from the cache after the
+// first run).
+void BM_ProfileStorage(benchmark::State& state) {
+  const auto mesh = static_cast<int>(state.range(0));
+  const char* technique = state.range(1) == 0 ? "splatting" : "pointcloud";
+  const bool texture = state.range(2) != 0;
+  gpu::Context& gl = context();
+  auto t = techniques::make(technique);
+  (void)bench::applySmallSettings(*t);
+  t->setParameter("profile_storage", std::string(texture ? "texture" : "vertex"));
+  const scene::Scene s = benchScene(mesh);
+  const auto start = std::chrono::steady_clock::now();
+  t->prepare(s, gl);
+  (void)t->render({64, 48});  // builds the profiles and programs, off the clock
+  const double prepare = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  timeFrames(state, *t, mesh, false);
+  state.counters["prepare_s"] = prepare;
+  state.SetLabel(fmt::format("{}, {}x{}, {}, profiles {}, {}", kMeshes[mesh].name,
+                             frameSize().first, frameSize().second, technique,
+                             texture ? "in a 256² texture" : "at the vertices",
+                             context().info().renderer));
+}
+
 void table1(benchmark::internal::Benchmark* b) {
   for (int mesh = 0; mesh < 4; ++mesh)
     for (const auto& [adaptive, multires] : {std::pair{0, 0}, {0, 1}, {1, 0}, {1, 1}})
@@ -148,6 +178,9 @@ void table1(benchmark::internal::Benchmark* b) {
 BENCHMARK(BM_Splatting)->ArgNames({"mesh", "adaptive", "multires", "relit"})->Apply(table1)
     ->Iterations(iterations())->UseManualTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Shah)->ArgNames({"mesh", "relit"})->ArgsProduct({{0, 1, 2, 3}, {0, 1}})
+    ->Iterations(iterations())->UseManualTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ProfileStorage)->ArgNames({"mesh", "technique", "texture"})
+    ->ArgsProduct({{0, 1, 2, 3}, {0, 1}, {0, 1}})
     ->Iterations(iterations())->UseManualTime()->Unit(benchmark::kMillisecond);
 
 }  // namespace
