@@ -26,7 +26,9 @@
 #include "translucent/lights/environment_map.h"
 #include "translucent/reference/camera_paths.h"
 #include "translucent/reference/mesh_tracer.h"
+#include "translucent/optics/fresnel.h"
 #include "translucent/reference/phase.h"
+#include "translucent/reference/refracted_light.h"
 
 namespace translucent::reference {
 namespace {
@@ -146,6 +148,103 @@ TEST(CameraPaths, SunOnAHalfSpaceAgreesWithTheLightMethod) {
   // At η = 1 the diffusion radiance is B / π sample by sample.
   const Estimate lc = cam.images().radiance.average(all, 0);
   EXPECT_NEAR(lc.value, bc.value / kPi, 1e-9 * bc.value);
+}
+
+// The same box at η = 1.3: the sun refracted in at the top face (Snell, the Fresnel
+// transmittance Ft(θi), the irradiance E Ft cos θi / cos θt on a plane across the refracted
+// beam) and the camera ray refracted in (the radiance leaving is Ft(θo) L_inside / η²): the
+// single-scattered radiance is
+//     Ft(θo) / η² α p(d_c·(-d_l)) E Ft(θi) cos θi / (cos θt,i + cos θt,o)
+// in every pixel, d_c and d_l the refracted directions of the camera ray and of the sunlight
+// (the radiative transfer equation along the refracted camera ray, the sunlight having
+// travelled depth / cos θt,i inside; Hanrahan & Krueger 1993).
+TEST(CameraPaths, SunOnARefractiveHalfSpaceGivesTheClosedFormSingleScattering) {
+  SunOnSlab s;
+  s.medium.eta = 1.3;
+  const double eta = 1.3;
+  const glm::dvec3 d = glm::normalize(glm::dvec3(0.0, 10.0, -10.0));
+  auto refracted = [&](const glm::dvec3& w, double& cosI, double& cosT) {
+    cosI = -w.z;
+    cosT = std::sqrt(1.0 - (1.0 - cosI * cosI) / (eta * eta));
+    return glm::normalize(w / eta + (cosI / eta - cosT) * glm::dvec3(0.0, 0.0, 1.0));
+  };
+  double cosIo = 0.0, cosTo = 0.0, cosIl = 0.0, cosTl = 0.0;
+  const glm::dvec3 dc = refracted(d, cosIo, cosTo), dl = refracted(-s.sun, cosIl, cosTl);
+  auto ft = [&](double c) {  // Fresnel's equations for unpolarised light from air
+    const double ct = std::sqrt(1.0 - (1.0 - c * c) / (eta * eta));
+    const double rs = (c - eta * ct) / (c + eta * ct), rp = (eta * c - ct) / (eta * c + ct);
+    return 1.0 - 0.5 * (rs * rs + rp * rp);
+  };
+  const double exact = ft(cosIo) / (eta * eta) * s.medium.albedo() * hg(glm::dot(dc, -dl), s.medium.g) *
+                       1.5 * ft(cosIl) * cosIl / (cosTl + cosTo);
+  CameraPathOptions o;
+  o.seed = 55;
+  o.threads = 2;
+  o.split_orders = true;
+  o.exitance = false;
+  CameraPathTracer t(s.mesh, s.medium, {s.light}, s.camera(), o);
+  t.addPass(512);
+  const McImage& single = t.orderImages(ScatteringOrder::Single).cone_radiance;
+  expectPixelsMatch(single, 0, [&](int, int) { return exact; }, "single scattering");
+  const Estimate mean = single.average(allPixels(single), 0);
+  EXPECT_NEAR(mean.value, exact, 3.5 * mean.std_error) << mean.value << " ± " << mean.std_error;
+  EXPECT_LT(mean.std_error, 0.01 * exact);
+  EXPECT_GT(t.orderImages(ScatteringOrder::Multiple).cone_radiance.average(allPixels(single), 0).value,
+            0.1 * mean.value);
+}
+
+// A point light above a flat interface (the top of a wide box, η = 1.3): the refracted
+// irradiance of refracted_light.h (the sagittal and meridional widths of the refracted pencil)
+// integrated over a disc of radius R at depth b, ∫ E⊥ cos θt dA, is the flux the light sends
+// through the disc's preimage, 2π I ∫_0^θmax Ft(θ) sin θ dθ with θmax where h tan θ + b tan θt = R
+// (the two sides by independent quadratures: the plane over a polar grid, the flux over angle).
+TEST(RefractedLight, PointLightThroughAFlatInterfaceConservesFlux) {
+  const auto box = geometry::makeBox({-20.0, -20.0, -10.0}, {20.0, 20.0, 0.0});
+  const MeshBody body(box);
+  const double eta = 1.3, h = 0.7, depth = 0.4, R = 1.5, I = 2.0;
+  const glm::dvec3 light(0.1, -0.2, h);
+  const Light pl{PointLight{light, I}, {1.0, 1.0, 1.0}};
+  const std::vector<glm::dvec3> outward = RefractedLight::outwardNormals(box, body);
+  const RefractedLight rl(box, outward, body, pl, eta);
+  for (size_t i = 0; i < outward.size(); ++i) {  // the box's outward normals are its faces'
+    const glm::dvec3 c = (box.positions[box.triangles[i].x] + box.positions[box.triangles[i].y] +
+                          box.positions[box.triangles[i].z]) / 3.0;
+    EXPECT_GT(glm::dot(outward[i], c - glm::dvec3(0.0, 0.0, -5.0)), 0.0) << "triangle " << i;
+  }
+  // ∫ over the disc about the light's foot: E⊥ cos θt per point, one path each.
+  double plane = 0.0;
+  const int nr = 400, nphi = 64;
+  for (int i = 0; i < nr; ++i)
+    for (int j = 0; j < nphi; ++j) {
+      const double r = R * (i + 0.5) / nr, phi = 2.0 * kPi * (j + 0.5) / nphi;
+      const glm::dvec3 x(light.x + r * std::cos(phi), light.y + r * std::sin(phi), -depth);
+      int paths = 0;
+      rl.forEach(x, false, [&](const RefractedLight::Path& p) {
+        ++paths;
+        plane += p.irradiance * p.w.z * r * (R / nr) * (2.0 * kPi / nphi);
+      });
+      ASSERT_EQ(paths, 1) << "at r " << r;
+    }
+  // The flux: θmax by bisection, then Gauss panels over θ.
+  auto reach = [&](double t) {
+    const double st = std::sin(t) / eta;
+    return h * std::tan(t) + depth * st / std::sqrt(1.0 - st * st);
+  };
+  double lo = 0.0, hi = kPi / 2 - 1e-9;
+  for (int i = 0; i < 200; ++i) (reach(0.5 * (lo + hi)) < R ? lo : hi) = 0.5 * (lo + hi);
+  const double flux = 2.0 * kPi * I * gaussPanels([&](double t) {
+    return (1.0 - fresnelReflectance(std::cos(t), eta)) * std::sin(t);
+  }, 0.0, lo, 64);
+  EXPECT_NEAR(plane, flux, 2e-4 * flux) << plane << " vs " << flux;
+  // And a sun: E Ft cos θi on the plane per unit area, at every point.
+  const glm::dvec3 sunDir = glm::normalize(glm::dvec3(0.5, 0.2, 1.0));
+  const RefractedLight sun(box, outward, body, Light{DirectionalLight{sunDir, 3.0}, {1.0, 1.0, 1.0}}, eta);
+  int paths = 0;
+  sun.forEach({0.3, 0.4, -depth}, false, [&](const RefractedLight::Path& p) {
+    ++paths;
+    EXPECT_NEAR(p.irradiance * p.w.z, 3.0 * sunDir.z * (1.0 - fresnelReflectance(sunDir.z, eta)), 1e-12);
+  });
+  EXPECT_EQ(paths, 1);
 }
 
 TEST(CameraPaths, OpticallyThinCubeMatchesTheSingleScatteringIntegral) {
@@ -365,6 +464,7 @@ void expectMethodsAgree(const CameraImages& cam, const CameraImages& light, int 
           std::tuple{"cone radiance", &cam.cone_radiance, &light.cone_radiance}}) {
       SCOPED_TRACE(::testing::Message() << name << ", channel " << c);
       const Estimate ea = a->average(all, c), eb = b->average(all, c);
+      if (std::getenv("TL_VERBOSE")) std::printf("%s c%d: %.6g ± %.2g vs %.6g ± %.2g  z=%.2f\n", name, c, ea.value, ea.std_error, eb.value, eb.std_error, (ea.value-eb.value)/std::hypot(ea.std_error, eb.std_error));
       expectAgree(ea, eb, 3.5, "image mean");
       EXPECT_LT(std::hypot(ea.std_error, eb.std_error), meanPower * eb.value);
       std::vector<double> z;
@@ -687,6 +787,48 @@ TEST(CameraPaths, AgreesWithTheLightMethodOnTheBunnyUnderEveryLightType) {
   MeshPathTracer light(mesh, m, lights, camera, 10.0, lo);
   light.addPass(2'000'000);
   expectMethodsAgree(cam.images(), light.images(), 3, 0.03, 30, 0.05, 0.001);
+}
+
+// η = 1.3: the refracted next-event estimation (refracted_light.h) against the light method on
+// the unit sphere under a sun, a point light and a beam at once, three channels, for the joint
+// walk and a walk per channel.
+TEST(CameraPaths, AgreesWithTheLightMethodThroughARefractiveBoundary) {
+  const auto mesh = geometry::makeIcosphere(3);
+  Medium m = indexMatched({0.5, 1.0, 2.0}, {4.0, 4.0, 4.0}, 0.2);
+  m.eta = 1.3;
+  const std::vector<Light> lights = {
+      Light{DirectionalLight{glm::normalize(glm::dvec3(0.4, 0.3, 1.0)), 1.0}, {1.0, 0.9, 0.8}},
+      Light{PointLight{{1.2, 1.5, 1.4}, 1.5}, {0.8, 0.8, 1.0}},
+      Light{BeamLight{{-0.3, 0.2, 3.0}, {0.0, 0.0, -1.0}, 0.4, 0.4}, {1.0, 1.0, 1.0}}};
+  const Camera camera = sphereCamera({0.0, 0.5, 3.5});
+  TracerOptions lo;
+  lo.seed = 52;
+  lo.threads = 2;
+  lo.split_orders = true;
+  MeshPathTracer light(mesh, m, lights, camera, 10.0, lo);
+  light.addPass(2'000'000);
+  for (const bool joint : {true, false}) {
+    SCOPED_TRACE(joint ? "one walk for three channels" : "a walk per channel");
+    CameraPathOptions o;
+    o.seed = 51;
+    o.threads = 2;
+    o.cone_half_angle = 10.0;
+    o.split_orders = true;
+    o.joint_channels = joint;
+    CameraPathTracer cam(mesh, m, lights, camera, o);
+    cam.addPass(joint ? 192 : 96);
+    expectMethodsAgree(cam.images(), light.images(), 3, 0.04, 30, 0.05);
+    const auto all = allPixels(cam.images().exitance);
+    for (int c = 0; c < 3; ++c) {
+      SCOPED_TRACE(::testing::Message() << "channel " << c);
+      for (const ScatteringOrder k : {ScatteringOrder::Unscattered, ScatteringOrder::Single})
+        expectAgree(cam.orderImages(k).exitance.average(all, c),
+                    light.orderImages(k).exitance.average(all, c), 3.5,
+                    k == ScatteringOrder::Single ? "single-scattered exitance" : "unscattered exitance");
+      expectAgree(cam.images().radiance.average(all, c), light.images().radiance.average(all, c),
+                  3.5, "diffusion radiance");
+    }
+  }
 }
 
 TEST(CameraPaths, SameImagesOnAnyThreadCountAndPassSplit) {

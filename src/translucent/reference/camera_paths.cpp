@@ -17,10 +17,13 @@
 #include <glm/geometric.hpp>
 
 #include "translucent/lights/environment_map.h"
+#include "translucent/optics/fresnel.h"
 #include "translucent/reference/block_driver.h"
 #include "translucent/reference/phase.h"
+#include "translucent/reference/refracted_light.h"
 #include "translucent/reference/rng.h"
 #include "translucent/reference/sampling.h"
+#include "translucent/reference/transport_impl.h"
 #include "translucent/reference/walk.h"
 
 namespace translucent::reference {
@@ -111,13 +114,84 @@ bool deltaIncident(const Light& light, const glm::dvec3& x, glm::dvec3& w, doubl
   return true;
 }
 
+// The boundary as the walks see it: the index ratio and, per light, its refracted connections
+// (η ≠ 1; null for environment lights and at η = 1).
+struct Boundary {
+  double eta = 1.0;
+  std::span<const std::unique_ptr<RefractedLight>> refracted;
+  bool matched() const { return eta == 1.0; }
+};
+
+// What became of a path that met the boundary from inside (crossFromInside).
+enum class Crossing { Reflected, Reentered, Escaped };
+
+// A path at the boundary point x, reached from inside along d (geometric normal `normal`): the
+// adjoint of the light method's crossBoundary and reenter (transport_impl.h). η = 1: straight on
+// in air to where its line meets the body again (Reentered) or away (Escaped). η ≠ 1: Fresnel
+// reflection back in with probability F (1 under total internal reflection: Reflected), else
+// refraction out with the radiance factor η² (L / n² is invariant along a refracted ray, so
+// L_inside = F L_reflected + (1 - F) η² L_air); in air, at every hit of the body's outside, mirror
+// reflection with probability F (the light method traces that light too) else refraction in with
+// the factor 1 / η² (Reentered). A path that escapes after its flight in air was mirrored
+// (`mirrored`) carries light whose first meeting with the body was that reflection: the light
+// method drops it (the specular reflection of the lights, which renderers add as a surface term,
+// transport.h), so the caller scores nothing for it.
+Crossing crossFromInside(const MeshBody& body, double eta, glm::dvec3& x, glm::dvec3& d,
+                         const glm::dvec3& normal, double& factor, bool& mirrored, Rng& rng) {
+  const double eps = body.epsilon();
+  SurfaceHit hit;
+  mirrored = false;
+  if (eta == 1.0) {
+    if (!body.intersect(x, d, eps, kInf, hit)) return Crossing::Escaped;
+    x += hit.t * d;
+    return Crossing::Reentered;
+  }
+  const glm::dvec3 outward = glm::dot(normal, d) > 0.0 ? normal : -normal;
+  const double cosIn = glm::dot(d, outward);
+  if (uniform01(rng) < fresnelReflectance(cosIn, 1.0 / eta)) {
+    d = glm::normalize(d - 2.0 * cosIn * outward);
+    return Crossing::Reflected;
+  }
+  d = detail::refract(d, outward, eta, refractedCosine(cosIn, 1.0 / eta));
+  factor *= eta * eta;
+  for (;;) {
+    if (!body.intersect(x, d, eps, kInf, hit)) return Crossing::Escaped;
+    x += hit.t * d;
+    const glm::dvec3 inward = glm::dot(hit.normal, d) > 0.0 ? hit.normal : -hit.normal;
+    const double cosI = glm::dot(d, inward);
+    if (uniform01(rng) < fresnelReflectance(cosI, eta)) {
+      d = glm::normalize(d - 2.0 * cosI * inward);
+      mirrored = true;
+      continue;
+    }
+    d = detail::refract(d, inward, 1.0 / eta, refractedCosine(cosI, eta));
+    factor /= eta * eta;
+    return Crossing::Reentered;
+  }
+}
+
+// The light of a refracted path (RefractedLight::Path) that leaves the body at the surface point
+// x (outward unit normal n) unscattered: its exitance E μ (1 - F) (μ the cosine inside, F the
+// Fresnel reflectance seen from inside; 0 under total internal reflection) before the
+// transmittance, and its direction in air.
+double refractedExit(const RefractedLight::Path& p, const glm::dvec3& n, double eta,
+                     glm::dvec3& out) {
+  const glm::dvec3 travel = -p.w;
+  const double mu = glm::dot(travel, n);
+  if (!(mu > 0.0)) return 0.0;
+  const double ft = fresnelTransmittance(mu, 1.0 / eta);
+  if (!(ft > 0.0)) return 0.0;
+  out = detail::refract(travel, n, eta, refractedCosine(mu, 1.0 / eta));
+  return p.irradiance * mu * ft;
+}
+
 // One channel's paths through the body (camera_paths.h).
 class ChannelPaths {
  public:
-  ChannelPaths(const MeshBody& body, std::span<const Light> lights, const ScalarMedium* medium,
-               const VolumeMedium* volume, int channel, uint64_t longPath)
-      : body_(body), lights_(lights), volume_(volume), c_(channel), longPath_(longPath),
-        eps_(body.epsilon()) {
+  ChannelPaths(const MeshBody& body, Boundary boundary, std::span<const Light> lights,
+               const ScalarMedium* medium, const VolumeMedium* volume, int channel, uint64_t longPath)
+      : body_(body), boundary_(boundary), lights_(lights), volume_(volume), c_(channel),
+        longPath_(longPath), eps_(body.epsilon()) {
     if (medium) {
       sigmaT_ = medium->sigmaT();
       albedo_ = medium->sigma_s / sigmaT_;
@@ -136,10 +210,14 @@ class ChannelPaths {
     double phasePdf = 0.0;  // of the last scattering's direction [1/sr] (none yet: 0)
     Collision col;
     for (;;) {
-      if (!flight(x, d, onSurface, rng, col)) {
+      bool mirrored = false;
+      if (!flight(x, d, onSurface, rng, col, beta, mirrored)) {
         // Escaped: the environment's radiance along -d, MIS-weighted against its sampling by
-        // next-event estimation at the last collision.
-        out[std::min<uint64_t>(scatters, 2)] += beta * escaped(d, phasePdf);
+        // next-event estimation at the last collision (η = 1; at η ≠ 1 only escaping paths find
+        // the environment: weight 1).
+        if (!mirrored)
+          out[std::min<uint64_t>(scatters, 2)] +=
+              beta * escaped(d, boundary_.matched() ? phasePdf : 0.0);
         return;
       }
       onSurface = false;
@@ -179,9 +257,11 @@ class ChannelPaths {
   }
 
   // From x along d to the next real collision (x moved there, `col` its medium); false when the
-  // path leaves the body for good. At η = 1 a flight that meets the boundary goes on straight in
-  // air and re-enters where its line meets the body again.
-  bool flight(glm::dvec3& x, const glm::dvec3& d, bool onSurface, Rng& rng, Collision& col) const {
+  // path leaves the body for good (d its direction in air). At the boundary crossFromInside:
+  // straight on at η = 1, Fresnel reflection or refraction otherwise (its radiance factors on
+  // beta; `mirrored` as there).
+  bool flight(glm::dvec3& x, glm::dvec3& d, bool onSurface, Rng& rng, Collision& col,
+              double& beta, bool& mirrored) const {
     SurfaceHit hit;
     if (!volume_) {
       double s = -std::log(1.0 - uniform01(rng)) / sigmaT_;
@@ -192,9 +272,10 @@ class ChannelPaths {
           return true;
         }
         x += hit.t * d;
-        s = std::max(0.0, s - hit.t);  // the rest of the free path goes on after a re-entry
-        if (!body_.intersect(x, d, eps_, kInf, hit)) return false;
-        x += hit.t * d;
+        s = std::max(0.0, s - hit.t);  // the rest of the free path goes on (memoryless flights)
+        if (crossFromInside(body_, boundary_.eta, x, d, hit.normal, beta, mirrored, rng) ==
+            Crossing::Escaped)
+          return false;
         onSurface = true;
       }
     }
@@ -223,10 +304,11 @@ class ChannelPaths {
         col = {localSigmaT > 0.0 ? local.sigma_s[ci] * scale / localSigmaT : 0.0, local.g};
         return true;
       }
-      // Left the body: on in air to the re-entry, where the tracking starts afresh.
+      // At the boundary: reflected, or on in air to the re-entry; the tracking starts afresh.
       x = o + hit.t * d;
-      if (!body_.intersect(x, d, eps_, kInf, hit)) return false;
-      x += hit.t * d;
+      if (crossFromInside(body_, boundary_.eta, x, d, hit.normal, beta, mirrored, rng) ==
+          Crossing::Escaped)
+        return false;
       onSurface = true;
     }
   }
@@ -235,7 +317,20 @@ class ChannelPaths {
   // path travelling along d (camera_paths.h).
   double direct(const glm::dvec3& x, const glm::dvec3& d, double g, Rng& rng, Counters& k) const {
     double sum = 0.0;
-    for (const Light& light : lights_) {
+    for (size_t i = 0; i < lights_.size(); ++i) {
+      const Light& light = lights_[i];
+      if (!boundary_.matched()) {
+        // η ≠ 1: the delta lights through every facet that refracts them to x (RefractedLight);
+        // the environment only by the paths that escape.
+        if (!boundary_.refracted[i]) continue;
+        const double color = light.color[static_cast<size_t>(c_)];
+        boundary_.refracted[i]->forEach(x, false, [&](const RefractedLight::Path& p) {
+          ++k.shadowRays;
+          const double T = volume_ ? ratioTracking(x, p.w, p.dist, rng) : std::exp(-sigmaT_ * p.dist);
+          sum += hgCosineDensity(glm::dot(d, p.w), g) / (2.0 * kPi) * p.irradiance * color * T;
+        });
+        continue;
+      }
       if (const auto* env = std::get_if<EnvironmentLight>(&light.emitter)) {
         // A direction from the channel's sampler (density ∝ its radiance), weighted by the
         // balance heuristic against phase sampling (escaped()).
@@ -278,7 +373,25 @@ class ChannelPaths {
   void unscattered(const glm::dvec3& x, const glm::dvec3& n, const glm::dvec3& v, double cosCone,
                    double coneMeasure, Rng& rng, Counters& k, double& b0, double& c0) const {
     b0 = c0 = 0.0;
-    for (const Light& light : lights_) {
+    for (size_t i = 0; i < lights_.size(); ++i) {
+      const Light& light = lights_[i];
+      if (!boundary_.matched()) {
+        // η ≠ 1: the light refracted in at a facet that reaches x unscattered and is refracted
+        // out there (refractedExit).
+        if (!boundary_.refracted[i]) continue;
+        const double color = light.color[static_cast<size_t>(c_)];
+        boundary_.refracted[i]->forEach(x, true, [&](const RefractedLight::Path& p) {
+          glm::dvec3 out;
+          const double e0 = refractedExit(p, n, boundary_.eta, out) * color;
+          if (!(e0 > 0.0)) return;
+          ++k.shadowRays;
+          const double e =
+              e0 * (volume_ ? ratioTracking(x, p.w, p.dist, rng) : std::exp(-sigmaT_ * p.dist));
+          b0 += e;
+          if (cosCone < 1.0 && glm::dot(out, v) >= cosCone) c0 += e / (coneMeasure * glm::dot(n, v));
+        });
+        continue;
+      }
       glm::dvec3 w;
       double li = 0.0, dist = kInf;
       if (!incident(light, x, w, li, dist)) continue;
@@ -359,6 +472,7 @@ class ChannelPaths {
   }
 
   const MeshBody& body_;
+  Boundary boundary_;
   std::span<const Light> lights_;
   const VolumeMedium* volume_;
   int c_;
@@ -380,10 +494,10 @@ class ChannelPaths {
 // three channels. The phase function must be the same in every channel (one g).
 class RgbPaths {
  public:
-  RgbPaths(const MeshBody& body, std::span<const Light> lights,
+  RgbPaths(const MeshBody& body, Boundary boundary, std::span<const Light> lights,
            std::span<const ScalarMedium> channels, uint64_t longPath)
-      : body_(body), lights_(lights), longPath_(longPath), eps_(body.epsilon()),
-        g_(channels[0].g) {
+      : body_(body), boundary_(boundary), lights_(lights), longPath_(longPath),
+        eps_(body.epsilon()), g_(channels[0].g) {
     for (size_t c = 0; c < 3; ++c) {
       sigmaT_[c] = channels[c].sigmaT();
       sigmaS_[c] = channels[c].sigma_s;
@@ -418,14 +532,19 @@ class RgbPaths {
         if (!(P > 0.0)) return;
         beta *= T / P;
         x += hit.t * d;
-        // On straight in air (eta 1) to where the line meets the body again, or to the
-        // environment (ChannelPaths::escaped).
-        if (!body_.intersect(x, d, eps_, kInf, hit)) {
-          const glm::dvec3 L = beta * escaped(d, phasePdf);
+        // Reflected, or on in air to where the path meets the body again, or to the environment
+        // (ChannelPaths::flight and escaped).
+        double factor = 1.0;
+        bool mirrored = false;
+        const Crossing cross =
+            crossFromInside(body_, boundary_.eta, x, d, hit.normal, factor, mirrored, rng);
+        beta *= factor;
+        if (cross == Crossing::Escaped) {
+          if (mirrored) return;
+          const glm::dvec3 L = beta * escaped(d, boundary_.matched() ? phasePdf : 0.0);
           for (int c = 0; c < 3; ++c) out[c][std::min<uint64_t>(scatters, 2)] += L[c];
           return;
         }
-        x += hit.t * d;
         onSurface = true;
         continue;
       }
@@ -464,7 +583,25 @@ class RgbPaths {
   void unscattered(const glm::dvec3& x, const glm::dvec3& n, const glm::dvec3& v, double cosCone,
                    double coneMeasure, Counters& k, double b0[3], double c0[3]) const {
     for (int c = 0; c < 3; ++c) b0[c] = c0[c] = 0.0;
-    for (const Light& light : lights_) {
+    for (size_t i = 0; i < lights_.size(); ++i) {
+      const Light& light = lights_[i];
+      if (!boundary_.matched()) {
+        if (!boundary_.refracted[i]) continue;
+        const glm::dvec3 color(light.color[0], light.color[1], light.color[2]);
+        boundary_.refracted[i]->forEach(x, true, [&](const RefractedLight::Path& p) {
+          glm::dvec3 out;
+          const double e0 = refractedExit(p, n, boundary_.eta, out);
+          if (!(e0 > 0.0)) return;
+          ++k.shadowRays;
+          const glm::dvec3 e = e0 * color * attenuation(p.dist);
+          const bool inCone = cosCone < 1.0 && glm::dot(out, v) >= cosCone;
+          for (int c = 0; c < 3; ++c) {
+            b0[c] += e[c];
+            if (inCone) c0[c] += e[c] / (coneMeasure * glm::dot(n, v));
+          }
+        });
+        continue;
+      }
       glm::dvec3 w, li;
       double dist = kInf;
       if (!incident(light, x, w, li, dist)) continue;
@@ -500,6 +637,17 @@ class RgbPaths {
   void direct(const glm::dvec3& x, const glm::dvec3& d, Rng& rng, Counters& k, glm::dvec3& sum) const {
     for (size_t i = 0; i < lights_.size(); ++i) {
       const Light& light = lights_[i];
+      if (!boundary_.matched()) {
+        // η ≠ 1 (ChannelPaths::direct).
+        if (!boundary_.refracted[i]) continue;
+        const glm::dvec3 color(light.color[0], light.color[1], light.color[2]);
+        boundary_.refracted[i]->forEach(x, false, [&](const RefractedLight::Path& p) {
+          ++k.shadowRays;
+          sum += hgCosineDensity(glm::dot(d, p.w), g_) / (2.0 * kPi) * p.irradiance * color *
+                 attenuation(p.dist);
+        });
+        continue;
+      }
       if (const auto* env = std::get_if<EnvironmentLight>(&light.emitter)) {
         if (!envSamplers_[i]) continue;
         const double u1 = uniform01(rng), u2 = uniform01(rng);
@@ -532,6 +680,12 @@ class RgbPaths {
     return true;
   }
 
+  // Per channel e^{-σt_c ℓ} along a segment of length ℓ inside the body.
+  glm::dvec3 attenuation(double length) const {
+    return {std::exp(-sigmaT_[0] * length), std::exp(-sigmaT_[1] * length),
+            std::exp(-sigmaT_[2] * length)};
+  }
+
   // Per channel e^{-σt_c ℓ}, ℓ the length of x + t w, t in (0, dist], inside the body
   // (ChannelPaths::transmittance; one walk of the ray for the three channels).
   glm::dvec3 transmittance(glm::dvec3 x, const glm::dvec3& w, double dist, bool onSurface) const {
@@ -550,11 +704,11 @@ class RgbPaths {
       inside = !inside;
       onSurface = true;
     }
-    return {std::exp(-sigmaT_[0] * length), std::exp(-sigmaT_[1] * length),
-            std::exp(-sigmaT_[2] * length)};
+    return attenuation(length);
   }
 
   const MeshBody& body_;
+  Boundary boundary_;
   std::span<const Light> lights_;
   uint64_t longPath_;
   double eps_;
@@ -592,12 +746,12 @@ void CameraPathOptions::validate() const {
 }
 
 std::string CameraPathTracer::refusal(double eta, std::span<const Light> lights) {
-  if (eta != 1.0)
+  if (!(eta >= 1.0))
     return fmt::format(
-        "the camera method needs an index-matched boundary (eta 1), the material has eta {}: a "
-        "straight shadow ray cannot pass a smooth refractive boundary towards a directional, "
-        "point or beam light (that needs manifold next-event estimation, not implemented); the "
-        "light method (`pathtrace mesh --method light`) traces it",
+        "the camera method needs eta >= 1 (a body at least as dense as the air around it), the "
+        "material has eta {}: its refracted next-event estimation bounds the refracted light by "
+        "the contraction of angles on the way in; the light method (`pathtrace mesh --method "
+        "light`) traces it",
         eta);
   for (size_t i = 0; i < lights.size(); ++i) {
     if (const auto* b = std::get_if<BeamLight>(&lights[i].emitter); b && !(b->radius > 0.0))
@@ -615,7 +769,7 @@ CameraPathTracer::CameraPathTracer(const geometry::TriangleMesh& mesh, const Med
     : lights_(std::move(lights)), options_(options), body_(mesh), camera_(camera) {
   medium.validate();
   for (int c = 0; c < 3; ++c) channels_.push_back(medium.channel(c));
-  init();
+  init(mesh);
 }
 
 CameraPathTracer::CameraPathTracer(const geometry::TriangleMesh& mesh, const ScalarMedium& medium,
@@ -624,7 +778,7 @@ CameraPathTracer::CameraPathTracer(const geometry::TriangleMesh& mesh, const Sca
     : channels_{medium}, lights_(std::move(lights)), options_(options), body_(mesh),
       camera_(camera) {
   medium.validate();
-  init();
+  init(mesh);
 }
 
 CameraPathTracer::CameraPathTracer(const geometry::TriangleMesh& mesh,
@@ -638,12 +792,12 @@ CameraPathTracer::CameraPathTracer(const geometry::TriangleMesh& mesh,
     const glm::dvec3 pad(1e-6 * (glm::length(b.center()) + b.radius()));
     volume_ = VolumeMedium::make(material, b.lower - pad, b.upper + pad, majorant_cells);
   }
-  init();
+  init(mesh);
 }
 
 CameraPathTracer::~CameraPathTracer() = default;
 
-void CameraPathTracer::init() {
+void CameraPathTracer::init(const geometry::TriangleMesh& mesh) {
   options_.validate();
   if (lights_.empty()) throw ParameterError("camera paths: no lights: expected at least one");
   for (size_t i = 0; i < lights_.size(); ++i)
@@ -660,6 +814,16 @@ void CameraPathTracer::init() {
     if (!volume_ && m.eta != eta)
       throw ParameterError("camera paths: the channels have different eta: expected one");
   if (const std::string why = refusal(eta, lights_); !why.empty()) throw ParameterError(why);
+  eta_ = eta;
+  refracted_.clear();
+  refracted_.resize(lights_.size());
+  if (eta != 1.0) {
+    // The refracted connections of every delta light (refracted_light.h).
+    const std::vector<glm::dvec3> outward = RefractedLight::outwardNormals(mesh, body_);
+    for (size_t i = 0; i < lights_.size(); ++i)
+      if (!std::holds_alternative<EnvironmentLight>(lights_[i].emitter))
+        refracted_[i] = std::make_unique<RefractedLight>(mesh, outward, body_, lights_[i], eta);
+  }
 
   // The grid of the images' exact sums: about the radiance a light gives by single scattering.
   const BoundingSphere bounds = body_.bounds();
@@ -712,16 +876,18 @@ CameraPathStats CameraPathTracer::addPass(uint64_t samples, const ProgressCallba
   const double cosCone = std::cos(theta), sin2Cone = std::sin(theta) * std::sin(theta);
   const double coneSolidAngle = 2.0 * kPi * (1.0 - cosCone);
   const uint64_t seedKey = mix64(options_.seed ^ 0x63616D6572617061ull);  // "camerapa"
+  const Boundary boundary{eta_, refracted_};
   std::vector<ChannelPaths> paths;
   for (size_t c = 0; c < nc; ++c)
-    paths.emplace_back(body_, lights_, volume_ ? nullptr : &channels_[c], volume_ ? &*volume_ : nullptr,
-                       static_cast<int>(c), options_.long_path_roulette);
+    paths.emplace_back(body_, boundary, lights_, volume_ ? nullptr : &channels_[c],
+                       volume_ ? &*volume_ : nullptr, static_cast<int>(c),
+                       options_.long_path_roulette);
   const int images = options_.exitance ? 3 : 1;
   // One walk for the three channels of a homogeneous medium with one phase function (RgbPaths).
   const bool joint = options_.joint_channels && !volume_ && nc == 3 &&
                      channels_[0].g == channels_[1].g && channels_[1].g == channels_[2].g;
   std::optional<RgbPaths> rgb;
-  if (joint) rgb.emplace(body_, lights_, channels_, options_.long_path_roulette);
+  if (joint) rgb.emplace(body_, boundary, lights_, channels_, options_.long_path_roulette);
 
   // One block per row: per pixel, channel, image and order the sums of the samples and squares.
   struct Row {
@@ -765,13 +931,27 @@ CameraPathStats CameraPathTracer::addPass(uint64_t samples, const ProgressCallba
           if (body_.intersect(o, d, 0.0, kInf, hit)) {
             const glm::dvec3 x = o + hit.t * d;
             const glm::dvec3 nrm = glm::dot(hit.normal, d) < 0.0 ? hit.normal : -hit.normal;
-            // The radiance arriving at x along -dir, per channel of the group and order part.
-            auto trace = [&](const glm::dvec3& dir, double out[3][3]) {
+            // The radiance arriving at x from inside the body along -dir (dir pointing in), per
+            // channel of the group and order part.
+            auto traceInside = [&](const glm::dvec3& dir, double out[3][3]) {
               if (joint) {
                 rgb->radiance(x, dir, rng, row.k, out);
               } else {
                 paths[gi].radiance(x, dir, rng, row.k, out[gi]);
               }
+            };
+            // The radiance leaving x along -dir (dir pointing in, from air): at η ≠ 1 the part
+            // refracted out of the body, Ft L_inside / η² along the refracted direction (the
+            // specular reflection of the surroundings is not subsurface light: the light
+            // method scores none, transport.h).
+            auto trace = [&](const glm::dvec3& dir, double out[3][3]) {
+              if (eta_ == 1.0) return traceInside(dir, out);
+              const glm::dvec3 inward = -nrm;
+              const double cosI = glm::dot(dir, inward);
+              const double f = fresnelTransmittance(cosI, eta_) / (eta_ * eta_);
+              traceInside(detail::refract(dir, inward, 1.0 / eta_, refractedCosine(cosI, eta_)), out);
+              for (size_t c = c0; c < c1; ++c)
+                for (size_t k = 0; k < 3; ++k) out[c][k] *= f;
             };
             if (!cone) {
               double L[3][3] = {};
@@ -799,6 +979,8 @@ CameraPathStats CameraPathTracer::addPass(uint64_t samples, const ProgressCallba
             }
             if (options_.exitance) {
               // A cosine-distributed direction about n (Malley): B = π E[L(x, ω')].
+              const double ftView =
+                  eta_ == 1.0 ? 1.0 : fresnelTransmittance(glm::dot(nrm, -d), eta_);
               double px, py;
               detail::sampleDisc(rng, 1.0, px, py);
               const double pz = std::sqrt(std::max(0.0, 1.0 - px * px - py * py));
@@ -810,7 +992,7 @@ CameraPathStats CameraPathTracer::addPass(uint64_t samples, const ProgressCallba
               for (size_t c = c0; c < c1; ++c)
                 for (size_t k = 0; k < 3; ++k) {
                   sc[c][1][k] = wPix * kPi * Lb[c][k];
-                  sc[c][2][k] = wPix * Lb[c][k];  // Ft B / π with Ft = 1 (η = 1)
+                  sc[c][2][k] = wPix * ftView * Lb[c][k];  // Ft(η, v) B / π (camera.h)
                 }
             }
             if (options_.exitance || cone) {
@@ -827,7 +1009,8 @@ CameraPathStats CameraPathTracer::addPass(uint64_t samples, const ProgressCallba
                 sc[c][0][0] += wPix * cc0[c];
                 if (options_.exitance) {
                   sc[c][1][0] += wPix * b0[c];
-                  sc[c][2][0] += wPix * b0[c] / kPi;
+                  sc[c][2][0] += wPix * b0[c] / kPi *
+                                 (eta_ == 1.0 ? 1.0 : fresnelTransmittance(glm::dot(nrm, -d), eta_));
                 }
               }
             }

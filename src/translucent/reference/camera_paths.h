@@ -83,6 +83,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
@@ -93,6 +94,7 @@
 #include "translucent/reference/camera.h"
 #include "translucent/reference/majorant_grid.h"
 #include "translucent/reference/mesh_tracer.h"
+#include "translucent/reference/refracted_light.h"
 #include "translucent/reference/transport.h"
 
 namespace translucent::reference {
@@ -163,12 +165,15 @@ class CameraPathTracer {
   static std::string refusal(double eta, std::span<const Light> lights);
 
  private:
-  void init();
+  void init(const geometry::TriangleMesh& mesh);
   std::vector<ScalarMedium> channels_;
   std::optional<VolumeMedium> volume_;
   std::vector<Light> lights_;
   CameraPathOptions options_;
   MeshBody body_;
+  double eta_ = 1.0;
+  // Per light, its refracted connections (η ≠ 1; null for environment lights and at η = 1).
+  std::vector<std::unique_ptr<RefractedLight>> refracted_;
   CameraModel camera_;
   CameraImages images_;
   std::optional<std::array<CameraImages, kScatteringOrders>> orders_;

@@ -41,6 +41,8 @@ bool MeshBody::intersect(const glm::dvec3& o, const glm::dvec3& d, double t_min,
   return true;
 }
 
+bool MeshBody::inside(const glm::dvec3& p) const { return geometry::insideClosedMesh(scene_, p); }
+
 bool MeshBody::occluded(const glm::dvec3& o, const glm::dvec3& d, double t_min,
                         double t_max) const {
   return scene_.occluded(o, d, t_min, t_max);

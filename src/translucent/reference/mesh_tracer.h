@@ -56,6 +56,8 @@ class MeshBody final : public Body {
   BoundingSphere bounds() const override { return bounds_; }
   double epsilon() const override { return epsilon_; }
   size_t triangleCount() const { return triangles_; }
+  // Whether p lies inside the closed mesh (geometry::insideClosedMesh: ray parity by majority).
+  bool inside(const glm::dvec3& p) const;
 
  private:
   geometry::RayScene scene_;

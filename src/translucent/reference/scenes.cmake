@@ -16,6 +16,7 @@ add_library(translucent_reference_scenes STATIC
   mesh_tracer.cpp
   surface_transfer.cpp  # transport from surface entry discs (the transfer technique)
   camera_paths.cpp  # the mesh reference from the camera: backward paths with next-event estimation
+  refracted_light.cpp  # its next-event estimation through a refractive boundary (eta != 1)
   majorant_grid.cpp  # heterogeneous media: delta tracking through a majorant grid
   model_reference.cpp)  # scene files: src/scene (mesh_scene.h maps the old names)
 add_library(translucent::reference_scenes ALIAS translucent_reference_scenes)
