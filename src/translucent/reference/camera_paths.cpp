@@ -13,6 +13,7 @@
 #include <numbers>
 #include <optional>
 #include <stdexcept>
+#include <type_traits>
 
 #include <glm/geometric.hpp>
 
@@ -737,6 +738,9 @@ using Scores = std::array<std::array<double, kScatteringOrders>, 3>;
 }  // namespace
 
 void CameraPathOptions::validate() const {
+  if (!(complement_cone > 0.0 && complement_cone < 90.0))
+    throw ParameterError(fmt::format(
+        "camera paths: complement cone is {}: expected degrees in (0, 90)", complement_cone));
   if (threads < 0)
     throw ParameterError(fmt::format("camera paths: threads is {}: expected >= 0 (0: all)", threads));
   if (!(cone_half_angle >= 0.0 && cone_half_angle < 90.0))
@@ -770,6 +774,7 @@ CameraPathTracer::CameraPathTracer(const geometry::TriangleMesh& mesh, const Med
   medium.validate();
   for (int c = 0; c < 3; ++c) channels_.push_back(medium.channel(c));
   init(mesh);
+  initComplement(mesh, medium);
 }
 
 CameraPathTracer::CameraPathTracer(const geometry::TriangleMesh& mesh, const ScalarMedium& medium,
@@ -779,6 +784,7 @@ CameraPathTracer::CameraPathTracer(const geometry::TriangleMesh& mesh, const Sca
       camera_(camera) {
   medium.validate();
   init(mesh);
+  initComplement(mesh, medium);
 }
 
 CameraPathTracer::CameraPathTracer(const geometry::TriangleMesh& mesh,
@@ -793,9 +799,72 @@ CameraPathTracer::CameraPathTracer(const geometry::TriangleMesh& mesh,
     volume_ = VolumeMedium::make(material, b.lower - pad, b.upper + pad, majorant_cells);
   }
   init(mesh);
+  initComplement(mesh, material, majorant_cells);
 }
 
 CameraPathTracer::~CameraPathTracer() = default;
+
+template <class M>
+void CameraPathTracer::initComplement(const geometry::TriangleMesh& mesh, const M& medium,
+                                      glm::ivec3 cells) {
+  if (eta_ == 1.0) return;
+  std::vector<Light> delta;
+  for (const Light& l : lights_)
+    if (!std::holds_alternative<EnvironmentLight>(l.emitter)) delta.push_back(l);
+  if (delta.empty()) return;
+  TracerOptions o;
+  o.seed = mix64(options_.seed ^ 0x636F6D706C656D65ull);  // "compleme"
+  o.threads = options_.threads;
+  o.long_path_roulette = options_.long_path_roulette;
+  o.split_orders = options_.split_orders;
+  o.after_specular_only = true;
+  const double cone =
+      options_.cone_half_angle > 0.0 ? options_.cone_half_angle : options_.complement_cone;
+  if constexpr (std::is_same_v<M, material::Material>)
+    complement_ = std::make_unique<MeshPathTracer>(mesh, medium, std::move(delta),
+                                                   camera_.camera(), cone, o, cells);
+  else
+    complement_ = std::make_unique<MeshPathTracer>(mesh, medium, std::move(delta),
+                                                   camera_.camera(), cone, o);
+  combine();
+}
+
+void CameraPathTracer::combine() {
+  // Per pixel and channel the sum of two independent estimates: values add, variances add. The
+  // sums are stored as those of the camera's samples (count n) with that mean and standard
+  // error: s = n v, s2 = n v² + (n - 1) n se² (exact_sum.h: meanAndError).
+  const Camera& cam = camera_.camera();
+  const int nc = static_cast<int>(channels_.size());
+  auto one = [&](const McImage& a, const McImage& b, double typical) {
+    McImage out(cam.width, cam.height, nc, McImage::Statistics::PerPixel, FixedScale::around(typical));
+    for (int y = 0; y < cam.height; ++y)
+      for (int x = 0; x < cam.width; ++x) {
+        const size_t pix = static_cast<size_t>(y) * static_cast<size_t>(cam.width) + static_cast<size_t>(x);
+        const uint64_t n = a.pixelCount(pix);
+        out.addPixelCount(pix, n);
+        if (n == 0) continue;
+        const double N = static_cast<double>(n);
+        for (int c = 0; c < nc; ++c) {
+          const Estimate ea = a.pixel(x, y, c), eb = b.pixel(x, y, c);
+          const double v = ea.value + eb.value;
+          const double se2 = ea.std_error * ea.std_error + eb.std_error * eb.std_error;
+          out.addSums(out.index(x, y, c), N * v, N * v * v + (N - 1.0) * N * se2);
+        }
+      }
+    return out;
+  };
+  auto set = [&](const CameraImages& a, const CameraImages& b) {
+    CameraImages r;
+    r.cone_radiance = one(a.cone_radiance, b.cone_radiance, typical_);
+    r.exitance = one(a.exitance, b.exitance, kPi * typical_);
+    r.radiance = one(a.radiance, b.radiance, typical_);
+    return r;
+  };
+  combined_ = set(images_, complement_->images());
+  if (orders_)
+    for (size_t k = 0; k < kScatteringOrders; ++k)
+      combinedOrders_[k] = set((*orders_)[k], complement_->orderImages(static_cast<ScatteringOrder>(k)));
+}
 
 void CameraPathTracer::init(const geometry::TriangleMesh& mesh) {
   options_.validate();
@@ -841,6 +910,7 @@ void CameraPathTracer::init(const geometry::TriangleMesh& mesh) {
   }
   const Camera& cam = camera_.camera();
   const int nc = static_cast<int>(channels_.size());
+  typical_ = typical;
   auto make = [&] {
     CameraImages im;
     const FixedScale scale = FixedScale::around(typical);
@@ -857,7 +927,7 @@ void CameraPathTracer::init(const geometry::TriangleMesh& mesh) {
 
 const CameraImages& CameraPathTracer::orderImages(ScatteringOrder order) const {
   if (!orders_) throw std::logic_error("camera paths: the images are not split by order");
-  return (*orders_)[static_cast<size_t>(order)];
+  return complement_ ? combinedOrders_[static_cast<size_t>(order)] : (*orders_)[static_cast<size_t>(order)];
 }
 
 CameraPathStats CameraPathTracer::addPass(uint64_t samples, const ProgressCallback& progress) {
@@ -1076,6 +1146,22 @@ CameraPathStats CameraPathTracer::addPass(uint64_t samples, const ProgressCallba
   stats_.seconds += run.seconds;
   stats_.threads = run.threads;
   stats_.partial = stats_.partial || run.stopped;
+  if (complement_ && !run.stopped) {
+    // The complement's photons: complement_photons per sample of every pixel so far, in whole
+    // blocks (a function of the samples per pixel only, not of how they came in passes).
+    const uint64_t want = stats_.samples * static_cast<uint64_t>(w) * static_cast<uint64_t>(h) *
+                          options_.complement_photons;
+    const uint64_t blocks = (want + kBlockPhotons - 1) / kBlockPhotons;
+    const uint64_t done = complement_->stats().photons.empty() ? 0 : complement_->stats().next_block;
+    if (blocks > done) {
+      const TransportStats t = complement_->addBlocks(done, blocks - done);
+      pass.seconds += t.seconds;
+      stats_.seconds += t.seconds;
+    }
+    stats_.complement_photons = complement_->stats().photons.empty() ? 0 : complement_->stats().photons[0];
+    pass.complement_photons = stats_.complement_photons;
+    combine();
+  }
   return pass;
 }
 

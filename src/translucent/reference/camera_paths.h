@@ -112,6 +112,10 @@ struct CameraPathOptions {
   // by one-sample MIS over the channels (camera_paths.cpp, RgbPaths), rather than a walk per
   // channel. Both are unbiased; the joint walk costs a third of the rays per sample.
   bool joint_channels = true;
+  // η ≠ 1: photons per camera sample (per pixel and channel) of the light-traced complement
+  // (see the header comment), and its cone half-angle in degrees where cone_half_angle is 0.
+  uint64_t complement_photons = 16;
+  double complement_cone = 5.0;
 
   void validate() const;  // ParameterError naming the bad field
 };
@@ -121,6 +125,7 @@ struct CameraPathStats {
   uint64_t paths = 0;              // paths traced (all pixels, channels and images)
   uint64_t scattering_events = 0;  // real collisions along them
   uint64_t shadow_rays = 0;        // next-event estimates
+  uint64_t complement_photons = 0; // η ≠ 1: photons of the light-traced complement, per channel
   double seconds = 0.0;
   int threads = 0;
   bool partial = false;  // a pass was stopped: some rows hold fewer samples than others
@@ -149,7 +154,8 @@ class CameraPathTracer {
   // already done and sets partial.
   CameraPathStats addPass(uint64_t samples, const ProgressCallback& progress = {});
 
-  const CameraImages& images() const { return images_; }
+  // The images: the camera paths' (plus, at η ≠ 1, the light-traced complement's: see above).
+  const CameraImages& images() const { return complement_ ? combined_ : images_; }
   bool splitsOrders() const { return orders_.has_value(); }
   const CameraImages& orderImages(ScatteringOrder order) const;
   const CameraPathStats& stats() const { return stats_; }
@@ -166,6 +172,11 @@ class CameraPathTracer {
 
  private:
   void init(const geometry::TriangleMesh& mesh);
+  // At η ≠ 1 with a delta light: the light method for the paths the refracted next-event
+  // estimation does not find (TracerOptions::after_specular_only), over `medium`.
+  template <class M>
+  void initComplement(const geometry::TriangleMesh& mesh, const M& medium, glm::ivec3 cells = {});
+  void combine();  // combined_ from images_ and the complement's
   std::vector<ScalarMedium> channels_;
   std::optional<VolumeMedium> volume_;
   std::vector<Light> lights_;
@@ -177,6 +188,10 @@ class CameraPathTracer {
   CameraModel camera_;
   CameraImages images_;
   std::optional<std::array<CameraImages, kScatteringOrders>> orders_;
+  std::unique_ptr<MeshPathTracer> complement_;
+  CameraImages combined_;
+  std::array<CameraImages, kScatteringOrders> combinedOrders_;
+  double typical_ = 0.0;  // the images' sum grid (init)
   std::vector<uint64_t> rowSamples_;  // samples traced so far in each row
   CameraPathStats stats_;
 };

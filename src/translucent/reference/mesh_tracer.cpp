@@ -135,6 +135,7 @@ TransportStats MeshPathTracer::addBlocks(uint64_t first, uint64_t blocks,
     o.seed = options_.seed;
     o.threads = options_.threads;
     o.long_path_roulette = options_.long_path_roulette;
+    o.after_specular_only = options_.after_specular_only;
     o.first_block = first;
     pass = volume_ ? tracePhotons(body_, *volume_, lights_, o, *tally_, progress)
                    : tracePhotons(body_, channels_, lights_, o, *tally_, progress);
@@ -148,6 +149,9 @@ std::string MeshPathTracer::walkerRefusal() const {
   // Everything the tracer holds can be walked on the GPU (deformed fields too: common/deform.glsl
   // undoes the deformation); which fields the GPU evaluates is the GPU layer's to say
   // (reference/gpu/device.h: meshGpuRefusal).
+  if (options_.after_specular_only)
+    return "the walk that scores only light met by the boundary before its first scattering "
+           "(the camera method's complement) is traced on the CPU";
   return "";
 }
 

@@ -206,6 +206,11 @@ struct TransportOptions {
   // Long-path roulette after this many scattering events (0: off). On by default so that every
   // walk ends even in a body without absorption; at 10^6 events it changes nothing else.
   uint64_t long_path_roulette = 1'000'000;
+  // Score only the light that met the boundary again (an internal reflection, or an exit and a
+  // re-entry) between its entry and its first scattering: the part of the delta lights' light
+  // that the camera method's refracted next-event estimation cannot find (camera_paths.h). A
+  // photon that scatters first, or leaves at its first boundary event, is scored nowhere.
+  bool after_specular_only = false;
 
   void validate() const;
 };
@@ -217,6 +222,7 @@ struct TracerOptions {
   uint64_t long_path_roulette = TransportOptions{}.long_path_roulette;
   // Also keep the images per scattering order (ImageTally's split_orders; camera.h).
   bool split_orders = false;
+  bool after_specular_only = false;  // TransportOptions::after_specular_only
 };
 
 // Per-channel sums of one run (or of several, merged). The flux sums are order-independent

@@ -27,6 +27,7 @@ struct ChannelWalk {
   float g = 0.0f;
   double eta = 1.0;  // n_inside / n_outside
   bool matched = true;
+  bool afterSpecularOnly = false;  // TransportOptions::after_specular_only
   std::vector<double> lightCdf;  // light selection, ∝ flux in this channel
   double totalFlux = 0.0;        // what every photon of this channel carries
 };
@@ -224,7 +225,7 @@ template <class BodyT>
 AtBoundary crossBoundary(const BodyT& body, const ChannelWalk& W, double eps, int c, double w,
                          const glm::dvec3& normal, glm::dvec3& x, glm::dvec3& d, Rng& rng,
                          ExitTally::Block& tally, uint64_t scatters, double& exitedSum,
-                         std::array<double, kScatteringOrders>& exitedByOrder) {
+                         std::array<double, kScatteringOrders>& exitedByOrder, bool score = true) {
   const glm::dvec3 outward = glm::dot(normal, d) > 0.0 ? normal : -normal;
   const double cosIn = glm::dot(d, outward);
   const double F = W.matched ? 0.0 : fresnelReflectance(cosIn, 1.0 / W.eta);
@@ -239,9 +240,11 @@ AtBoundary crossBoundary(const BodyT& body, const ChannelWalk& W, double eps, in
   e.weight = w;
   e.channel = c;
   e.order = scatteringOrder(scatters);
-  tally.record(e);
-  exitedSum += w;
-  exitedByOrder[static_cast<size_t>(e.order)] += w;
+  if (score) {
+    tally.record(e);
+    exitedSum += w;
+    exitedByOrder[static_cast<size_t>(e.order)] += w;
+  }
   if constexpr (!convexBody<BodyT>()) {
     d = e.direction;
     if (reenter(body, W, eps, x, d, rng)) return AtBoundary::Reentered;
@@ -284,6 +287,9 @@ void tracePhoton(const BodyT& body, const BoundingSphere& bounds, std::span<cons
   double exitedSum = 0.0;  // this photon's exits, summed before squaring (transport.h)
   std::array<double, kScatteringOrders> exitedByOrder{};  // the same by scattering order
   double escapedWeight = 0.0;
+  // Boundary events (reflections, re-entries) between the entry and the first scattering: with
+  // after_specular_only, the light of a photon that scatters (or leaves) before any is not scored.
+  uint64_t specular = 0;
 
   for (;;) {
     // Free flight (line 3), then advance or meet the boundary (lines 4-14).
@@ -300,14 +306,19 @@ void tracePhoton(const BodyT& body, const BoundingSphere& bounds, std::span<cons
       onSurface = true;
       // The rest of the free path s goes on after a reflection or from the re-entry point
       // (memoryless flights, transport.h).
-      const AtBoundary b = crossBoundary(body, W, eps, c, w, hit.normal, x, d, rng, tally, scatters,
-                                           exitedSum, exitedByOrder);
-      if (b != AtBoundary::Escaped) continue;
+      const AtBoundary b =
+          crossBoundary(body, W, eps, c, w, hit.normal, x, d, rng, tally, scatters, exitedSum,
+                        exitedByOrder, !(W.afterSpecularOnly && scatters == 0 && specular == 0));
+      if (b != AtBoundary::Escaped) {
+        if (scatters == 0) ++specular;
+        continue;
+      }
       escaped = true;
       escapedWeight = w;
       break;
     }
     if (escaped) break;
+    if (W.afterSpecularOnly && scatters == 0 && specular == 0) break;
     // Absorption (line 15).
     if (uniform01(rng) < W.absorbProbability) break;
     if (!scatter(W.g, longPath, rng, d, scatters, w)) break;
@@ -353,6 +364,7 @@ bool traceVolumePhoton(const BodyT& body, const BoundingSphere& bounds,
   std::array<double, kScatteringOrders> exitedByOrder{};  // as tracePhoton
   material::LocalMedium local;  // the medium at the last tentative collision
   double localSigmaT = 0.0;     // its σt in channel c [1/scene unit]
+  uint64_t specular = 0;        // as tracePhoton
 
   for (uint64_t step = 1;; ++step) {
     if (step % kStopCheckSteps == 0 && stop.load(std::memory_order_relaxed)) return false;
@@ -378,6 +390,7 @@ bool traceVolumePhoton(const BodyT& body, const BoundingSphere& bounds,
       if (!collided) break;  // lost (see above)
       x = o + t * d;
       onSurface = false;
+      if (W.afterSpecularOnly && scatters == 0 && specular == 0) break;
       // Absorption with the local albedo, scattering with the local g.
       if (uniform01(rng) * localSigmaT < local.sigma_a[ci] * scale) break;
       if (!scatter(static_cast<float>(local.g), longPath, rng, d, scatters, w)) break;
@@ -385,9 +398,13 @@ bool traceVolumePhoton(const BodyT& body, const BoundingSphere& bounds,
     }
     x = o + hit.t * d;
     onSurface = true;
-    const AtBoundary b = crossBoundary(body, W, eps, c, w, hit.normal, x, d, rng, tally, scatters,
-                                           exitedSum, exitedByOrder);
-    if (b != AtBoundary::Escaped) continue;
+    const AtBoundary b =
+        crossBoundary(body, W, eps, c, w, hit.normal, x, d, rng, tally, scatters, exitedSum,
+                      exitedByOrder, !(W.afterSpecularOnly && scatters == 0 && specular == 0));
+    if (b != AtBoundary::Escaped) {
+      if (scatters == 0) ++specular;
+      continue;
+    }
     escapedWeight = w;
     break;
   }
@@ -413,7 +430,8 @@ TransportStats traceBlocks(const BodyT& body, std::span<const ScalarMedium> chan
   const std::vector<Light> lightList = validatedLights(givenLights);
   const std::span<const Light> lights(lightList);
   const BoundingSphere bounds = body.bounds();
-  const std::vector<ChannelWalk> walks = channelWalks(bounds, channels, lights);
+  std::vector<ChannelWalk> walks = channelWalks(bounds, channels, lights);
+  for (ChannelWalk& w : walks) w.afterSpecularOnly = O.after_specular_only;
   const size_t nc = channels.size();
   const uint64_t blocks = (O.photons + kBlockPhotons - 1) / kBlockPhotons;
 
