@@ -578,6 +578,8 @@ void runPathtraceMeshCamera(const reference::MeshScene& scene, const std::string
                         {"samples_per_pixel", st.samples}, {"paths", st.paths},
                         {"seconds", st.seconds}, {"scattering_events", st.scattering_events},
                         {"shadow_rays", st.shadow_rays}, {"cone_angle", 0.0},
+                        {"complement_photons", st.complement_photons},
+                        {"complement_cone_angle", tracer.complementCone()},
                         {"median_relative_stderr", medianRelativeError(chosen)},
                         {"majorant_violations", tracer.majorantViolations()},
                         {"split_orders", tracer.splitsOrders()}, {"threads", st.threads},
@@ -809,8 +811,10 @@ void addRenderReferenceCommands(CLI::App& app) {
     cmd->add_option("--method", a->method,
                     "light: photons from the lights, splatted through a cone at the camera; "
                     "camera: paths from the camera with next-event estimation to every light "
-                    "(per-pixel samples, --samples; eta 1 only, CPU, no --shard; its "
-                    "cone-radiance is the true radiance, cone half-angle 0)")
+                    "(per-pixel samples, --samples; CPU, no --shard; its cone-radiance is the "
+                    "true radiance, cone half-angle 0; at eta > 1 exact connections through every "
+                    "refracting facet, plus light-traced photons for light that meets the "
+                    "surface again before it scatters)")
         ->check(CLI::IsMember({"light", "camera"}))
         ->capture_default_str();
     cmd->add_option("--samples", a->samples,

@@ -829,6 +829,11 @@ void CameraPathTracer::initComplement(const geometry::TriangleMesh& mesh, const 
   combine();
 }
 
+double CameraPathTracer::complementCone() const {
+  if (!complement_) return 0.0;
+  return options_.cone_half_angle > 0.0 ? options_.cone_half_angle : options_.complement_cone;
+}
+
 void CameraPathTracer::combine() {
   // Per pixel and channel the sum of two independent estimates: values add, variances add. The
   // sums are stored as those of the camera's samples (count n) with that mean and standard

@@ -15,7 +15,7 @@
 //     dΩ = cos³θ dA on the plane at distance 1), orthographic ones over the pixel's area, the
 //     box filter of camera.h, so the images equal the light method's in expectation;
 //   - at its first hit x (the visible surface point), the index-matched boundary (η = 1) lets it
-//     straight in. Free flights: homogeneous, distance s with density σt e^{-σt s}; a field, delta
+//     straight in (η > 1: refracted, see "A refractive boundary" below). Free flights: homogeneous, distance s with density σt e^{-σt s}; a field, delta
 //     tracking through the majorant grid (majorant_grid.h, Novák et al. 2018 section 4.1). A
 //     flight that meets the boundary leaves the body, flies on in air and re-enters where its
 //     line meets the body again with the rest of its free path (memoryless flights, transport.h);
@@ -62,17 +62,34 @@
 //                  other;
 //   exitance       (with `exitance`) B(x) = ∫ L(x, ω) (n·ω) dω by one cosine-distributed
 //                  direction per sample (B ≈ π L(x, ω'));
-//   radiance       (with `exitance`) Ft B / π = B / π at η = 1.
+//   radiance       (with `exitance`) Ft(η, v) B / π (B / π at η = 1).
 // Every sample is one path per image (independent paths for cone_radiance and exitance), so
 // a pixel's standard error is that of the mean of its samples. The Sobol positions make the
 // samples of a pixel slightly dependent (stratified): the per-sample variance then overestimates
 // the error a little, never underestimates it in practice for a smooth integrand.
 //
+// A refractive boundary (η > 1, camera_paths.cpp crossFromInside): the camera ray is refracted
+// in at the visible point x with the weight Ft(θo) / η² (L / n² is invariant along a refracted
+// ray; the specular reflection of the surroundings is not subsurface light, as in the light
+// method); a path that meets the boundary from inside is Fresnel-reflected with probability F
+// (1 under total internal reflection), else refracted out (factor η²) and flies on in air,
+// re-entering (Fresnel again, factor 1/η²) or escaping. Next-event estimation to a directional,
+// point or beam light goes through every facet that refracts it to the collision
+// (refracted_light.h: exact, a closed form per facet; the transmittance along the segment
+// inside); the environment is found by the escaping paths alone (weight 1). The unscattered
+// exitance is the refracted light that reaches x through one facet and leaves there (μ Ft).
+// Light that meets the boundary again between its entry and its first scattering (internally
+// reflected, or through one part of the body into another) is not found by these connections:
+// a light-traced complement adds it (the light method's photons scoring only that light,
+// TracerOptions::after_specular_only, `complement_photons` per camera sample), its images added
+// to the camera paths' (values and variances add). Its exitance and cone averages are unbiased;
+// for the true radiance (θc = 0) it is the complement's cone average over `complement_cone`
+// degrees: consistent, not unbiased (the part it averages is small: 5% of the exitance of the
+// bunny at η = 1.3 under delta lights).
+//
 // Not handled, refused with a ParameterError that names the light method as the alternative:
-//   - η ≠ 1 (a refractive boundary): a straight shadow ray cannot pass a smooth refractive
-//     boundary towards a delta light (a directional, point or beam light has no area to hit by a
-//     refracted ray), so next-event estimation needs a specular-manifold walk (manifold NEE,
-//     Hanika, Droske & Fascione 2015), not implemented;
+//   - η < 1 (a body less dense than the air around it: the refracted connections bound the
+//     refracted light by the contraction of angles on the way in);
 //   - pencil beams (radius 0).
 //
 // Determinism: channel c, pixel p and sample s draw from Rng(seed', ((p · channels + c) << 32) +
@@ -166,9 +183,12 @@ class CameraPathTracer {
   const VolumeMedium* volume() const { return volume_ ? &*volume_ : nullptr; }
   uint64_t majorantViolations() const { return volume_ ? volume_->majorantViolations() : 0; }
 
-  // Why the camera method cannot render this scene ("" when it can): η ≠ 1 or a pencil beam (see
+  // Why the camera method cannot render this scene ("" when it can): η < 1 or a pencil beam (see
   // the header comment). The constructors throw it as a ParameterError.
   static std::string refusal(double eta, std::span<const Light> lights);
+  // The light-traced complement's cone half-angle in degrees (0: no complement, η = 1 or no
+  // delta light).
+  double complementCone() const;
 
  private:
   void init(const geometry::TriangleMesh& mesh);

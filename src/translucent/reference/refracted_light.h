@@ -93,6 +93,7 @@ class RefractedLight {
   enum class Kind { Directional, Point, Beam };
   struct Facet {
     glm::dvec3 v0, e1, e2, n;  // vertex, edges, outward unit normal
+    glm::dvec3 a, b;           // barycentric coordinates of y: (y - v0)·a, (y - v0)·b
     glm::dvec3 din;            // directional / beam: the refracted direction of travel
     double irradiance = 0.0;   // directional / beam: E Ft cos θi / cos θt
   };
