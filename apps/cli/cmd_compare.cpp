@@ -67,6 +67,8 @@ struct CompareArgs {
   std::vector<std::string> reference_from;
   std::string photons = "1e6", samples = "200000";
   std::string reference_device = "cpu";  // --reference-device: where the physical reference runs
+  std::string physical_method = "light";   // --physical-method: photons or camera paths
+  std::string physical_samples = "256";    // --physical-samples: camera paths per pixel
   int subpixels = 1;  // pixel centres, as the techniques shade them
   bool sweep = false;
   std::string out = "compare-report";
@@ -447,6 +449,7 @@ struct Parsed {
   std::vector<std::string> names;
   std::vector<analysis::ReferenceKind> kinds;
   uint64_t photons = 0, samples = 0;
+  uint64_t physicalSamples = 0;  // --physical-samples (camera method)
   fs::path cacheDir;  // "" : caching off
 };
 
@@ -462,6 +465,13 @@ Parsed parseOptions(const CompareArgs& a) {
                                      a.references));
   p.photons = parseCount(a.photons, "--photons");
   p.samples = parseCount(a.samples, "--samples");
+  p.physicalSamples = parseCount(a.physical_samples, "--physical-samples");
+  if (a.physical_method == "camera" && !a.reference_from.empty())
+    throw ParameterError("--reference-from: the runs of `pathtrace mesh` it reads are the light "
+                         "method's; not with --physical-method camera");
+  if (a.physical_method == "camera" && a.reference_device != "cpu")
+    throw ParameterError("--reference-device gpu: the camera method (--physical-method camera) "
+                         "runs on the CPU");
   if (a.subpixels < 1 || a.subpixels > 16)
     throw ParameterError(fmt::format("--subpixels {}: expected 1 to 16", a.subpixels));
   if (a.frames < 1) throw ParameterError(fmt::format("--frames {}: expected at least 1", a.frames));
@@ -538,6 +548,9 @@ SceneOutcome compareScene(const CompareArgs& a, const Parsed& parsed, const std:
   cmd += a.material.commandLine();
   for (const std::string& f : a.reference_from) cmd += " --reference-from " + quoted(f);
   if (a.reference_device != "cpu") cmd += " --reference-device " + a.reference_device;
+  if (a.physical_method != "light")
+    cmd += fmt::format(" --physical-method {} --physical-samples {}", a.physical_method,
+                       parsed.physicalSamples);
   if (a.no_cache) cmd += " --no-cache";
   else if (!a.cache.empty()) cmd += " --cache " + quoted(cacheDir.string());
   report.command = cmd;
@@ -558,6 +571,8 @@ SceneOutcome compareScene(const CompareArgs& a, const Parsed& parsed, const std:
                      {"samples", std::to_string(samples)},
                      {"subpixels", std::to_string(a.subpixels)},
                      {"reference_device", a.reference_device},
+                     {"physical_method", a.physical_method},
+                     {"physical_samples", std::to_string(parsed.physicalSamples)},
                      {"seed", std::to_string(a.seed)},
                      {"threads", std::to_string(a.threads)},
                      {"width", std::to_string(s.camera.width)},
@@ -595,11 +610,17 @@ SceneOutcome compareScene(const CompareArgs& a, const Parsed& parsed, const std:
     req.subpixels = a.subpixels;
     req.device = a.reference_device;
     const bool physical = kind == analysis::ReferenceKind::Physical;
+    const bool camera = physical && a.physical_method == "camera";
+    if (camera) {
+      req.method = "camera";
+      req.count = parsed.physicalSamples;
+    }
+    const char* unit = camera ? "camera paths per pixel and channel"
+                              : physical ? "photons per channel" : "surface samples";
     ProgressBar bar(fmt::format("compare: {} reference", toString(kind)),
-                    physical ? "photons" : "pixels",
+                    camera ? "paths" : physical ? "photons" : "pixels",
                     a.budget > 0.0 ? std::optional<double>(a.budget) : std::nullopt);
-    printStderr("{} reference ({} {}):\n", toString(kind), req.count,
-               physical ? "photons per channel" : "surface samples");
+    printStderr("{} reference ({} {}):\n", toString(kind), req.count, unit);
     analysis::Reference ref;
     if (physical && !a.reference_from.empty()) {
       // Traced elsewhere (e.g. sharded on a cluster and merged, issue 17): the file whose
@@ -639,8 +660,7 @@ SceneOutcome compareScene(const CompareArgs& a, const Parsed& parsed, const std:
       // Stopped by --budget: the reference is what it traced so far (fewer photons or samples).
       const std::string over = fmt::format(
           "{} reference over budget: stopped after --budget {:g} s with {} of {} {} (partial)",
-          toString(kind), a.budget, ref.count_done, req.count,
-          physical ? "photons per channel" : "surface samples");
+          toString(kind), a.budget, ref.count_done, req.count, unit);
       printStderr("{}\n", over);
       report.notes.push_back(over);
     }
@@ -653,7 +673,10 @@ SceneOutcome compareScene(const CompareArgs& a, const Parsed& parsed, const std:
   std::span<const float> coverage;
   for (const auto& r : report.references)
     if (r.kind == analysis::ReferenceKind::Model) coverage = r.coverage;
-  report.masks = analysis::compareMasks(s, mesh, coverage);
+  std::optional<double> coneAngle;
+  for (const auto& r : report.references)
+    if (r.kind == analysis::ReferenceKind::Physical) coneAngle = r.cone_angle;
+  report.masks = analysis::compareMasks(s, mesh, coverage, coneAngle);
   // With both references the report says where each technique's error is (diagnosis.h).
   report.regions = analysis::reportRegions(s, mesh, report.references, report.masks.interior);
   const double eta = s.medium.eta;
@@ -862,6 +885,9 @@ void runSuite(const CompareArgs& a, const Parsed& o) {
   cmd += a.material.commandLine();
   for (const std::string& f : a.reference_from) cmd += " --reference-from " + quoted(f);
   if (a.reference_device != "cpu") cmd += " --reference-device " + a.reference_device;
+  if (a.physical_method != "light")
+    cmd += fmt::format(" --physical-method {} --physical-samples {}", a.physical_method,
+                       o.physicalSamples);
   if (a.no_cache) cmd += " --no-cache";
   else if (!a.cache.empty()) cmd += " --cache " + quoted(o.cacheDir.string());
   info.command = cmd;
@@ -1019,6 +1045,17 @@ void addCompareCommand(CLI::App& app) {
                   "random streams, so its "
                   "own cache entries)")
       ->check(CLI::IsMember({"cpu", "gpu"}))
+      ->capture_default_str();
+  cmd->add_option("--physical-method", a->physical_method,
+                  "Physical reference: light (photons from the lights; its true radiance a cone "
+                  "average, its L the diffusion radiance Ft·B/π) or camera (paths from the "
+                  "camera: the true radiance per pixel, against which the leaderboard then ranks; "
+                  "slower to converge on backlit, low-absorption scenes)")
+      ->check(CLI::IsMember({"light", "camera"}))
+      ->capture_default_str();
+  cmd->add_option("--physical-samples", a->physical_samples,
+                  "Physical reference with --physical-method camera: camera paths per pixel and "
+                  "channel (e.g. 256)")
       ->capture_default_str();
   cmd->add_option("--samples", a->samples, "Model reference: surface samples (e.g. 2e5)")
       ->capture_default_str();

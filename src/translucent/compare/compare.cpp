@@ -22,6 +22,7 @@
 #include "translucent/geometry/ray_scene.h"
 #include "translucent/material/material_desc.h"
 #include "translucent/reference/camera.h"
+#include "translucent/reference/camera_paths.h"
 #include "translucent/reference/gpu/device.h"
 #include "translucent/reference/mesh_tracer.h"
 #include "translucent/reference/model_reference.h"
@@ -138,6 +139,7 @@ std::string referenceKeyText(const scene::Scene& scene, const ReferenceRequest& 
   j["seed"] = request.seed;
   if (request.kind == ReferenceKind::Model) j["subpixels"] = request.subpixels;
   if (request.kind == ReferenceKind::Physical && request.device != "cpu") j["device"] = request.device;
+  if (request.kind == ReferenceKind::Physical && request.method != "light") j["method"] = request.method;
   j["stored_convention"] = "jensen";
   j["code_version"] = kReferenceCodeVersion;
   return j.dump();  // objects are ordered by key: canonical
@@ -284,6 +286,8 @@ std::optional<Reference> ReferenceCache::load(ReferenceKind kind, const std::str
     r.request.count = j.at("count").get<uint64_t>();
     r.request.seed = j.at("seed").get<uint64_t>();
     r.request.subpixels = j.value("subpixels", 2);
+    r.request.method = j.value("method", std::string("light"));
+    if (r.request.method == "camera") r.cone_angle = 0.0;
     auto image = [&](const std::string& name, const std::string& se) {
       CompareImage c;
       c.width = width;
@@ -330,6 +334,9 @@ void ReferenceCache::store(Reference& r) const {
               {"width", r.exitance.width}, {"height", r.exitance.height},
               {"code_version", kReferenceCodeVersion}};
     if (r.kind == ReferenceKind::Model) j["subpixels"] = r.request.subpixels;
+    if (r.kind == ReferenceKind::Physical) {
+      j["method"] = r.request.method;
+    }
     {
       std::ofstream f(tmpMeta);
       f << j.dump(2) << "\n";
@@ -372,6 +379,26 @@ Reference computeReference(const scene::Scene& scene, const geometry::TriangleMe
     }
     if (request.device != "cpu" && request.device != "gpu")
       throw ParameterError(fmt::format("--reference-device '{}': expected cpu or gpu", request.device));
+    if (request.method != "light" && request.method != "camera")
+      throw ParameterError(fmt::format("--physical-method '{}': expected light or camera", request.method));
+    if (request.method == "camera") {
+      // Paths from the camera (reference/camera_paths.h): the true radiance per pixel.
+      if (request.device != "cpu")
+        throw ParameterError("--reference-device gpu: the camera method runs on the CPU");
+      reference::CameraPathOptions o;
+      o.seed = request.seed;
+      o.threads = request.threads;
+      reference::CameraPathTracer tracer(mesh, material, lights, scene.camera, o);
+      const reference::CameraPathStats st = tracer.addPass(request.count, progress);
+      r.exitance = toCompareImage(tracer.images().exitance);
+      r.radiance = toCompareImage(tracer.images().radiance);
+      r.cone_radiance = toCompareImage(tracer.images().cone_radiance);
+      r.cone_angle = 0.0;
+      r.count_done = st.samples;
+      r.seconds = st.seconds;
+      r.partial = st.partial;
+      return r;
+    }
     // Homogeneous: bit-identical to the tracer of scene.medium; a 3D field: delta tracking.
     // On the GPU (issue 16) in a GL context of its own, released before the techniques make
     // theirs; declared before the tracer, whose walker it outlives.
@@ -576,13 +603,14 @@ uint64_t Masks::interiorPixels() const { return countSet(interior); }
 uint64_t Masks::conePixels() const { return countSet(cone); }
 
 Masks compareMasks(const scene::Scene& scene, const geometry::TriangleMesh& mesh,
-                   std::span<const float> model_coverage) {
+                   std::span<const float> model_coverage, std::optional<double> cone_angle) {
   constexpr int kGrid = 4;
   constexpr double kPi = 3.14159265358979323846;
   Masks m;
   m.interior = interiorMask(mesh, scene.camera, kGrid, 0.0);
   // camera.h: the cone reaches below the horizon where the angle to the silhouette is < θc.
-  m.cone = interiorMask(mesh, scene.camera, kGrid, std::sin(scene.cone_angle * kPi / 180.0));
+  m.cone = interiorMask(mesh, scene.camera, kGrid,
+                        std::sin(cone_angle.value_or(scene.cone_angle) * kPi / 180.0));
   if (!model_coverage.empty()) {
     if (model_coverage.size() != m.interior.size())
       throw ParameterError(fmt::format("model reference coverage has {} pixels: expected {}",

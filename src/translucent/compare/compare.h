@@ -17,7 +17,9 @@
 //
 // References (each with a per-pixel standard error):
 //   physical   reference::MeshPathTracer (volumetric photon tracing, seed 3.2), `count` photons
-//              per channel
+//              per channel; or (method "camera") reference::CameraPathTracer, `count` camera
+//              paths per pixel and channel, whose cone_radiance is the true radiance (cone 0)
+//              and whose radiance is Ft·B/π, the diffusion convention
 //   model      reference::renderModelReference (the scene's BSSRDF integrated over the whole
 //              surface), `count` samples, of the scene's material (scene::sceneMaterial): for a
 //              heterogeneous one brute-force Eq. 8 with per-point profiles (model_reference.h)
@@ -80,7 +82,8 @@ ReferenceKind parseReferenceKind(const std::string& name, const std::string& opt
 
 struct ReferenceRequest {
   ReferenceKind kind = ReferenceKind::Physical;
-  uint64_t count = 0;  // photons per channel (physical) or samples (model)
+  uint64_t count = 0;  // photons per channel (physical, light), camera paths per pixel and
+                       // channel (physical, camera) or samples (model)
   uint64_t seed = 1;
   int threads = 0;     // 0: all cores (results do not depend on it)
   int subpixels = 1;   // model: rays per pixel per axis (1: the pixel centre, as techniques shade)
@@ -88,12 +91,20 @@ struct ReferenceRequest {
   // of the same quantity; in the key only when "gpu", so CPU keys stay as they were). "gpu"
   // opens a GL context of its own for the trace (`compare --reference-device gpu`).
   std::string device = "cpu";
+  // Physical: "light" (photons from the lights, reference::MeshPathTracer: its cone_radiance the
+  // cone average over the scene's cone_angle) or "camera" (paths from the camera,
+  // reference::CameraPathTracer: its cone_radiance the true radiance, cone half-angle 0). In the
+  // key only when "camera", so light keys stay as they were.
+  std::string method = "light";
 };
 
 struct Reference {
   ReferenceKind kind = ReferenceKind::Physical;
   CompareImage exitance, radiance;  // radiance: Jensen convention
-  CompareImage cone_radiance;       // physical only
+  CompareImage cone_radiance;       // physical only: the true radiance towards the camera
+  // Physical: the half-angle its cone_radiance averages over (degrees; 0 from the camera
+  // method: the true radiance); none: the scene's cone_angle (the light method).
+  std::optional<double> cone_angle;
   std::vector<float> coverage;      // model only: fraction of camera rays hitting the mesh
   ReferenceRequest request;
   uint64_t count_done = 0;  // photons per channel / samples actually computed
@@ -213,8 +224,10 @@ struct Masks {
   uint64_t conePixels() const;
 };
 // interiorMask with a grid of 4, and-ed with coverage == 1 when `model_coverage` is not empty.
+// `cone_angle`: the physical reference's (Reference::cone_angle; default the scene's).
 Masks compareMasks(const scene::Scene& scene, const geometry::TriangleMesh& mesh,
-                   std::span<const float> model_coverage);
+                   std::span<const float> model_coverage,
+                   std::optional<double> cone_angle = std::nullopt);
 
 // The metrics of `test` against `reference` over `mask` (`display`: the tone mapping for SSIM
 // and FLIP; its mask is replaced); ParameterError when the sizes differ.

@@ -405,6 +405,14 @@ void prepareReportDirectory(const fs::path& dir, bool force, const fs::path& ign
 
 namespace {
 
+// The half-angle of the physical reference's cone radiance (0: the camera method's true radiance;
+// the scene's cone_angle for the light method, or when there is no physical reference).
+double physicalConeAngle(const CompareReport& r) {
+  for (const Reference& ref : r.references)
+    if (ref.kind == ReferenceKind::Physical) return ref.cone_angle.value_or(r.scene.cone_angle);
+  return r.scene.cone_angle;
+}
+
 // "Where the error is": per technique the split of its radiance error against the physical
 // reference into its own part (vs the model reference) and the model's (model vs physical), per
 // region, with a map; report.json "diagnosis". Nothing without both references or regions.
@@ -507,7 +515,7 @@ std::vector<std::string> writeReport(const fs::path& dir, const CompareReport& r
                 {"interior_cone", fmt::format("interior, and |n·v| >= sin θc (θc = {} degrees) "
                                               "for every ray of the grid: the cone radiance is "
                                               "biased low within θc of silhouettes",
-                                              r.scene.cone_angle)}};
+                                              physicalConeAngle(r))}};
 
   // ---- Images ----------------------------------------------------------------------------
   struct Shown { std::string label, exitance, radiance, cone; };
@@ -556,8 +564,15 @@ std::vector<std::string> writeReport(const fs::path& dir, const CompareReport& r
     if (!ref.cone_radiance.empty()) s.cone = w.png(n + "-cone_radiance.png", ref.cone_radiance, false);
     shownRows.push_back(s);
     references.push_back({{"kind", n}, {"count", ref.request.count},
-                          {"count_unit", ref.kind == ReferenceKind::Physical
-                                             ? "photons per channel" : "samples"},
+                          {"method", ref.kind == ReferenceKind::Physical ? json(ref.request.method)
+                                                                         : json(nullptr)},
+                          {"cone_angle", ref.kind == ReferenceKind::Physical
+                                             ? json(ref.cone_angle.value_or(r.scene.cone_angle))
+                                             : json(nullptr)},
+                          {"count_unit", ref.kind != ReferenceKind::Physical ? "samples"
+                                         : ref.request.method == "camera"
+                                             ? "camera paths per pixel and channel"
+                                             : "photons per channel"},
                           {"count_done", ref.count_done}, {"seed", ref.request.seed},
                           {"subpixels", ref.kind == ReferenceKind::Model ? json(ref.request.subpixels)
                                                                          : json(nullptr)},
@@ -700,9 +715,12 @@ std::vector<std::string> writeReport(const fs::path& dir, const CompareReport& r
 
   h += "<h2>Images</h2>\n<p>Tone mapped with exposure " + num(r.scene.exposure) + " stops, gamma " +
        num(r.scene.gamma) + "; exitance B shown as B/π (exposure − log2 π). Radiance L by the " +
-       toString(shown) + " convention (Eq. 2.16); the cone radiance is the path tracer's true "
-       "radiance towards the camera (cone half-angle " + num(r.scene.cone_angle) +
-       "°). Linear EXRs: the links.</p>\n<table><tr><th class=\"l\">source</th><th>exitance B</th>"
+       toString(shown) + " convention (Eq. 2.16); the physical reference's radiance L is Ft·B/π, "
+       "the diffusion convention, and its cone radiance the true radiance towards the camera " +
+       (physicalConeAngle(r) == 0.0 ? std::string("(the camera method: cone half-angle 0)")
+                                   : "(the light method's cone average, half-angle " +
+                                         num(physicalConeAngle(r)) + "°)") +
+       ". Linear EXRs: the links.</p>\n<table><tr><th class=\"l\">source</th><th>exitance B</th>"
        "<th>radiance L</th><th>true radiance (cone)</th></tr>\n";
   auto figure = [](const std::string& src, const std::string& caption, const char* cls) {
     return "<figure><img" + std::string(cls) + " src=\"" + html(src) + "\" alt=\"" +
