@@ -507,6 +507,42 @@ TEST(CompareMaterial, ThePhysicalReferenceOfEachMaterialKind) {
 
 // compare's model reference integrates scene::sceneMaterial: for a homogeneous scene exactly the
 // homogeneous reference of its medium and model.
+// The physical reference from the camera method (marble cube, η 1.3, a sun and a point light):
+// its exitance and diffusion radiance Ft·B/π agree with the light method's within their noise
+// (the same expected images), its cone radiance is the true radiance (cone angle 0: the masks
+// need no margin at silhouettes), and the cache keeps it apart from the light method's.
+TEST(CompareReferences, TheCameraMethodsReferenceAgreesWithTheLightMethods) {
+  TempDir dir("camera");
+  const ReferenceCache cache(dir.path());
+  const scene::Scene s = cubeScene();
+  const geometry::TriangleMesh mesh = scene::loadSceneMesh(s);
+  const Reference light = computeReference(s, mesh, physical(200000, 31));
+  ReferenceRequest req = physical(64, 32);
+  req.method = "camera";
+  const Reference camera = cachedReference(s, mesh, req, &cache);
+  EXPECT_FALSE(camera.from_cache);
+  ASSERT_TRUE(camera.cone_angle.has_value());
+  EXPECT_EQ(*camera.cone_angle, 0.0);
+  EXPECT_FALSE(light.cone_angle.has_value());  // the scene's (5 degrees)
+  EXPECT_EQ(camera.count_done, 64u);
+  EXPECT_NE(camera.key, light.key);
+  const Masks masks = compareMasks(s, mesh, {}, camera.cone_angle);
+  EXPECT_EQ(masks.cone, masks.interior);
+  expectAgreeWithinNoise(compareImages(camera.exitance, light.exitance, masks.interior), "exitance");
+  expectAgreeWithinNoise(compareImages(camera.radiance, light.radiance, masks.interior),
+                         "diffusion radiance");
+  // The true radiance is not Ft·B/π: on this cube they differ by more than the noise.
+  const Metrics truth = compareImages(camera.radiance, camera.cone_radiance, masks.interior);
+  EXPECT_GT(std::abs(truth.bias), 3.5 * truth.bias_stderr) << truth.bias << " ± " << truth.bias_stderr;
+  // From the cache: the method and the cone angle come back.
+  const Reference again = cachedReference(s, mesh, req, &cache);
+  EXPECT_TRUE(again.from_cache);
+  EXPECT_EQ(again.request.method, "camera");
+  ASSERT_TRUE(again.cone_angle.has_value());
+  EXPECT_EQ(*again.cone_angle, 0.0);
+  EXPECT_EQ(again.cone_radiance.rgb, camera.cone_radiance.rgb);
+}
+
 TEST(CompareReferences, TheModelReferenceOfAHomogeneousSceneIsTheMediumsReference) {
   const scene::Scene s = cubeScene(16, 12);
   const geometry::TriangleMesh mesh = scene::loadSceneMesh(s);
