@@ -48,6 +48,8 @@ struct CompareArgs {
   int subpixels = 1, frames = 5, warmup = 2, threads = 0;
   uint64_t seed = 1;
   std::string reference_device = "cpu";  // of the physical reference: cpu or gpu
+  std::string physical_method = "light";  // compare --physical-method: light or camera
+  uint64_t physical_samples = 256;        // compare --physical-samples (camera)
   std::vector<fs::path> reference_from;   // compare --reference-from: pathtrace mesh JSON files
   bool sweep = false, force = false;
   fs::path cacheDir;  // "": off
@@ -95,6 +97,8 @@ py::dict compareScene(scene::Scene s, const std::string& sceneFile, const Compar
                        {"samples", std::to_string(a.samples)},
                        {"subpixels", std::to_string(a.subpixels)},
                        {"reference_device", a.reference_device},
+                       {"physical_method", a.physical_method},
+                       {"physical_samples", std::to_string(a.physical_samples)},
                        {"seed", std::to_string(a.seed)},
                        {"threads", std::to_string(a.threads)},
                        {"width", std::to_string(s.camera.width)},
@@ -127,6 +131,10 @@ py::dict compareScene(scene::Scene s, const std::string& sceneFile, const Compar
       req.threads = a.threads;
       req.subpixels = a.subpixels;
       req.device = a.reference_device;
+      if (kind == analysis::ReferenceKind::Physical && a.physical_method == "camera") {
+        req.method = "camera";
+        req.count = a.physical_samples;
+      }
       analysis::Reference ref;
       if (kind == analysis::ReferenceKind::Physical && !a.reference_from.empty()) {
         // As `compare --reference-from`: the file traced for this scene, or an error saying
@@ -158,7 +166,10 @@ py::dict compareScene(scene::Scene s, const std::string& sceneFile, const Compar
     std::span<const float> coverage;
     for (const auto& r : report.references)
       if (r.kind == analysis::ReferenceKind::Model) coverage = r.coverage;
-    report.masks = analysis::compareMasks(s, mesh, coverage);
+    std::optional<double> coneAngle;  // the physical reference's (0: the camera method)
+    for (const auto& r : report.references)
+      if (r.kind == analysis::ReferenceKind::Physical) coneAngle = r.cone_angle;
+    report.masks = analysis::compareMasks(s, mesh, coverage, coneAngle);
     report.regions = analysis::reportRegions(s, mesh, report.references, report.masks.interior);
   }
   const double eta = s.medium.eta;
@@ -262,7 +273,9 @@ techniques: names or variants "name:key=value:..." (default: every registered te
 references: "physical" (the volumetric path tracer, `photons` per channel) and/or "model" (the
   scene's BSSRDF integrated over the surface, `samples` samples); subpixels (1 to 16), seed,
   threads (0: all cores). reference_device: "cpu" or "gpu" (the physical reference's GL walk,
-  `compare --reference-device`). reference_from: a file name or a list of them, the --json of
+  `compare --reference-device`). physical_method: "light" (photons) or "camera" (paths from the
+  camera, `physical_samples` per pixel and channel: its cone radiance is the true radiance, and
+  the leaderboard ranks against it; `compare --physical-method`). reference_from: a file name or a list of them, the --json of
   `translucent pathtrace mesh` or of `translucent merge` (`compare --reference-from`): the
   physical reference is read from the one traced for this scene (a ValueError says what
   differs in each otherwise), not traced.
@@ -291,8 +304,14 @@ void bindCompare(py::module_& m) {
          int subpixels, uint64_t seed, int threads, std::optional<int> width,
          std::optional<int> height, std::optional<double> time, int frames, int warmup,
          bool sweep, const py::object& cache, const std::optional<fs::path>& out, bool force,
-         const std::string& reference_device, const py::object& reference_from) {
+         const std::string& reference_device, const py::object& reference_from,
+         const std::string& physical_method, double physical_samples) {
         CompareArgs a;
+        if (physical_method != "light" && physical_method != "camera")
+          throw ParameterError(fmt::format(
+              "physical_method='{}': expected \"light\" or \"camera\"", physical_method));
+        a.physical_method = physical_method;
+        a.physical_samples = photonCount(physical_samples, "physical_samples");
         const py::object pathLike = py::module_::import("os").attr("PathLike");
         if (py::isinstance<py::str>(reference_from) || py::isinstance(reference_from, pathLike)) {
           a.reference_from.push_back(pathArgument(reference_from, "reference_from"));
@@ -308,6 +327,12 @@ void bindCompare(py::module_& m) {
           throw ParameterError(
               fmt::format("--reference-device '{}': expected cpu or gpu", reference_device));
         a.reference_device = reference_device;
+        if (physical_method == "camera" && reference_device != "cpu")
+          throw ParameterError("reference_device='gpu': the camera method "
+                               "(physical_method='camera') runs on the CPU");
+        if (physical_method == "camera" && !a.reference_from.empty())
+          throw ParameterError("reference_from: the runs of `pathtrace mesh` it reads are the "
+                               "light method's; not with physical_method='camera'");
         a.names = names ? *names : techniques::names();
         if (a.names.empty())
           throw ParameterError("techniques=[]: expected technique names, or None for all");
@@ -386,7 +411,8 @@ void bindCompare(py::module_& m) {
       py::arg("height") = py::none(), py::arg("time") = py::none(), py::arg("frames") = 5,
       py::arg("warmup") = 2, py::arg("sweep") = false, py::arg("cache") = py::none(),
       py::arg("out") = py::none(), py::arg("force") = false, py::arg("reference_device") = "cpu",
-      py::arg("reference_from") = py::none(), kCompareDoc);
+      py::arg("reference_from") = py::none(), py::arg("physical_method") = "light",
+      py::arg("physical_samples") = 256, kCompareDoc);
 }
 
 }  // namespace translucent::python
