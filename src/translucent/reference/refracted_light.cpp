@@ -190,9 +190,11 @@ RefractedLight::RefractedLight(const geometry::TriangleMesh& mesh,
   // triangle moved by t·d for t in [t0, t1] and d in the direction box. The steps that meet the
   // grid form one interval of t (the box's faces move linearly in t), so the sweep ends when it
   // leaves the grid.
-  std::vector<uint32_t> perFacet, facetStart{0}, list;
-  for (const Sweep& s : sweeps) {
-    list.clear();
+  // A cell is listed once per facet: stamped with the facet's index (+1) when first met.
+  std::vector<uint32_t> perFacet, facetStart{0}, stamp(cells, 0);
+  for (size_t fi = 0; fi < sweeps.size(); ++fi) {
+    const Sweep& s = sweeps[fi];
+    const uint32_t mark = static_cast<uint32_t>(fi + 1);
     for (double t0 = 0.0; t0 < reach; t0 += step) {
       const double t1 = t0 + step;
       const glm::dvec3 lo = s.lo + glm::min(t0 * s.dlo, t1 * s.dlo);
@@ -209,12 +211,15 @@ RefractedLight::RefractedLight(const geometry::TriangleMesh& mesh,
       }
       for (int z = i0.z; z <= i1.z; ++z)
         for (int y = i0.y; y <= i1.y; ++y)
-          for (int x = i0.x; x <= i1.x; ++x)
-            list.push_back(static_cast<uint32_t>((static_cast<size_t>(z) * dims_.y + y) * dims_.x + x));
+          for (int x = i0.x; x <= i1.x; ++x) {
+            const size_t c = (static_cast<size_t>(z) * static_cast<size_t>(dims_.y) +
+                              static_cast<size_t>(y)) * static_cast<size_t>(dims_.x) +
+                             static_cast<size_t>(x);
+            if (stamp[c] == mark) continue;
+            stamp[c] = mark;
+            perFacet.push_back(static_cast<uint32_t>(c));
+          }
     }
-    std::sort(list.begin(), list.end());
-    list.erase(std::unique(list.begin(), list.end()), list.end());
-    perFacet.insert(perFacet.end(), list.begin(), list.end());
     facetStart.push_back(static_cast<uint32_t>(perFacet.size()));
   }
   start_.assign(cells + 1, 0);
@@ -248,6 +253,27 @@ bool RefractedLight::connect(uint32_t index, const glm::dvec3& x, bool onSurface
     // In the plane of incidence through the light and x (refracted_light.h).
     const double hp = glm::dot(origin_ - f.v0, f.n);
     const glm::dvec3 pf = origin_ - hp * f.n, xf = x + hx * f.n;
+    {
+      // For η >= 1 the refraction point lies between the straight line's crossing y0 and x's
+      // foot xf (refractionPoint): a facet that segment misses is not a connection, found
+      // without solving (the barycentric coordinates are linear along the segment).
+      const glm::dvec3 y0 = origin_ + (hp / (hp + hx)) * (x - origin_);
+      const double s0 = glm::dot(y0 - f.v0, f.a), t0 = glm::dot(y0 - f.v0, f.b);
+      const double s1 = glm::dot(xf - f.v0, f.a), t1 = glm::dot(xf - f.v0, f.b);
+      double lo = 0.0, hi = 1.0;
+      auto keep = [&](double a, double b) {  // a + b λ >= 0 on [lo, hi]
+        if (b > 0.0)
+          lo = std::max(lo, -a / b);
+        else if (b < 0.0)
+          hi = std::min(hi, -a / b);
+        else if (a < 0.0)
+          hi = -1.0;
+      };
+      keep(s0, s1 - s0);
+      keep(t0, t1 - t0);
+      keep(1.0 - s0 - t0, (s0 + t0) - (s1 + t1));
+      if (!(lo <= hi)) return false;
+    }
     glm::dvec3 e = xf - pf;
     const double D = glm::length(e);
     double u = 0.0;
