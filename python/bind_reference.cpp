@@ -16,6 +16,7 @@
 #include "common.h"
 #include "json_py.h"
 #include "translucent/optics/presets.h"
+#include "translucent/reference/camera_paths.h"
 #include "translucent/reference/gpu/device.h"
 #include "translucent/reference/layered_slab.h"
 #include "translucent/reference/slab_request.h"
@@ -167,6 +168,7 @@ py::dict tracerImageDict(const Tracer& tracer) {
 }
 template py::dict tracerImageDict(const reference::SpherePathTracer&);
 template py::dict tracerImageDict(const reference::MeshPathTracer&);
+template py::dict tracerImageDict(const reference::CameraPathTracer&);
 
 py::list fluxList(const reference::TransportStats& s) {
   return toPython(reference::fluxPerChannelJson(s));

@@ -16,6 +16,7 @@
 #include "translucent/io/json.h"
 #include "json_py.h"
 #include "translucent/scene/mesh_scene.h"
+#include "translucent/reference/camera_paths.h"
 #include "translucent/reference/gpu/device.h"
 #include "translucent/reference/mesh_tracer.h"
 #include "translucent/scene/scene.h"
@@ -202,10 +203,23 @@ search path ($TRANSLUCENT_DATA).
 
   m.def(
       "pathtrace_mesh",
-      [](const py::object& sceneArg, double photons, int passes, uint64_t seed, int threads,
-         std::optional<double> time, const std::string& device, std::optional<double> time_limit,
-         bool split_orders) {
+      [](const py::object& sceneArg, std::optional<double> photons, int passes, uint64_t seed,
+         int threads, std::optional<double> time, const std::string& device,
+         std::optional<double> time_limit, bool split_orders, const std::string& method,
+         std::optional<double> samples) {
         validatePasses(passes, threads);
+        if (method != "light" && method != "camera")
+          throw ParameterError(
+              fmt::format("method='{}': expected \"light\" or \"camera\"", method));
+        if (method == "camera" && photons)
+          throw ParameterError("photons: the camera method traces camera paths per pixel "
+                               "(samples=), not photons");
+        if (method == "light" && samples)
+          throw ParameterError("samples: camera paths per pixel are the camera method's "
+                               "(method=\"camera\"); the light method takes photons=");
+        if (method == "camera" && device == "gpu")
+          throw ParameterError("device='gpu': the camera method runs on the CPU (device='cpu' or "
+                               "'auto', or method='light' for the GPU)");
         Interruptible stop(time_limit);
         scene::Scene scene = py::isinstance<scene::Scene>(sceneArg)
                                  ? sceneArg.cast<scene::Scene>()
@@ -215,7 +229,53 @@ search path ($TRANSLUCENT_DATA).
             throw ParameterError(fmt::format("--time {}: expected a finite time", *time));
           scene.time = *time;
         }
-        const uint64_t n = photonCount(photons);
+        if (method == "camera") {
+          // `pathtrace mesh --method camera` (reference/camera_paths.h).
+          const uint64_t spp = photonCount(samples.value_or(64.0), "samples");
+          std::unique_ptr<reference::CameraPathTracer> tracer;
+          int passesRun = 0;
+          {
+            py::gil_scoped_release release;
+            const geometry::TriangleMesh mesh = scene::loadSceneMesh(scene);
+            scene::requireOutsideMesh(scene, mesh);
+            reference::CameraPathOptions o;
+            o.seed = seed;
+            o.threads = threads;
+            o.split_orders = split_orders;
+            tracer = std::make_unique<reference::CameraPathTracer>(
+                mesh, scene::sceneMaterial(scene, mesh), scene::referenceLights(scene),
+                scene.camera, o);
+            stop.restart();
+            runPasses(passes, stop, [&](const reference::ProgressCallback& cb) {
+              ++passesRun;
+              return tracer->addPass(spp, cb).partial;
+            });
+          }
+          stop.finish();
+          const auto& st = tracer->stats();
+          py::dict d = tracerImageDict(*tracer);
+          d["scene"] = toPython(io::parseJson(scene::toJson(scene), "the scene"));
+          d["method"] = "camera";
+          d["triangles"] = tracer->body().triangleCount();
+          d["samples_per_pixel"] = st.samples;
+          d["passes"] = passesRun;
+          d["seconds"] = st.seconds;
+          d["paths"] = st.paths;
+          d["scattering_events"] = st.scattering_events;
+          d["shadow_rays"] = st.shadow_rays;
+          d["complement_photons"] = st.complement_photons;
+          d["complement_cone_angle"] = tracer->complementCone();
+          d["median_relative_stderr"] = medianRelativeError(tracer->images().cone_radiance);
+          d["majorant_violations"] = tracer->majorantViolations();
+          d["threads"] = st.threads;
+          d["device"] = "cpu";
+          d["partial"] = st.partial || stop.interrupted() || stop.timedOut();
+          d["seed"] = seed;
+          py::object out = result("MeshTrace", d);
+          stop.rethrow(out);
+          return out;
+        }
+        const uint64_t n = photonCount(photons.value_or(1e6));
         // Before the tracer, on this thread: the context outlives the walker the tracer holds.
         const reference::TraceDevice dev = reference::openTraceDevice(device, "device");
         std::unique_ptr<reference::MeshPathTracer> tracer;
@@ -244,6 +304,7 @@ search path ($TRANSLUCENT_DATA).
         const auto& st = tracer->stats();
         py::dict d = tracerImageDict(*tracer);
         d["scene"] = toPython(io::parseJson(scene::toJson(scene), "the scene"));
+        d["method"] = "light";
         d["triangles"] = tracer->body().triangleCount();
         d["photons_per_channel"] = st.photons.empty() ? 0 : st.photons[0];
         d["passes"] = passesRun;
@@ -268,14 +329,18 @@ search path ($TRANSLUCENT_DATA).
         stop.rethrow(out);
         return out;
       },
-      py::arg("scene"), py::kw_only(), py::arg("photons") = 1e6, py::arg("passes") = 1,
+      py::arg("scene"), py::kw_only(), py::arg("photons") = py::none(), py::arg("passes") = 1,
       py::arg("seed") = 1, py::arg("threads") = 0, py::arg("time") = py::none(),
       py::arg("device") = "auto", py::arg("time_limit") = py::none(),
-      py::arg("split_orders") = false, R"doc(
+      py::arg("split_orders") = false, py::arg("method") = "light",
+      py::arg("samples") = py::none(), R"doc(
 Photon tracing in the scene's closed triangle mesh under its lights, seen by its camera:
 `translucent pathtrace mesh --scene FILE`.
 
-scene: a translucent.Scene or a scene file name. photons per channel per pass, passes
+scene: a translucent.Scene or a scene file name. method: "light" (photons from the lights,
+`photons` per channel per pass, default 1e6) or "camera" (paths from the camera with next-event
+estimation, `samples` per pixel and channel per pass, default 64: `pathtrace mesh --method
+camera`; its "cone_radiance" is the true radiance, cone half-angle 0; CPU only). passes
 (accumulated), seed, threads (0: all cores): the same seed gives the same images on any thread
 count. time: the deformations' time (the scene's when None). time_limit [s]: stop then,
 "partial": True. device: "cpu", "gpu" (the GL compute-shader walk against a BVH; homogeneous
@@ -290,7 +355,9 @@ the same per scattering order ("exitance_unscattered", "exitance_single", "exita
 ..., each with "_stderr"; they add up to "exitance"); and the keys of the
 CLI's --json: scene, triangles, photons_per_channel, seconds, photons_per_second,
 scattering_events, photons_in_several_pixels, median_relative_stderr, majorant_violations,
-threads, flux_per_channel, partial, seed, reference_key (what compare's --reference-from checks).
+threads, flux_per_channel, partial, seed, reference_key (what compare's --reference-from checks);
+the camera method's: method, samples_per_pixel, paths, shadow_rays, complement_photons and
+complement_cone_angle (the light-traced complement at eta != 1) instead of the photon counts.
 The GIL is released while loading and tracing; Ctrl-C raises KeyboardInterrupt with the partial
 result as its `partial_result`.
 )doc");

@@ -80,6 +80,33 @@ def test_pathtrace_mesh_matches_cli(cli, cube, tmp_path):
     assert np.array_equal(s["exitance"], d["exitance"])
 
 
+def test_pathtrace_mesh_camera_method_matches_cli(cli, cube, tmp_path):
+    # method="camera": `pathtrace mesh --method camera`, bit for bit (the cube is eta 1.3: its
+    # refracted connections and light-traced complement), and its exitance agrees with the light
+    # method's within the errors.
+    exr, js = tmp_path / "c.exr", tmp_path / "c.json"
+    cli("pathtrace", "mesh", "--scene", cube, "--method", "camera", "--samples", "4", "--seed", "5",
+        "--exr", exr, "--json", js)
+    d = translucent.pathtrace_mesh(str(cube), method="camera", samples=4, seed=5)
+    layers = read_exr_layers(exr)
+    for key in ["exitance", "cone_radiance", "cone_radiance_stderr", "radiance"]:
+        assert np.array_equal(d[key], layers[key]), key
+    with open(js) as f:
+        expected = json.load(f)
+    for key in ["samples_per_pixel", "paths", "shadow_rays", "complement_photons",
+                "complement_cone_angle", "triangles"]:
+        assert d[key] == expected[key], key
+    assert d["method"] == "camera" and d["complement_photons"] > 0
+    light = translucent.pathtrace_mesh(str(cube), photons=2e5, seed=6, device="cpu")
+    a, b = d["exitance"].mean(), light["exitance"].mean()
+    se = np.hypot(np.sqrt((d["exitance_stderr"] ** 2).sum()), np.sqrt((light["exitance_stderr"] ** 2).sum())) / d["exitance"].size
+    assert abs(a - b) < 3.5 * se, (a, b, se)
+    with pytest.raises(ValueError, match="photons: the camera method"):
+        translucent.pathtrace_mesh(str(cube), method="camera", photons=1e4)
+    with pytest.raises(ValueError, match="method='x'"):
+        translucent.pathtrace_mesh(str(cube), method="x")
+
+
 def test_pathtrace_mesh_on_the_gpu_matches_cli(cli, cube, tmp_path):
     # device="gpu": the GL walk of `pathtrace mesh --device gpu` (its own Philox streams), bit for
     # bit, with the GPU's reference key (another estimate than the CPU's, cached apart).
