@@ -1151,6 +1151,7 @@ CameraPathStats CameraPathTracer::addPass(uint64_t samples, const ProgressCallba
   stats_.seconds += run.seconds;
   stats_.threads = run.threads;
   stats_.partial = stats_.partial || run.stopped;
+  if (complement_ && run.stopped) combine();  // the rows traced so far; no complement photons
   if (complement_ && !run.stopped) {
     // The complement's photons: complement_photons per sample of every pixel so far, in whole
     // blocks (a function of the samples per pixel only, not of how they came in passes).
@@ -1159,7 +1160,18 @@ CameraPathStats CameraPathTracer::addPass(uint64_t samples, const ProgressCallba
     const uint64_t blocks = (want + kBlockPhotons - 1) / kBlockPhotons;
     const uint64_t done = complement_->stats().photons.empty() ? 0 : complement_->stats().next_block;
     if (blocks > done) {
-      const TransportStats t = complement_->addBlocks(done, blocks - done);
+      // Shown as the pass's end while it runs; a stop ends it after whole blocks (the next pass
+      // continues from there).
+      ProgressCallback tickComplement;
+      if (progress)
+        tickComplement = [&](const TraceProgress& p) {
+          return progress(TraceProgress{total, total, run.seconds + p.seconds});
+        };
+      const TransportStats t = complement_->addBlocks(done, blocks - done, tickComplement);
+      if (t.partial) {
+        pass.partial = true;
+        stats_.partial = true;
+      }
       pass.seconds += t.seconds;
       stats_.seconds += t.seconds;
     }
