@@ -21,6 +21,13 @@
 // sphere/cpu_1t, sphere/gpu: the lit sphere (reference/sphere.h; Marble, 3 mm radius, RGB) on
 // one CPU thread and through the GPU walker (sphere_gpu.h), photons per channel per second.
 //
+// bunny_camera/eta1_sun, eta1.3_sun, eta1.3_point: the camera method (reference/camera_paths.h)
+// on the same bunny at 48x48, 16 paths per pixel and channel per iteration, one thread: at η = 1
+// straight shadow rays, at η = 1.3 the refracted connections (refracted_light.h) and the
+// light-traced complement; camera paths per second of tracing (paths/s, the complement's photons
+// included), shadow rays (the connections found) per path, and the tracer's set-up (the BVH, at
+// η = 1.3 the outward normals and the refracted grid) in setup_ms.
+//
 // Run: build/release/bin/bench_reference [--benchmark_filter=mcml_slab]
 #include <benchmark/benchmark.h>
 
@@ -28,6 +35,7 @@
 #include <limits>
 #include <memory>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "translucent/gpu/context.h"
@@ -38,6 +46,7 @@
 #include "translucent/reference/gpu/mesh_gpu.h"
 #include "translucent/reference/gpu/sphere_gpu.h"
 #include "translucent/reference/slab.h"
+#include "translucent/reference/camera_paths.h"
 #include "translucent/reference/mesh_tracer.h"
 #include "translucent/reference/sphere.h"
 
@@ -269,7 +278,51 @@ void BM_Bunny(benchmark::State& state, bool gpu, bool veins, bool split) {
   });
 }
 
+void BM_BunnyCamera(benchmark::State& state, double eta, bool point) {
+  static const geometry::TriangleMesh mesh = [] {
+    geometry::TriangleMesh m = geometry::loadMesh("/usr/share/glmark2/models/bunny.obj");
+    const geometry::Bounds b = m.bounds();
+    m.transform(1.0 / b.radius(), -b.center() / b.radius());
+    return m;
+  }();
+  Medium medium;  // Marble at 5 mm per unit, as BM_Bunny
+  medium.scale = 5.0;
+  medium.eta = eta;
+  const reference::Light light =
+      point ? reference::Light{reference::PointLight{{0.9, 1.1, 0.8}, 2.0}, {1.0, 1.0, 1.0}}
+            : reference::Light{reference::DirectionalLight{glm::normalize(glm::dvec3(0.6, 0.2, 1.0)), 1.0},
+                               {1.0, 1.0, 1.0}};
+  reference::Camera cam;
+  cam.position = {0.15, 0.2, 3.2};
+  cam.width = cam.height = 48;
+  uint64_t paths = 0, shadow = 0, seed = 1, runs = 0;
+  double seconds = 0.0, build = 0.0;
+  for (auto _ : state) {
+    reference::CameraPathOptions o;
+    o.seed = seed++;
+    o.threads = 1;
+    o.exitance = false;
+    const auto t0 = std::chrono::steady_clock::now();
+    reference::CameraPathTracer t(mesh, medium, {light}, cam, o);
+    build += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const reference::CameraPathStats st = t.addPass(16);
+    seconds += st.seconds;  // the paths and the complement's photons
+    paths += st.paths;
+    shadow += st.shadow_rays;
+    ++runs;
+  }
+  state.counters["paths/s"] = static_cast<double>(paths) / seconds;
+  state.counters["shadow_rays/path"] = static_cast<double>(shadow) / static_cast<double>(paths);
+  state.counters["setup_ms"] = 1e3 * build / static_cast<double>(runs);
+}
+
 const bool registered = [] {
+  for (const auto& [name, eta, point] : {std::tuple{"bunny_camera/eta1_sun", 1.0, false},
+                                         std::tuple{"bunny_camera/eta1.3_sun", 1.3, false},
+                                         std::tuple{"bunny_camera/eta1.3_point", 1.3, true}})
+    benchmark::RegisterBenchmark(name, BM_BunnyCamera, eta, point)
+        ->MeasureProcessCPUTime()->UseRealTime()
+        ->Unit(benchmark::kMillisecond);
   for (bool veins : {false, true})
     for (bool gpu : {false, true})
       benchmark::RegisterBenchmark((std::string(veins ? "bunny_veins/" : "bunny/") + (gpu ? "gpu" : "cpu_1t")).c_str(),

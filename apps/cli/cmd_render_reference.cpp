@@ -87,6 +87,7 @@ struct RunArgs {
   // `pathtrace mesh --method light|camera` and the camera method's --samples (camera_paths.h).
   std::string method = "light";
   std::string samples = "16";
+  std::string complement_photons = "4";  // the camera method's, at eta != 1
 
   // The path tracers' flag: images by scattering order as further EXR layers.
   void addSplitOrders(CLI::App& cmd) {
@@ -547,6 +548,7 @@ void runPathtraceMeshCamera(const reference::MeshScene& scene, const std::string
   o.threads = a.threads;
   o.split_orders = a.split_orders;
   o.exitance = a.quantity != "cone-radiance";  // the cosine-distributed paths only when asked for
+  o.complement_photons = a.complement_photons == "0" ? 0 : parseCount(a.complement_photons, "--complement-photons");
   reference::CameraPathTracer tracer(mesh, scene::sceneMaterial(scene, mesh),
                                      scene::referenceLights(scene), scene.camera, o);
   auto pass = [&](const reference::ProgressCallback& cb) {
@@ -816,6 +818,11 @@ void addRenderReferenceCommands(CLI::App& app) {
                     "refracting facet, plus light-traced photons for light that meets the "
                     "surface again before it scatters)")
         ->check(CLI::IsMember({"light", "camera"}))
+        ->capture_default_str();
+    cmd->add_option("--complement-photons", a->complement_photons,
+                    "--method camera at eta != 1: photons of the light-traced complement (light that "
+                    "meets the surface again before it first scatters) per camera path, per pixel "
+                    "and channel; 0: none (the images then miss that light)")
         ->capture_default_str();
     cmd->add_option("--samples", a->samples,
                     "--method camera: camera paths per pixel and channel per pass (e.g. 64)")

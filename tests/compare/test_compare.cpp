@@ -508,32 +508,44 @@ TEST(CompareMaterial, ThePhysicalReferenceOfEachMaterialKind) {
 // compare's model reference integrates scene::sceneMaterial: for a homogeneous scene exactly the
 // homogeneous reference of its medium and model.
 // The physical reference from the camera method (marble cube, η 1.3, a sun and a point light):
-// its exitance and diffusion radiance Ft·B/π agree with the light method's within their noise
-// (the same expected images), its cone radiance is the true radiance (cone angle 0: the masks
-// need no margin at silhouettes), and the cache keeps it apart from the light method's.
+// its exitance, diffusion radiance Ft·B/π and true radiance agree with the light method's within
+// their noise (the same expected images; the light method's cone radiance a 5° average), its
+// cone angle is 0 (the masks need no margin at silhouettes), and the cache keeps it apart from
+// the light method's.
 TEST(CompareReferences, TheCameraMethodsReferenceAgreesWithTheLightMethods) {
   TempDir dir("camera");
   const ReferenceCache cache(dir.path());
   const scene::Scene s = cubeScene();
   const geometry::TriangleMesh mesh = scene::loadSceneMesh(s);
   const Reference light = computeReference(s, mesh, physical(200000, 31));
-  ReferenceRequest req = physical(64, 32);
+  ReferenceRequest req = physical(128, 32);
   req.method = "camera";
   const Reference camera = cachedReference(s, mesh, req, &cache);
   EXPECT_FALSE(camera.from_cache);
   ASSERT_TRUE(camera.cone_angle.has_value());
   EXPECT_EQ(*camera.cone_angle, 0.0);
   EXPECT_FALSE(light.cone_angle.has_value());  // the scene's (5 degrees)
-  EXPECT_EQ(camera.count_done, 64u);
+  EXPECT_EQ(camera.count_done, 128u);
   EXPECT_NE(camera.key, light.key);
   const Masks masks = compareMasks(s, mesh, {}, camera.cone_angle);
   EXPECT_EQ(masks.cone, masks.interior);
-  expectAgreeWithinNoise(compareImages(camera.exitance, light.exitance, masks.interior), "exitance");
-  expectAgreeWithinNoise(compareImages(camera.radiance, light.radiance, masks.interior),
-                         "diffusion radiance");
-  // The true radiance is not Ft·B/π: on this cube they differ by more than the noise.
-  const Metrics truth = compareImages(camera.radiance, camera.cone_radiance, masks.interior);
-  EXPECT_GT(std::abs(truth.bias), 3.5 * truth.bias_stderr) << truth.bias << " ± " << truth.bias_stderr;
+  // The camera method's samples are stratified (Sobol positions per pixel), so its per-sample
+  // standard errors overstate its error a little (camera_paths.h): the noise-aware MSE is then
+  // below the noise, and only its upper side is tested; the bias is tested both ways.
+  auto expectConsistent = [](const Metrics& m, const std::string& what) {
+    SCOPED_TRACE(what);
+    ASSERT_GT(m.pixels, 100u);
+    EXPECT_LT(m.noise_mse, 3.5 * m.noise_mse_stderr) << m.noise_mse << " ± " << m.noise_mse_stderr;
+    EXPECT_LT(std::abs(m.bias), 3.5 * m.bias_stderr) << m.bias << " ± " << m.bias_stderr;
+  };
+  expectConsistent(compareImages(camera.exitance, light.exitance, masks.interior), "exitance");
+  expectConsistent(compareImages(camera.radiance, light.radiance, masks.interior),
+                   "diffusion radiance");
+  // The true radiance against the light method's cone average over 5 degrees (the same within
+  // noise: the cone's average differs from the radiance at its axis by far less here).
+  expectConsistent(compareImages(camera.cone_radiance, light.cone_radiance,
+                                 compareMasks(s, mesh, {}).cone),
+                   "true radiance");
   // From the cache: the method and the cone angle come back.
   const Reference again = cachedReference(s, mesh, req, &cache);
   EXPECT_TRUE(again.from_cache);

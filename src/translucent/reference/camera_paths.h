@@ -131,7 +131,7 @@ struct CameraPathOptions {
   bool joint_channels = true;
   // η ≠ 1: photons per camera sample (per pixel and channel) of the light-traced complement
   // (see the header comment), and its cone half-angle in degrees where cone_half_angle is 0.
-  uint64_t complement_photons = 16;
+  uint64_t complement_photons = 4;
   double complement_cone = 5.0;
 
   void validate() const;  // ParameterError naming the bad field
