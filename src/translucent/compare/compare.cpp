@@ -139,7 +139,11 @@ std::string referenceKeyText(const scene::Scene& scene, const ReferenceRequest& 
   j["seed"] = request.seed;
   if (request.kind == ReferenceKind::Model) j["subpixels"] = request.subpixels;
   if (request.kind == ReferenceKind::Physical && request.device != "cpu") j["device"] = request.device;
-  if (request.kind == ReferenceKind::Physical && request.method != "light") j["method"] = request.method;
+  if (request.kind == ReferenceKind::Physical && request.method != "light") {
+    j["method"] = request.method;
+    // The camera method's light-traced complement (its photons per path change the image).
+    j["complement_photons"] = reference::CameraPathOptions{}.complement_photons;
+  }
   j["stored_convention"] = "jensen";
   j["code_version"] = kReferenceCodeVersion;
   return j.dump();  // objects are ordered by key: canonical
