@@ -115,6 +115,16 @@ bool deltaIncident(const Light& light, const glm::dvec3& x, glm::dvec3& w, doubl
   return true;
 }
 
+// Russian roulette on the transmittance T a refracted connection will carry, asked before its
+// ray queries (RefractedLight::forEachWeighted): below kConnectRoulette it survives with
+// probability T / kConnectRoulette and then carries kConnectRoulette: unbiased, and a deep
+// collision spends no rays on connections through tens of mean free paths.
+constexpr double kConnectRoulette = 1e-3;
+double connectionWeight(double T, Rng& rng) {
+  if (T >= kConnectRoulette) return 1.0;
+  return uniform01(rng) * kConnectRoulette < T ? kConnectRoulette / T : 0.0;
+}
+
 // The boundary as the walks see it: the index ratio and, per light, its refracted connections
 // (η ≠ 1; null for environment lights and at η = 1).
 struct Boundary {
@@ -325,11 +335,17 @@ class ChannelPaths {
         // the environment only by the paths that escape.
         if (!boundary_.refracted[i]) continue;
         const double color = light.color[static_cast<size_t>(c_)];
-        boundary_.refracted[i]->forEach(x, false, [&](const RefractedLight::Path& p) {
-          ++k.shadowRays;
-          const double T = volume_ ? ratioTracking(x, p.w, p.dist, rng) : std::exp(-sigmaT_ * p.dist);
-          sum += hgCosineDensity(glm::dot(d, p.w), g) / (2.0 * kPi) * p.irradiance * color * T;
-        });
+        boundary_.refracted[i]->forEachWeighted(
+            x, false,
+            [&](const RefractedLight::Path& p) {
+              return volume_ ? 1.0 : connectionWeight(std::exp(-sigmaT_ * p.dist), rng);
+            },
+            [&](const RefractedLight::Path& p, double keep) {
+              ++k.shadowRays;
+              const double T =
+                  volume_ ? ratioTracking(x, p.w, p.dist, rng) : std::exp(-sigmaT_ * p.dist) * keep;
+              sum += hgCosineDensity(glm::dot(d, p.w), g) / (2.0 * kPi) * p.irradiance * color * T;
+            });
         continue;
       }
       if (const auto* env = std::get_if<EnvironmentLight>(&light.emitter)) {
@@ -642,11 +658,17 @@ class RgbPaths {
         // η ≠ 1 (ChannelPaths::direct).
         if (!boundary_.refracted[i]) continue;
         const glm::dvec3 color(light.color[0], light.color[1], light.color[2]);
-        boundary_.refracted[i]->forEach(x, false, [&](const RefractedLight::Path& p) {
-          ++k.shadowRays;
-          sum += hgCosineDensity(glm::dot(d, p.w), g_) / (2.0 * kPi) * p.irradiance * color *
-                 attenuation(p.dist);
-        });
+        const double least = std::min({sigmaT_[0], sigmaT_[1], sigmaT_[2]});
+        boundary_.refracted[i]->forEachWeighted(
+            x, false,
+            [&](const RefractedLight::Path& p) {
+              return connectionWeight(std::exp(-least * p.dist), rng);
+            },
+            [&](const RefractedLight::Path& p, double keep) {
+              ++k.shadowRays;
+              sum += hgCosineDensity(glm::dot(d, p.w), g_) / (2.0 * kPi) * p.irradiance * color *
+                     attenuation(p.dist) * keep;
+            });
         continue;
       }
       if (const auto* env = std::get_if<EnvironmentLight>(&light.emitter)) {

@@ -240,7 +240,7 @@ size_t RefractedLight::cellOf(const glm::dvec3& x) const {
              static_cast<size_t>(dims_.x) + static_cast<size_t>(i.x);
 }
 
-bool RefractedLight::connect(uint32_t index, const glm::dvec3& x, bool onSurface, Path& p) const {
+bool RefractedLight::candidate(uint32_t index, const glm::dvec3& x, bool onSurface, Path& p) const {
   const Facet& f = facets_[index];
   const double hx = -glm::dot(x - f.v0, f.n);  // depth of x below the facet's plane
   if (!(hx > 0.0)) return false;
@@ -295,26 +295,34 @@ bool RefractedLight::connect(uint32_t index, const glm::dvec3& x, bool onSurface
   const double dist = glm::length(w);
   if (!(dist > (onSurface ? eps_ : 0.0))) return false;
   w /= dist;
-  // The light reaches y: inside the beam's cylinder, and nothing of the body in the way in air.
+  // Inside the beam's cylinder.
+  if (kind_ == Kind::Beam) {
+    const glm::dvec3 q = y - origin_;
+    const double air = -glm::dot(q, toLight_);
+    if (!(air > 0.0) || glm::length(q + air * toLight_) > radius_) return false;
+  }
+  p.w = w;
+  p.dist = dist;
+  p.irradiance = irradiance;
+  return true;
+}
+
+bool RefractedLight::visible(const glm::dvec3& x, bool onSurface, const Path& p) const {
+  const glm::dvec3 y = x + p.dist * p.w;
   glm::dvec3 toLight = toLight_;
   double air = kInf;
   if (kind_ == Kind::Beam) {
-    const glm::dvec3 q = y - origin_;
-    air = -glm::dot(q, toLight_);
-    if (!(air > 0.0) || glm::length(q + air * toLight_) > radius_) return false;
+    air = -glm::dot(y - origin_, toLight_);
   } else if (kind_ == Kind::Point) {
     toLight = origin_ - y;
     air = glm::length(toLight);
     toLight /= air;
   }
-  // Nothing of the boundary between x and y (then y is where the line from x leaves the body).
-  const double t0 = onSurface ? eps_ : 0.0, t1 = dist - eps_;
-  if (t1 > t0 && body_.occluded(x, w, t0, t1)) return false;
-  if (body_.occluded(y, toLight, eps_, air)) return false;
-  p.w = w;
-  p.dist = dist;
-  p.irradiance = irradiance;
-  return true;
+  // Nothing of the boundary between x and y (then y is where the line from x leaves the body),
+  // and nothing of the body between y and the light in air.
+  const double t0 = onSurface ? eps_ : 0.0, t1 = p.dist - eps_;
+  if (t1 > t0 && body_.occluded(x, p.w, t0, t1)) return false;
+  return !body_.occluded(y, toLight, eps_, air);
 }
 
 }  // namespace translucent::reference

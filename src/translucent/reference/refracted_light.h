@@ -78,10 +78,21 @@ class RefractedLight {
   // surface with `onSurface`: then the segment to y ignores hits closer than the body's epsilon).
   template <class F>
   void forEach(const glm::dvec3& x, bool onSurface, F&& f) const {
+    forEachWeighted(
+        x, onSurface, [](const Path&) { return 1.0; }, [&](const Path& p, double) { f(p); });
+  }
+  // As forEach, asking weight(path) before the path's ray queries (the visibility tests): 0
+  // skips it unseen (e.g. a caller's Russian roulette on the transmittance it will apply: an
+  // unbiased way to spend no rays on paths through many mean free paths), else f(path, weight).
+  template <class W, class F>
+  void forEachWeighted(const glm::dvec3& x, bool onSurface, W&& weight, F&& f) const {
     const size_t cell = cellOf(x);
     for (uint32_t i = start_[cell]; i < start_[cell + 1]; ++i) {
       Path p;
-      if (connect(items_[i], x, onSurface, p)) f(p);
+      if (!candidate(items_[i], x, onSurface, p)) continue;
+      const double k = weight(p);
+      if (!(k > 0.0) || !visible(x, onSurface, p)) continue;
+      f(p, k);
     }
   }
 
@@ -97,7 +108,10 @@ class RefractedLight {
     glm::dvec3 din;            // directional / beam: the refracted direction of travel
     double irradiance = 0.0;   // directional / beam: E Ft cos θi / cos θt
   };
-  bool connect(uint32_t facet, const glm::dvec3& x, bool onSurface, Path& p) const;
+  // The connection through one facet by its closed form (y in the triangle, the beam's cylinder),
+  // and whether light takes it (the ray queries).
+  bool candidate(uint32_t facet, const glm::dvec3& x, bool onSurface, Path& p) const;
+  bool visible(const glm::dvec3& x, bool onSurface, const Path& p) const;
   size_t cellOf(const glm::dvec3& x) const;
 
   const MeshBody& body_;
