@@ -6,7 +6,9 @@
 // methods), the light method's far point light against its sun, against the light method
 // (mesh_tracer.h: the same pixel averages; image means and per-pixel z maps at a Bonferroni-
 // corrected level) for directional, point lights and a heterogeneous field, determinism, and the
-// refusals. All at η = 1 (the method refuses η ≠ 1).
+// refusals; at η = 1.3 (refracted_light.h and the light-traced complement) the refractive
+// half-space's closed form, the refracted point light's flux, and the light method's images on
+// the sphere, the bunny and the heterogeneous sphere.
 #include <gtest/gtest.h>
 
 #include <algorithm>
