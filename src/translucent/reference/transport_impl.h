@@ -252,6 +252,21 @@ AtBoundary crossBoundary(const BodyT& body, const ChannelWalk& W, double eps, in
   return AtBoundary::Escaped;
 }
 
+// crossBoundary with TransportOptions::after_specular_only's bookkeeping: the exit is scored
+// unless the photon has neither scattered nor met the boundary since its entry, and a reflection
+// or re-entry before its first scattering counts in `specular`.
+template <class BodyT>
+AtBoundary crossCounted(const BodyT& body, const ChannelWalk& W, double eps, int c, double w,
+                        const glm::dvec3& normal, glm::dvec3& x, glm::dvec3& d, Rng& rng,
+                        ExitTally::Block& tally, uint64_t scatters, double& exitedSum,
+                        std::array<double, kScatteringOrders>& exitedByOrder, uint64_t& specular) {
+  const AtBoundary b =
+      crossBoundary(body, W, eps, c, w, normal, x, d, rng, tally, scatters, exitedSum,
+                    exitedByOrder, !(W.afterSpecularOnly && scatters == 0 && specular == 0));
+  if (b != AtBoundary::Escaped && scatters == 0) ++specular;
+  return b;
+}
+
 // Henyey-Greenstein scattering (line 16) and the seed's long-path roulette (section 3.2); false
 // when the roulette ends the walk.
 inline bool scatter(float g, uint64_t longPath, Rng& rng, glm::dvec3& d, uint64_t& scatters,
@@ -306,13 +321,9 @@ void tracePhoton(const BodyT& body, const BoundingSphere& bounds, std::span<cons
       onSurface = true;
       // The rest of the free path s goes on after a reflection or from the re-entry point
       // (memoryless flights, transport.h).
-      const AtBoundary b =
-          crossBoundary(body, W, eps, c, w, hit.normal, x, d, rng, tally, scatters, exitedSum,
-                        exitedByOrder, !(W.afterSpecularOnly && scatters == 0 && specular == 0));
-      if (b != AtBoundary::Escaped) {
-        if (scatters == 0) ++specular;
-        continue;
-      }
+      const AtBoundary b = crossCounted(body, W, eps, c, w, hit.normal, x, d, rng, tally,
+                                        scatters, exitedSum, exitedByOrder, specular);
+      if (b != AtBoundary::Escaped) continue;
       escaped = true;
       escapedWeight = w;
       break;
@@ -398,13 +409,9 @@ bool traceVolumePhoton(const BodyT& body, const BoundingSphere& bounds,
     }
     x = o + hit.t * d;
     onSurface = true;
-    const AtBoundary b =
-        crossBoundary(body, W, eps, c, w, hit.normal, x, d, rng, tally, scatters, exitedSum,
-                      exitedByOrder, !(W.afterSpecularOnly && scatters == 0 && specular == 0));
-    if (b != AtBoundary::Escaped) {
-      if (scatters == 0) ++specular;
-      continue;
-    }
+    const AtBoundary b = crossCounted(body, W, eps, c, w, hit.normal, x, d, rng, tally, scatters,
+                                      exitedSum, exitedByOrder, specular);
+    if (b != AtBoundary::Escaped) continue;
     escapedWeight = w;
     break;
   }
