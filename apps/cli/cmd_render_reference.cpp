@@ -571,7 +571,12 @@ void runPathtraceMeshCamera(const reference::MeshScene& scene, const std::string
     const McImage& chosen = pick(tracer.images(), a.quantity);
     writeImage(out, a, chosen, all,
                fmt::format("translucent pathtrace mesh --method camera --scene {} (cone "
-                           "half-angle 0: the true radiance)", sceneFile),
+                           "half-angle 0: the true radiance{})", sceneFile,
+                           tracer.complementCone() > 0.0
+                               ? fmt::format("; the light that meets the surface again before it "
+                                             "first scatters by light-traced photons, its cone "
+                                             "average over {} degrees", tracer.complementCone())
+                               : std::string()),
                partial, fmt::format("{} camera paths per pixel and channel", st.samples));
     nlohmann::json j = {{"command", "pathtrace mesh"}, {"method", "camera"},
                         {"scene_file", sceneFile},
