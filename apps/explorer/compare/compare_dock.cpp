@@ -128,9 +128,12 @@ void CompareDock::buildUi() {
   kind_box_->setObjectName("reference_kind");
   kind_box_->addItem(tr("Physical (path tracer)"));
   kind_box_->addItem(tr("Model (BSSRDF integrated over the mesh)"));
+  kind_box_->addItem(tr("Physical, paths from the camera (true radiance)"));
   kind_box_->setToolTip(tr("Physical: volumetric photon tracing, the total error of the technique. "
                            "Model: the scene's BSSRDF integrated over the whole surface, the "
-                           "technique's own error."));
+                           "technique's own error. Physical from the camera: camera paths per "
+                           "pixel, whose true radiance has a standard error per pixel (slower "
+                           "to converge where the light comes through the body)."));
   quantity_box_ = new QComboBox(root);
   quantity_box_->setObjectName("quantity");
   quantity_box_->addItem(tr("Radiance L = Ft·B/π"));
@@ -158,6 +161,14 @@ void CompareDock::buildUi() {
                               "(passes double from 10 k; each is a new image)"));
   samples_box_->setValue(static_cast<int>(sample_budget_ / 1000));
   samples_box_->setKeyboardTracking(false);
+  paths_box_ = new QSpinBox(root);
+  paths_box_->setObjectName("paths");
+  paths_box_->setRange(4, 65536);
+  paths_box_->setSuffix(tr(" paths per pixel"));
+  paths_box_->setToolTip(tr("Camera method budget: camera paths per pixel and colour channel, all "
+                            "passes together (passes double from 4)"));
+  paths_box_->setValue(static_cast<int>(path_budget_));
+  paths_box_->setKeyboardTracking(false);
   controls->addWidget(new QLabel(tr("Reference"), root), 0, 0);
   controls->addWidget(kind_box_, 0, 1);
   controls->addWidget(new QLabel(tr("Compare"), root), 0, 2);
@@ -168,6 +179,7 @@ void CompareDock::buildUi() {
   auto* budgets = new QHBoxLayout;
   budgets->addWidget(photons_box_);
   budgets->addWidget(samples_box_);
+  budgets->addWidget(paths_box_);
   device_box_ = makeTraceDeviceBox(QStringLiteral("tracer_device"), tr("the path tracer"), root);
   budgets->addWidget(device_box_);
   controls->addLayout(budgets, 1, 3);
@@ -211,6 +223,7 @@ void CompareDock::buildUi() {
   setWidget(root);
 
   connect(kind_box_, &QComboBox::currentIndexChanged, this, [this](int i) {
+    if (i != 1) setCameraMethod(i == 2);
     setReferenceKind(i == 1 ? analysis::ReferenceKind::Model : analysis::ReferenceKind::Physical);
   });
   connect(quantity_box_, &QComboBox::currentIndexChanged, this,
@@ -220,12 +233,20 @@ void CompareDock::buildUi() {
           [this](int k) { setPhotonBudget(static_cast<uint64_t>(k) * 1024); });
   connect(samples_box_, &QSpinBox::valueChanged, this,
           [this](int k) { setSampleBudget(static_cast<uint64_t>(k) * 1000); });
+  connect(paths_box_, &QSpinBox::valueChanged, this,
+          [this](int n) { setPathBudget(static_cast<uint64_t>(n)); });
   connect(device_box_, &QComboBox::currentIndexChanged, this, [this](int i) {
     setTracerDevice(device_box_->itemData(i).toString().toStdString());
   });
-  photons_box_->setVisible(kind_ == analysis::ReferenceKind::Physical);
-  samples_box_->setVisible(kind_ == analysis::ReferenceKind::Model);
-  device_box_->setVisible(kind_ == analysis::ReferenceKind::Physical);
+  updateBudgetBoxes();
+}
+
+void CompareDock::updateBudgetBoxes() {
+  const bool physical = kind_ == analysis::ReferenceKind::Physical;
+  photons_box_->setVisible(physical && !camera_);
+  paths_box_->setVisible(physical && camera_);
+  samples_box_->setVisible(!physical);
+  device_box_->setVisible(physical && !camera_);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -241,10 +262,8 @@ void CompareDock::setReferenceKind(analysis::ReferenceKind kind) {
   if (kind == kind_) return;
   kind_ = kind;
   const QSignalBlocker block(kind_box_);
-  kind_box_->setCurrentIndex(kind == analysis::ReferenceKind::Model ? 1 : 0);
-  photons_box_->setVisible(kind_ == analysis::ReferenceKind::Physical);
-  samples_box_->setVisible(kind_ == analysis::ReferenceKind::Model);
-  device_box_->setVisible(kind_ == analysis::ReferenceKind::Physical);
+  kind_box_->setCurrentIndex(kind == analysis::ReferenceKind::Model ? 1 : camera_ ? 2 : 0);
+  updateBudgetBoxes();
   // The last images are of the other reference: not shown beside the new one.
   snapshot_.reset();
   reference_image_ = QImage();
@@ -259,6 +278,31 @@ void CompareDock::setImageWidth(int pixels) {
   width_ = pixels;
   const QSignalBlocker block(width_box_);
   width_box_->setValue(pixels);
+  restart(false);
+}
+
+void CompareDock::setCameraMethod(bool camera) {
+  if (camera == camera_) return;
+  camera_ = camera;
+  if (kind_ == analysis::ReferenceKind::Physical) {
+    const QSignalBlocker block(kind_box_);
+    kind_box_->setCurrentIndex(camera_ ? 2 : 0);
+  }
+  updateBudgetBoxes();
+  // The last images are of the other method: not shown beside the new one.
+  snapshot_.reset();
+  reference_image_ = QImage();
+  reference_view_->setImage(reference_image_);
+  restart(false);
+  updateComparison();
+}
+
+void CompareDock::setPathBudget(uint64_t paths) {
+  paths = std::clamp<uint64_t>(paths, 4, 65536);
+  if (paths == path_budget_) return;
+  path_budget_ = paths;
+  const QSignalBlocker block(paths_box_);
+  paths_box_->setValue(static_cast<int>(paths));
   restart(false);
 }
 
@@ -325,9 +369,10 @@ void CompareDock::restart(bool force) {
   if (force || fk != frame_key_) requestFrame(s, std::move(fk), sk);
 
   const bool physical = kind_ == analysis::ReferenceKind::Physical;
-  std::string key = fmt::format("{}|{}|{}|{}", analysis::toString(kind_),
-                                physical ? photon_budget_ : sample_budget_,
-                                physical ? tracer_device_ : std::string(), sk);
+  std::string key = fmt::format("{}|{}|{}|{}|{}", analysis::toString(kind_),
+                                physical ? (camera_ ? path_budget_ : photon_budget_) : sample_budget_,
+                                physical ? tracer_device_ : std::string(),
+                                physical && camera_ ? "camera" : "light", sk);
   if (!force && key == run_key_) {
     if (stale_) {  // back to the scene of the reference shown (after a failed change)
       stale_ = false;
@@ -383,7 +428,12 @@ void CompareDock::startRun(const scene::Scene& scene, std::string key) {
   c.kind = kind_;
   c.seed = kSeed;
   c.device = tracer_device_;
-  if (kind_ == analysis::ReferenceKind::Physical) {
+  if (kind_ == analysis::ReferenceKind::Physical && camera_) {
+    c.method = "camera";
+    c.first = 4;
+    c.budget = path_budget_;
+    c.cap = 0;
+  } else if (kind_ == analysis::ReferenceKind::Physical) {
     c.first = kFirstPhotons;
     c.budget = photon_budget_;
     c.cap = kCapPhotons;
@@ -633,7 +683,8 @@ void CompareDock::updateStatus() {
   const bool physical = kind_ == analysis::ReferenceKind::Physical;
   QString text;
   if (s.passes > 0) {
-    text = physical ? tr("pass %1/%2: %3 photons per channel in %4 s")
+    text = physical ? tr(camera_ ? "pass %1/%2: %3 camera paths per pixel and channel in %4 s"
+                                 : "pass %1/%2: %3 photons per channel in %4 s")
                           .arg(s.passes)
                           .arg(snapshot_->passes)
                           .arg(count(s.count))

@@ -72,6 +72,12 @@ class CompareDock : public QDockWidget {
   void setImageWidth(int pixels);           // 16..512; height from the scene camera's aspect
   void setPhotonBudget(uint64_t photons);   // physical: photons per channel, all passes
   void setSampleBudget(uint64_t samples);   // model: samples of the last (largest) pass
+  // Physical reference from the camera method (camera_paths.h: the true radiance per pixel)
+  // instead of the light method's photons; its budget in camera paths per pixel, all passes.
+  void setCameraMethod(bool camera);
+  void setPathBudget(uint64_t paths);
+  bool cameraMethod() const { return camera_; }
+  uint64_t pathBudget() const { return path_budget_; }
   // Display only.
   void setQuantity(Quantity quantity);
   analysis::ReferenceKind referenceKind() const { return kind_; }
@@ -147,6 +153,8 @@ class CompareDock : public QDockWidget {
   uint64_t photon_budget_ = uint64_t{1} << 22;
   std::string tracer_device_ = "auto";
   uint64_t sample_budget_ = 160000;
+  bool camera_ = false;          // the physical reference from the camera method
+  uint64_t path_budget_ = 64;    // its camera paths per pixel and channel, all passes
 
   // Reference.
   std::unique_ptr<CompareRun> run_;
@@ -189,7 +197,9 @@ class CompareDock : public QDockWidget {
   QSpinBox* width_box_ = nullptr;
   QSpinBox* photons_box_ = nullptr;
   QSpinBox* samples_box_ = nullptr;
+  QSpinBox* paths_box_ = nullptr;  // the camera method's paths per pixel
   QComboBox* device_box_ = nullptr;
+  void updateBudgetBoxes();  // which budget box the reference kind and method show
   PixelImageView* technique_view_ = nullptr;
   PixelImageView* reference_view_ = nullptr;
   PixelImageView* difference_view_ = nullptr;

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <utility>
 
+#include "translucent/reference/camera_paths.h"
 #include "translucent/reference/gpu/device.h"
 #include "translucent/reference/mesh_tracer.h"
 #include "translucent/reference/progressive.h"
@@ -64,7 +65,48 @@ void CompareRun::run() {
       if (callbacks_.progress) callbacks_.progress(std::clamp(fraction, 0.0, 1.0));
     };
 
-    if (config_.kind == analysis::ReferenceKind::Physical) {
+    if (config_.kind == analysis::ReferenceKind::Physical && config_.method == "camera") {
+      // The camera method (reference/camera_paths.h): passes of camera paths per pixel, doubling
+      // from `first`; its cone radiance is the true radiance (cone half-angle 0).
+      const std::vector<reference::Light> lights = scene::referenceLights(s);
+      const auto passes = reference::doublingPasses(config_.first, config_.budget, 1, config_.cap);
+      uint64_t total = 0;
+      for (uint64_t n : passes) total += n;
+      const analysis::Masks masks = analysis::compareMasks(s, mesh, {}, 0.0);
+      if (stop_) throw Stopped{};
+      reference::CameraPathOptions o;
+      o.seed = config_.seed;
+      o.threads = config_.threads;
+      reference::CameraPathTracer tracer(mesh, s.medium, lights, s.camera, o);
+      const int count = static_cast<int>(passes.size());
+      stopped = reference::runProgressive(
+                    tracer, passes, stop_,
+                    [&](int k, uint64_t done) {
+                      analysis::Reference r;
+                      r.kind = analysis::ReferenceKind::Physical;
+                      r.request.kind = analysis::ReferenceKind::Physical;
+                      r.request.method = "camera";
+                      r.request.count = done;
+                      r.request.seed = config_.seed;
+                      r.request.threads = config_.threads;
+                      r.cone_angle = 0.0;
+                      r.exitance = analysis::toCompareImage(tracer.images().exitance);
+                      r.radiance = analysis::toCompareImage(tracer.images().radiance);
+                      r.cone_radiance = analysis::toCompareImage(tracer.images().cone_radiance);
+                      r.count_done = done;
+                      r.seconds = tracer.stats().seconds;
+                      report(k, count, done, done, total, std::move(r), masks);
+                    },
+                    [&](int k, uint64_t done, const reference::TraceProgress& p) {
+                      if (p.photons_total == 0) return;
+                      const double in = static_cast<double>(p.photons_done) /
+                                        static_cast<double>(p.photons_total);
+                      progressTo((static_cast<double>(done) +
+                                  in * static_cast<double>(passes[static_cast<size_t>(k)])) /
+                                 static_cast<double>(total));
+                    })
+                    .stopped;
+    } else if (config_.kind == analysis::ReferenceKind::Physical) {
       // Lights first: one the tracer cannot handle (filtered, an unreadable map) fails before any
       // work.
       const std::vector<reference::Light> lights = scene::referenceLights(s);

@@ -43,6 +43,9 @@ struct CompareRunConfig {
   // The physical reference's device (reference/gpu/device.h): "cpu", "gpu" (a GL context of the
   // run's own) or "auto" (the GPU on a hardware GPU where the GPU walk can trace the scene).
   std::string device = "auto";
+  // The physical reference's method: "light" (photons, MeshPathTracer) or "camera" (camera paths
+  // per pixel, CameraPathTracer: first, budget and cap count paths per pixel and channel).
+  std::string method = "light";
 };
 
 struct CompareSnapshot {

@@ -13,6 +13,7 @@
 #include <QtTest/QSignalSpy>
 #include <QtTest/QTest>
 #include <QtWidgets/QComboBox>
+#include <QtWidgets/QSpinBox>
 #include <QtWidgets/QLabel>
 
 #include <bit>
@@ -338,6 +339,39 @@ class TestCompareDock : public QObject {
     qInfo("after 40000 samples (%.2f s): %s", dock->status().seconds,
           qPrintable(dock->metricsText()));
     QVERIFY(dock->metrics()->pixels > 100);
+  }
+
+  void cameraMethodReferenceRefinesWithDoublingPaths() {
+    // The physical reference from the camera method (the kind box's third entry): passes of 4,
+    // 8 and 16 camera paths per pixel, its images the camera method's, its true radiance compared.
+    ExplorerState state;
+    auto dock = std::make_unique<CompareDock>(state);
+    dock->setImageWidth(kWidth);
+    dock->setPathBudget(28);
+    auto* kind = dock->findChild<QComboBox*>("reference_kind");
+    QVERIFY(kind);
+    kind->setCurrentIndex(2);
+    QVERIFY(dock->cameraMethod());
+    QCOMPARE(dock->referenceKind(), analysis::ReferenceKind::Physical);
+    QVERIFY(!dock->findChild<QSpinBox*>("photons")->isVisibleTo(dock.get()));
+    QVERIFY(dock->findChild<QSpinBox*>("paths")->isVisibleTo(dock.get()));
+    dock->setQuantity(CompareDock::Quantity::ConeRadiance);
+    dock->show();
+    std::vector<CompareDock::Status> seen;
+    connect(dock.get(), &CompareDock::passCompleted, this,
+            [&](int) { seen.push_back(dock->status()); });
+    QTRY_VERIFY_WITH_TIMEOUT(!dock->status().running && dock->status().passes == 3, kWaitMs);
+    QCOMPARE(seen.size(), size_t{3});
+    const uint64_t counts[] = {4, 12, 28};
+    for (size_t k = 0; k < 3; ++k) QCOMPARE(seen[k].count, counts[k]);
+    QTRY_VERIFY_WITH_TIMEOUT(dock->metrics().has_value(), kWaitMs);
+    QVERIFY(dock->metrics()->pixels > 100);
+    qInfo("camera method, 28 paths (%.2f s): %s", dock->status().seconds,
+          qPrintable(dock->metricsText()));
+    // Back to the photons: the other method's images are not kept.
+    kind->setCurrentIndex(0);
+    QVERIFY(!dock->cameraMethod());
+    QVERIFY(dock->findChild<QSpinBox*>("photons")->isVisibleTo(dock.get()));
   }
 
   void destroyingTheDockMidRunReturnsPromptly() {
