@@ -264,12 +264,7 @@ void CompareDock::setReferenceKind(analysis::ReferenceKind kind) {
   const QSignalBlocker block(kind_box_);
   kind_box_->setCurrentIndex(kind == analysis::ReferenceKind::Model ? 1 : camera_ ? 2 : 0);
   updateBudgetBoxes();
-  // The last images are of the other reference: not shown beside the new one.
-  snapshot_.reset();
-  reference_image_ = QImage();
-  reference_view_->setImage(reference_image_);
-  restart(false);
-  updateComparison();
+  dropReference();
 }
 
 void CompareDock::setImageWidth(int pixels) {
@@ -289,7 +284,11 @@ void CompareDock::setCameraMethod(bool camera) {
     kind_box_->setCurrentIndex(camera_ ? 2 : 0);
   }
   updateBudgetBoxes();
-  // The last images are of the other method: not shown beside the new one.
+  dropReference();
+}
+
+void CompareDock::dropReference() {
+  // The last images are of the other reference (kind or method): not shown beside the new one.
   snapshot_.reset();
   reference_image_ = QImage();
   reference_view_->setImage(reference_image_);

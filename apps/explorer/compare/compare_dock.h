@@ -200,6 +200,7 @@ class CompareDock : public QDockWidget {
   QSpinBox* paths_box_ = nullptr;  // the camera method's paths per pixel
   QComboBox* device_box_ = nullptr;
   void updateBudgetBoxes();  // which budget box the reference kind and method show
+  void dropReference();      // after a change of kind or method: restart without the old images
   PixelImageView* technique_view_ = nullptr;
   PixelImageView* reference_view_ = nullptr;
   PixelImageView* difference_view_ = nullptr;

@@ -5,7 +5,9 @@
 #include <chrono>
 #include <exception>
 #include <filesystem>
+#include <optional>
 #include <utility>
+#include <vector>
 
 #include "translucent/reference/camera_paths.h"
 #include "translucent/reference/gpu/device.h"
@@ -65,55 +67,62 @@ void CompareRun::run() {
       if (callbacks_.progress) callbacks_.progress(std::clamp(fraction, 0.0, 1.0));
     };
 
+    // The physical reference's passes on `tracer` (either method), a snapshot after each.
+    auto runPhysical = [&](auto& tracer, const std::vector<uint64_t>& passes,
+                           const analysis::Masks& masks, const std::string& method,
+                           const std::string& device, std::optional<double> coneAngle) {
+      uint64_t total = 0;
+      for (uint64_t n : passes) total += n;
+      const int count = static_cast<int>(passes.size());
+      return reference::runProgressive(
+                 tracer, passes, stop_,
+                 [&](int k, uint64_t done) {
+                   analysis::Reference r;
+                   r.kind = analysis::ReferenceKind::Physical;
+                   r.request.kind = analysis::ReferenceKind::Physical;
+                   r.request.method = method;
+                   r.request.count = done;
+                   r.request.seed = config_.seed;
+                   r.request.threads = config_.threads;
+                   r.request.device = device;
+                   r.cone_angle = coneAngle;
+                   r.exitance = analysis::toCompareImage(tracer.images().exitance);
+                   r.radiance = analysis::toCompareImage(tracer.images().radiance);
+                   r.cone_radiance = analysis::toCompareImage(tracer.images().cone_radiance);
+                   r.count_done = done;
+                   r.seconds = tracer.stats().seconds;
+                   report(k, count, done, done, total, std::move(r), masks);
+                 },
+                 [&](int k, uint64_t done, const reference::TraceProgress& p) {
+                   if (p.photons_total == 0) return;
+                   // photons_done / photons_total is the pass's own fraction (all channels).
+                   const double in = static_cast<double>(p.photons_done) /
+                                     static_cast<double>(p.photons_total);
+                   progressTo((static_cast<double>(done) +
+                               in * static_cast<double>(passes[static_cast<size_t>(k)])) /
+                              static_cast<double>(total));
+                 })
+          .stopped;
+    };
+
     if (config_.kind == analysis::ReferenceKind::Physical && config_.method == "camera") {
       // The camera method (reference/camera_paths.h): passes of camera paths per pixel, doubling
       // from `first`; its cone radiance is the true radiance (cone half-angle 0).
       const std::vector<reference::Light> lights = scene::referenceLights(s);
       const auto passes = reference::doublingPasses(config_.first, config_.budget, 1, config_.cap);
-      uint64_t total = 0;
-      for (uint64_t n : passes) total += n;
       const analysis::Masks masks = analysis::compareMasks(s, mesh, {}, 0.0);
       if (stop_) throw Stopped{};
       reference::CameraPathOptions o;
       o.seed = config_.seed;
       o.threads = config_.threads;
       reference::CameraPathTracer tracer(mesh, s.medium, lights, s.camera, o);
-      const int count = static_cast<int>(passes.size());
-      stopped = reference::runProgressive(
-                    tracer, passes, stop_,
-                    [&](int k, uint64_t done) {
-                      analysis::Reference r;
-                      r.kind = analysis::ReferenceKind::Physical;
-                      r.request.kind = analysis::ReferenceKind::Physical;
-                      r.request.method = "camera";
-                      r.request.count = done;
-                      r.request.seed = config_.seed;
-                      r.request.threads = config_.threads;
-                      r.cone_angle = 0.0;
-                      r.exitance = analysis::toCompareImage(tracer.images().exitance);
-                      r.radiance = analysis::toCompareImage(tracer.images().radiance);
-                      r.cone_radiance = analysis::toCompareImage(tracer.images().cone_radiance);
-                      r.count_done = done;
-                      r.seconds = tracer.stats().seconds;
-                      report(k, count, done, done, total, std::move(r), masks);
-                    },
-                    [&](int k, uint64_t done, const reference::TraceProgress& p) {
-                      if (p.photons_total == 0) return;
-                      const double in = static_cast<double>(p.photons_done) /
-                                        static_cast<double>(p.photons_total);
-                      progressTo((static_cast<double>(done) +
-                                  in * static_cast<double>(passes[static_cast<size_t>(k)])) /
-                                 static_cast<double>(total));
-                    })
-                    .stopped;
+      stopped = runPhysical(tracer, passes, masks, "camera", "cpu", 0.0);
     } else if (config_.kind == analysis::ReferenceKind::Physical) {
       // Lights first: one the tracer cannot handle (filtered, an unreadable map) fails before any
       // work.
       const std::vector<reference::Light> lights = scene::referenceLights(s);
       const auto passes = reference::doublingPasses(config_.first, config_.budget,
                                                     reference::kBlockPhotons, config_.cap);
-      uint64_t total = 0;
-      for (uint64_t n : passes) total += n;
       const analysis::Masks masks = analysis::compareMasks(s, mesh, {});
       if (stop_) throw Stopped{};
       // Before the tracer: the context outlives the walker the tracer holds.
@@ -122,35 +131,8 @@ void CompareRun::run() {
                                        {config_.seed, config_.threads});
       reference::useDevice(dev, config_.device, tracer, mesh,
                            std::filesystem::path(s.mesh_file).string(), "reference device");
-      const std::string device = tracer.device() == "cpu" ? "cpu" : "gpu";
-      const int count = static_cast<int>(passes.size());
-      stopped = reference::runProgressive(
-                    tracer, passes, stop_,
-                    [&](int k, uint64_t done) {
-                      analysis::Reference r;
-                      r.kind = analysis::ReferenceKind::Physical;
-                      r.request.kind = analysis::ReferenceKind::Physical;
-                      r.request.count = done;
-                      r.request.seed = config_.seed;
-                      r.request.threads = config_.threads;
-                      r.request.device = device;
-                      r.exitance = analysis::toCompareImage(tracer.images().exitance);
-                      r.radiance = analysis::toCompareImage(tracer.images().radiance);
-                      r.cone_radiance = analysis::toCompareImage(tracer.images().cone_radiance);
-                      r.count_done = done;
-                      r.seconds = tracer.stats().seconds;
-                      report(k, count, done, done, total, std::move(r), masks);
-                    },
-                    [&](int k, uint64_t done, const reference::TraceProgress& p) {
-                      if (p.photons_total == 0) return;
-                      // photons_done / photons_total is the pass's own fraction (all channels).
-                      const double in = static_cast<double>(p.photons_done) /
-                                        static_cast<double>(p.photons_total);
-                      progressTo((static_cast<double>(done) +
-                                  in * static_cast<double>(passes[static_cast<size_t>(k)])) /
-                                 static_cast<double>(total));
-                    })
-                    .stopped;
+      stopped = runPhysical(tracer, passes, masks, "light", tracer.device() == "cpu" ? "cpu" : "gpu",
+                            std::nullopt);
     } else {
       const auto passes = modelPasses(config_.first, config_.budget);
       uint64_t total = 0;
