@@ -251,13 +251,19 @@ material::Material veinedMarble() {
 }
 
 // split: the images kept per scattering order too (TracerOptions::split_orders), what that costs.
-void BM_Bunny(benchmark::State& state, bool gpu, bool veins, bool split) {
+// The glmark2 bunny scaled to radius 1 about the origin, loaded once.
+const geometry::TriangleMesh& unitBunny() {
   static const geometry::TriangleMesh mesh = [] {
     geometry::TriangleMesh m = geometry::loadMesh("/usr/share/glmark2/models/bunny.obj");
     const geometry::Bounds b = m.bounds();
     m.transform(1.0 / b.radius(), -b.center() / b.radius());
     return m;
   }();
+  return mesh;
+}
+
+void BM_Bunny(benchmark::State& state, bool gpu, bool veins, bool split) {
+  const geometry::TriangleMesh& mesh = unitBunny();
   Medium medium;  // Marble
   medium.scale = 5.0;
   const std::vector<reference::Light> lights = {
@@ -279,12 +285,7 @@ void BM_Bunny(benchmark::State& state, bool gpu, bool veins, bool split) {
 }
 
 void BM_BunnyCamera(benchmark::State& state, double eta, bool point) {
-  static const geometry::TriangleMesh mesh = [] {
-    geometry::TriangleMesh m = geometry::loadMesh("/usr/share/glmark2/models/bunny.obj");
-    const geometry::Bounds b = m.bounds();
-    m.transform(1.0 / b.radius(), -b.center() / b.radius());
-    return m;
-  }();
+  const geometry::TriangleMesh& mesh = unitBunny();
   Medium medium;  // Marble at 5 mm per unit, as BM_Bunny
   medium.scale = 5.0;
   medium.eta = eta;

@@ -166,10 +166,8 @@ py::dict compareScene(scene::Scene s, const std::string& sceneFile, const Compar
     std::span<const float> coverage;
     for (const auto& r : report.references)
       if (r.kind == analysis::ReferenceKind::Model) coverage = r.coverage;
-    std::optional<double> coneAngle;  // the physical reference's (0: the camera method)
-    for (const auto& r : report.references)
-      if (r.kind == analysis::ReferenceKind::Physical) coneAngle = r.cone_angle;
-    report.masks = analysis::compareMasks(s, mesh, coverage, coneAngle);
+    report.masks = analysis::compareMasks(s, mesh, coverage,
+                                          analysis::physicalConeAngle(report.references));
     report.regions = analysis::reportRegions(s, mesh, report.references, report.masks.interior);
   }
   const double eta = s.medium.eta;

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 #include <nlohmann/json.hpp>
 
 #include "translucent/compare/compare.h"
@@ -229,48 +230,64 @@ search path ($TRANSLUCENT_DATA).
             throw ParameterError(fmt::format("--time {}: expected a finite time", *time));
           scene.time = *time;
         }
-        if (method == "camera") {
-          // `pathtrace mesh --method camera` (reference/camera_paths.h).
-          const uint64_t spp = photonCount(samples.value_or(64.0), "samples");
-          std::unique_ptr<reference::CameraPathTracer> tracer;
-          int passesRun = 0;
+        // Loading (and hole filling, alpha wrapping) the mesh and building the tracer's BVH can
+        // take seconds: without the GIL, as the passes. `make(mesh)` builds the tracer (either
+        // method), `count` per pass.
+        int passesRun = 0;
+        auto trace = [&](auto&& make, uint64_t count) {
+          decltype(make(std::declval<const geometry::TriangleMesh&>())) tracer;
           {
             py::gil_scoped_release release;
             const geometry::TriangleMesh mesh = scene::loadSceneMesh(scene);
             scene::requireOutsideMesh(scene, mesh);
-            reference::CameraPathOptions o;
-            o.seed = seed;
-            o.threads = threads;
-            o.split_orders = split_orders;
-            tracer = std::make_unique<reference::CameraPathTracer>(
-                mesh, scene::sceneMaterial(scene, mesh), scene::referenceLights(scene),
-                scene.camera, o);
-            stop.restart();
+            tracer = make(mesh);
+            stop.restart();  // the CLI's time limit counts the tracing, not the loading
             runPasses(passes, stop, [&](const reference::ProgressCallback& cb) {
               ++passesRun;
-              return tracer->addPass(spp, cb).partial;
+              return tracer->addPass(count, cb).partial;
             });
           }
           stop.finish();
-          const auto& st = tracer->stats();
-          py::dict d = tracerImageDict(*tracer);
+          return tracer;
+        };
+        // The keys both methods' results share (the CLI's --json).
+        auto common = [&](const auto& tracer, py::dict& d) {
+          const auto& st = tracer.stats();
           d["scene"] = toPython(io::parseJson(scene::toJson(scene), "the scene"));
-          d["method"] = "camera";
-          d["triangles"] = tracer->body().triangleCount();
-          d["samples_per_pixel"] = st.samples;
+          d["triangles"] = tracer.body().triangleCount();
           d["passes"] = passesRun;
           d["seconds"] = st.seconds;
-          d["paths"] = st.paths;
           d["scattering_events"] = st.scattering_events;
+          d["median_relative_stderr"] = medianRelativeError(tracer.images().exitance);
+          d["majorant_violations"] = tracer.majorantViolations();
+          d["threads"] = st.threads;
+          d["partial"] = st.partial || stop.interrupted() || stop.timedOut();
+          d["seed"] = seed;
+        };
+        if (method == "camera") {
+          // `pathtrace mesh --method camera` (reference/camera_paths.h).
+          const uint64_t spp = photonCount(samples.value_or(64.0), "samples");
+          const auto tracer = trace(
+              [&](const geometry::TriangleMesh& mesh) {
+                reference::CameraPathOptions o;
+                o.seed = seed;
+                o.threads = threads;
+                o.split_orders = split_orders;
+                return std::make_unique<reference::CameraPathTracer>(
+                    mesh, scene::sceneMaterial(scene, mesh), scene::referenceLights(scene),
+                    scene.camera, o);
+              },
+              spp);
+          const auto& st = tracer->stats();
+          py::dict d = tracerImageDict(*tracer);
+          common(*tracer, d);
+          d["method"] = "camera";
+          d["samples_per_pixel"] = st.samples;
+          d["paths"] = st.paths;
           d["shadow_rays"] = st.shadow_rays;
           d["complement_photons"] = st.complement_photons;
           d["complement_cone_angle"] = tracer->complementCone();
-          d["median_relative_stderr"] = medianRelativeError(tracer->images().cone_radiance);
-          d["majorant_violations"] = tracer->majorantViolations();
-          d["threads"] = st.threads;
           d["device"] = "cpu";
-          d["partial"] = st.partial || stop.interrupted() || stop.timedOut();
-          d["seed"] = seed;
           py::object out = result("MeshTrace", d);
           stop.rethrow(out);
           return out;
@@ -278,47 +295,26 @@ search path ($TRANSLUCENT_DATA).
         const uint64_t n = photonCount(photons.value_or(1e6));
         // Before the tracer, on this thread: the context outlives the walker the tracer holds.
         const reference::TraceDevice dev = reference::openTraceDevice(device, "device");
-        std::unique_ptr<reference::MeshPathTracer> tracer;
-        int passesRun = 0;
-        {
-          // Loading (and hole filling, alpha wrapping) the mesh and building the BVH can take
-          // seconds: without the GIL.
-          py::gil_scoped_release release;
-          const geometry::TriangleMesh mesh = scene::loadSceneMesh(scene);
-          scene::requireOutsideMesh(scene, mesh);
-          tracer = std::make_unique<reference::MeshPathTracer>(
-              mesh, scene::sceneMaterial(scene, mesh), scene::referenceLights(scene),
-              scene.camera, scene.cone_angle, [&] {
-                reference::TracerOptions o{seed, threads};
-                o.split_orders = split_orders;
-                return o;
-              }());
-          reference::useDevice(dev, device, *tracer, mesh, scene.mesh_file.string(), "device");
-          stop.restart();  // the CLI's time limit counts the tracing, not the loading
-          runPasses(passes, stop, [&](const reference::ProgressCallback& cb) {
-            ++passesRun;
-            return tracer->addPass(n, cb).partial;
-          });
-        }
-        stop.finish();
+        const auto tracer = trace(
+            [&](const geometry::TriangleMesh& mesh) {
+              reference::TracerOptions o{seed, threads};
+              o.split_orders = split_orders;
+              auto t = std::make_unique<reference::MeshPathTracer>(
+                  mesh, scene::sceneMaterial(scene, mesh), scene::referenceLights(scene),
+                  scene.camera, scene.cone_angle, o);
+              reference::useDevice(dev, device, *t, mesh, scene.mesh_file.string(), "device");
+              return t;
+            },
+            n);
         const auto& st = tracer->stats();
         py::dict d = tracerImageDict(*tracer);
-        d["scene"] = toPython(io::parseJson(scene::toJson(scene), "the scene"));
+        common(*tracer, d);
         d["method"] = "light";
-        d["triangles"] = tracer->body().triangleCount();
         d["photons_per_channel"] = st.photons.empty() ? 0 : st.photons[0];
-        d["passes"] = passesRun;
-        d["seconds"] = st.seconds;
         d["photons_per_second"] = st.photonsPerSecond();
-        d["scattering_events"] = st.scattering_events;
         d["photons_in_several_pixels"] = tracer->severalPixelPhotons();
-        d["median_relative_stderr"] = medianRelativeError(tracer->images().exitance);
-        d["majorant_violations"] = tracer->majorantViolations();
-        d["threads"] = st.threads;
         d["device"] = tracer->device();
         d["flux_per_channel"] = fluxList(st);
-        d["partial"] = st.partial || stop.interrupted() || stop.timedOut();
-        d["seed"] = seed;
         analysis::ReferenceRequest req;
         req.kind = analysis::ReferenceKind::Physical;
         req.count = st.photons.empty() ? 0 : st.photons[0];

@@ -673,10 +673,8 @@ SceneOutcome compareScene(const CompareArgs& a, const Parsed& parsed, const std:
   std::span<const float> coverage;
   for (const auto& r : report.references)
     if (r.kind == analysis::ReferenceKind::Model) coverage = r.coverage;
-  std::optional<double> coneAngle;
-  for (const auto& r : report.references)
-    if (r.kind == analysis::ReferenceKind::Physical) coneAngle = r.cone_angle;
-  report.masks = analysis::compareMasks(s, mesh, coverage, coneAngle);
+  report.masks = analysis::compareMasks(s, mesh, coverage,
+                                        analysis::physicalConeAngle(report.references));
   // With both references the report says where each technique's error is (diagnosis.h).
   report.regions = analysis::reportRegions(s, mesh, report.references, report.masks.interior);
   const double eta = s.medium.eta;

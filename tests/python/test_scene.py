@@ -94,7 +94,7 @@ def test_pathtrace_mesh_camera_method_matches_cli(cli, cube, tmp_path):
     with open(js) as f:
         expected = json.load(f)
     for key in ["samples_per_pixel", "paths", "shadow_rays", "complement_photons",
-                "complement_cone_angle", "triangles"]:
+                "complement_cone_angle", "triangles", "median_relative_stderr"]:
         assert d[key] == expected[key], key
     assert d["method"] == "camera" and d["complement_photons"] > 0
     light = translucent.pathtrace_mesh(str(cube), photons=2e5, seed=6, device="cpu")

@@ -606,6 +606,12 @@ uint64_t countSet(const std::vector<uint8_t>& m) {
 uint64_t Masks::interiorPixels() const { return countSet(interior); }
 uint64_t Masks::conePixels() const { return countSet(cone); }
 
+std::optional<double> physicalConeAngle(std::span<const Reference> references) {
+  for (const Reference& r : references)
+    if (r.kind == ReferenceKind::Physical) return r.cone_angle;
+  return std::nullopt;
+}
+
 Masks compareMasks(const scene::Scene& scene, const geometry::TriangleMesh& mesh,
                    std::span<const float> model_coverage, std::optional<double> cone_angle) {
   constexpr int kGrid = 4;

@@ -224,7 +224,11 @@ struct Masks {
   uint64_t conePixels() const;
 };
 // interiorMask with a grid of 4, and-ed with coverage == 1 when `model_coverage` is not empty.
-// `cone_angle`: the physical reference's (Reference::cone_angle; default the scene's).
+// The cone half-angle of the physical reference among `references` (Reference::cone_angle: 0
+// from the camera method); nullopt (the scene's cone_angle) for the light method's or none.
+std::optional<double> physicalConeAngle(std::span<const Reference> references);
+
+// `cone_angle`: the physical reference's (physicalConeAngle; default the scene's).
 Masks compareMasks(const scene::Scene& scene, const geometry::TriangleMesh& mesh,
                    std::span<const float> model_coverage,
                    std::optional<double> cone_angle = std::nullopt);

@@ -408,9 +408,7 @@ namespace {
 // The half-angle of the physical reference's cone radiance (0: the camera method's true radiance;
 // the scene's cone_angle for the light method, or when there is no physical reference).
 double physicalConeAngle(const CompareReport& r) {
-  for (const Reference& ref : r.references)
-    if (ref.kind == ReferenceKind::Physical) return ref.cone_angle.value_or(r.scene.cone_angle);
-  return r.scene.cone_angle;
+  return analysis::physicalConeAngle(r.references).value_or(r.scene.cone_angle);
 }
 
 // "Where the error is": per technique the split of its radiance error against the physical

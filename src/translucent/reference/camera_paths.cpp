@@ -125,60 +125,54 @@ double connectionWeight(double T, Rng& rng) {
   return uniform01(rng) * kConnectRoulette < T ? kConnectRoulette / T : 0.0;
 }
 
-// The boundary as the walks see it: the index ratio and, per light, its refracted connections
-// (η ≠ 1; null for environment lights and at η = 1).
+// The boundary as the walks see it: the index ratio (as the light method's walk takes it, for its
+// flight in air: transport_impl.h reenter) and, per light, its refracted connections (η ≠ 1;
+// null for environment lights and at η = 1).
 struct Boundary {
+  Boundary(double eta_, std::span<const std::unique_ptr<RefractedLight>> refracted_)
+      : eta(eta_), refracted(refracted_) {
+    walk.eta = eta_;
+    walk.matched = eta_ == 1.0;
+  }
   double eta = 1.0;
   std::span<const std::unique_ptr<RefractedLight>> refracted;
-  bool matched() const { return eta == 1.0; }
+  detail::ChannelWalk walk;
+  bool matched() const { return walk.matched; }
 };
 
 // What became of a path that met the boundary from inside (crossFromInside).
 enum class Crossing { Reflected, Reentered, Escaped };
 
 // A path at the boundary point x, reached from inside along d (geometric normal `normal`): the
-// adjoint of the light method's crossBoundary and reenter (transport_impl.h). η = 1: straight on
-// in air to where its line meets the body again (Reentered) or away (Escaped). η ≠ 1: Fresnel
-// reflection back in with probability F (1 under total internal reflection: Reflected), else
-// refraction out with the radiance factor η² (L / n² is invariant along a refracted ray, so
-// L_inside = F L_reflected + (1 - F) η² L_air); in air, at every hit of the body's outside, mirror
-// reflection with probability F (the light method traces that light too) else refraction in with
-// the factor 1 / η² (Reentered). A path that escapes after its flight in air was mirrored
-// (`mirrored`) carries light whose first meeting with the body was that reflection: the light
-// method drops it (the specular reflection of the lights, which renderers add as a surface term,
-// transport.h), so the caller scores nothing for it.
-Crossing crossFromInside(const MeshBody& body, double eta, glm::dvec3& x, glm::dvec3& d,
-                         const glm::dvec3& normal, double& factor, bool& mirrored, Rng& rng) {
-  const double eps = body.epsilon();
-  SurfaceHit hit;
+// adjoint of the light method's crossBoundary (transport_impl.h). η = 1: straight on in air.
+// η ≠ 1: Fresnel reflection back in with probability F (1 under total internal reflection:
+// Reflected), else refraction out with the radiance factor η² (L / n² is invariant along a
+// refracted ray, so L_inside = F L_reflected + (1 - F) η² L_air). In air the light method's own
+// flight (reenter: at every hit of the body's outside a mirror reflection with probability F,
+// else refraction in, here with the factor 1 / η²) to the re-entry (Reentered) or away
+// (Escaped). A path that escapes after its flight in air was mirrored (`mirrored`) carries light
+// whose first meeting with the body was that reflection: the light method drops it (the
+// specular reflection of the lights, which renderers add as a surface term, transport.h), so the
+// caller scores nothing for it.
+Crossing crossFromInside(const MeshBody& body, const Boundary& boundary, glm::dvec3& x,
+                         glm::dvec3& d, const glm::dvec3& normal, double& factor, bool& mirrored,
+                         Rng& rng) {
   mirrored = false;
-  if (eta == 1.0) {
-    if (!body.intersect(x, d, eps, kInf, hit)) return Crossing::Escaped;
-    x += hit.t * d;
-    return Crossing::Reentered;
-  }
-  const glm::dvec3 outward = glm::dot(normal, d) > 0.0 ? normal : -normal;
-  const double cosIn = glm::dot(d, outward);
-  if (uniform01(rng) < fresnelReflectance(cosIn, 1.0 / eta)) {
-    d = glm::normalize(d - 2.0 * cosIn * outward);
-    return Crossing::Reflected;
-  }
-  d = detail::refract(d, outward, eta, refractedCosine(cosIn, 1.0 / eta));
-  factor *= eta * eta;
-  for (;;) {
-    if (!body.intersect(x, d, eps, kInf, hit)) return Crossing::Escaped;
-    x += hit.t * d;
-    const glm::dvec3 inward = glm::dot(hit.normal, d) > 0.0 ? hit.normal : -hit.normal;
-    const double cosI = glm::dot(d, inward);
-    if (uniform01(rng) < fresnelReflectance(cosI, eta)) {
-      d = glm::normalize(d - 2.0 * cosI * inward);
-      mirrored = true;
-      continue;
+  const double eta = boundary.eta;
+  if (!boundary.matched()) {
+    const glm::dvec3 outward = glm::dot(normal, d) > 0.0 ? normal : -normal;
+    const double cosIn = glm::dot(d, outward);
+    if (uniform01(rng) < fresnelReflectance(cosIn, 1.0 / eta)) {
+      d = glm::normalize(d - 2.0 * cosIn * outward);
+      return Crossing::Reflected;
     }
-    d = detail::refract(d, inward, 1.0 / eta, refractedCosine(cosI, eta));
-    factor /= eta * eta;
-    return Crossing::Reentered;
+    d = detail::refract(d, outward, eta, refractedCosine(cosIn, 1.0 / eta));
   }
+  // Out and in again: η² / η² = 1.
+  if (detail::reenter(body, boundary.walk, body.epsilon(), x, d, rng, &mirrored))
+    return Crossing::Reentered;
+  if (!boundary.matched()) factor *= eta * eta;
+  return Crossing::Escaped;
 }
 
 // The light of a refracted path (RefractedLight::Path) that leaves the body at the surface point
@@ -284,7 +278,7 @@ class ChannelPaths {
         }
         x += hit.t * d;
         s = std::max(0.0, s - hit.t);  // the rest of the free path goes on (memoryless flights)
-        if (crossFromInside(body_, boundary_.eta, x, d, hit.normal, beta, mirrored, rng) ==
+        if (crossFromInside(body_, boundary_, x, d, hit.normal, beta, mirrored, rng) ==
             Crossing::Escaped)
           return false;
         onSurface = true;
@@ -317,7 +311,7 @@ class ChannelPaths {
       }
       // At the boundary: reflected, or on in air to the re-entry; the tracking starts afresh.
       x = o + hit.t * d;
-      if (crossFromInside(body_, boundary_.eta, x, d, hit.normal, beta, mirrored, rng) ==
+      if (crossFromInside(body_, boundary_, x, d, hit.normal, beta, mirrored, rng) ==
           Crossing::Escaped)
         return false;
       onSurface = true;
@@ -554,7 +548,7 @@ class RgbPaths {
         double factor = 1.0;
         bool mirrored = false;
         const Crossing cross =
-            crossFromInside(body_, boundary_.eta, x, d, hit.normal, factor, mirrored, rng);
+            crossFromInside(body_, boundary_, x, d, hit.normal, factor, mirrored, rng);
         beta *= factor;
         if (cross == Crossing::Escaped) {
           if (mirrored) return;
@@ -757,6 +751,12 @@ std::vector<ScalarMedium> materialChannels(const material::Material& m) {
 // that crossed the body without a collision: ChannelPaths::unscattered), 1 single, 2 multiple.
 using Scores = std::array<std::array<double, kScatteringOrders>, 3>;
 
+// The cone the light-traced complement averages over: the camera method's own cone, or
+// complement_cone for the true radiance (camera_paths.h).
+double complementConeFor(const CameraPathOptions& o) {
+  return o.cone_half_angle > 0.0 ? o.cone_half_angle : o.complement_cone;
+}
+
 }  // namespace
 
 void CameraPathOptions::validate() const {
@@ -840,20 +840,18 @@ void CameraPathTracer::initComplement(const geometry::TriangleMesh& mesh, const 
   o.long_path_roulette = options_.long_path_roulette;
   o.split_orders = options_.split_orders;
   o.after_specular_only = true;
-  const double cone =
-      options_.cone_half_angle > 0.0 ? options_.cone_half_angle : options_.complement_cone;
   if constexpr (std::is_same_v<M, material::Material>)
     complement_ = std::make_unique<MeshPathTracer>(mesh, medium, std::move(delta),
-                                                   camera_.camera(), cone, o, cells);
+                                                   camera_.camera(), complementConeFor(options_), o,
+                                                   cells);
   else
     complement_ = std::make_unique<MeshPathTracer>(mesh, medium, std::move(delta),
-                                                   camera_.camera(), cone, o);
+                                                   camera_.camera(), complementConeFor(options_), o);
   combine();
 }
 
 double CameraPathTracer::complementCone() const {
-  if (!complement_) return 0.0;
-  return options_.cone_half_angle > 0.0 ? options_.cone_half_angle : options_.complement_cone;
+  return complement_ ? complementConeFor(options_) : 0.0;
 }
 
 void CameraPathTracer::combine() {
@@ -1028,6 +1026,8 @@ CameraPathStats CameraPathTracer::addPass(uint64_t samples, const ProgressCallba
           if (body_.intersect(o, d, 0.0, kInf, hit)) {
             const glm::dvec3 x = o + hit.t * d;
             const glm::dvec3 nrm = glm::dot(hit.normal, d) < 0.0 ? hit.normal : -hit.normal;
+            // Ft(η, v) of the diffusion radiance Ft B / π (camera.h).
+            const double ftView = eta_ == 1.0 ? 1.0 : fresnelTransmittance(glm::dot(nrm, -d), eta_);
             // The radiance arriving at x from inside the body along -dir (dir pointing in), per
             // channel of the group and order part.
             auto traceInside = [&](const glm::dvec3& dir, double out[3][3]) {
@@ -1076,8 +1076,6 @@ CameraPathStats CameraPathTracer::addPass(uint64_t samples, const ProgressCallba
             }
             if (options_.exitance) {
               // A cosine-distributed direction about n (Malley): B = π E[L(x, ω')].
-              const double ftView =
-                  eta_ == 1.0 ? 1.0 : fresnelTransmittance(glm::dot(nrm, -d), eta_);
               double px, py;
               detail::sampleDisc(rng, 1.0, px, py);
               const double pz = std::sqrt(std::max(0.0, 1.0 - px * px - py * py));
@@ -1106,8 +1104,7 @@ CameraPathStats CameraPathTracer::addPass(uint64_t samples, const ProgressCallba
                 sc[c][0][0] += wPix * cc0[c];
                 if (options_.exitance) {
                   sc[c][1][0] += wPix * b0[c];
-                  sc[c][2][0] += wPix * b0[c] / kPi *
-                                 (eta_ == 1.0 ? 1.0 : fresnelTransmittance(glm::dot(nrm, -d), eta_));
+                  sc[c][2][0] += wPix * ftView * b0[c] / kPi;
                 }
               }
             }
@@ -1173,7 +1170,6 @@ CameraPathStats CameraPathTracer::addPass(uint64_t samples, const ProgressCallba
   stats_.seconds += run.seconds;
   stats_.threads = run.threads;
   stats_.partial = stats_.partial || run.stopped;
-  if (complement_ && run.stopped) combine();  // the rows traced so far; no complement photons
   if (complement_ && !run.stopped) {
     // The complement's photons: complement_photons per sample of every pixel so far, in whole
     // blocks (a function of the samples per pixel only, not of how they came in passes).
@@ -1199,8 +1195,8 @@ CameraPathStats CameraPathTracer::addPass(uint64_t samples, const ProgressCallba
     }
     stats_.complement_photons = complement_->stats().photons.empty() ? 0 : complement_->stats().photons[0];
     pass.complement_photons = stats_.complement_photons;
-    combine();
   }
+  if (complement_) combine();  // a stopped pass: its rows, and no more complement photons
   return pass;
 }
 

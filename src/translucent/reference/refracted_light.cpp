@@ -12,6 +12,7 @@
 #include <glm/geometric.hpp>
 
 #include "translucent/optics/fresnel.h"
+#include "translucent/reference/transport_impl.h"
 
 namespace translucent::reference {
 
@@ -22,13 +23,13 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kEntryBudget = 2.5e7;
 
 // Snell refraction of the unit direction d into the body through a facet of outward unit normal
-// n (d·n < 0), η = n_inside / n_outside >= 1; cos θi and cos θt on the way.
+// n (d·n < 0), η = n_inside / n_outside >= 1 (the walks' detail::refract); cos θi and cos θt on
+// the way.
 glm::dvec3 refractIn(const glm::dvec3& d, const glm::dvec3& n, double eta, double& cosI,
                      double& cosT) {
   cosI = -glm::dot(d, n);
   cosT = refractedCosine(cosI, eta);
-  const double r = 1.0 / eta;
-  return glm::normalize(r * d + (r * cosI - cosT) * n);
+  return detail::refract(d, -n, 1.0 / eta, cosT);
 }
 
 // The refraction point of a point light through a plane, in its plane of incidence: the distance

@@ -153,10 +153,12 @@ inline Emission emit(const Light& light, const BoundingSphere& b, int channel, R
 // The flight in air of a photon that left the body at x along d (transport.h): true if it meets
 // the body again and is refracted in, with x, d the re-entry point and the inward direction;
 // false if it escapes. At each hit the outside Fresnel reflectance F decides, with probability F,
-// a mirror reflection that keeps the photon in air (traced, not dropped: transport.h says why).
+// a mirror reflection that keeps the photon in air (traced, not dropped: transport.h says why);
+// `mirrored` (when given) says whether one happened. The camera method's paths fly in air by it
+// too (camera_paths.cpp: crossFromInside), so both methods see one boundary.
 template <class BodyT>
 bool reenter(const BodyT& body, const ChannelWalk& W, double eps, glm::dvec3& x, glm::dvec3& d,
-             Rng& rng) {
+             Rng& rng, bool* mirrored = nullptr) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
   SurfaceHit hit;
   for (;;) {
@@ -168,6 +170,7 @@ bool reenter(const BodyT& body, const ChannelWalk& W, double eps, glm::dvec3& x,
     const double F = fresnelReflectance(cosI, W.eta);
     if (uniform01(rng) < F) {
       d = glm::normalize(d - 2.0 * cosI * inward);
+      if (mirrored) *mirrored = true;
       continue;
     }
     d = refract(d, inward, 1.0 / W.eta, refractedCosine(cosI, W.eta));
