@@ -325,9 +325,6 @@ void bindCompare(py::module_& m) {
           throw ParameterError(
               fmt::format("--reference-device '{}': expected cpu or gpu", reference_device));
         a.reference_device = reference_device;
-        if (physical_method == "camera" && reference_device != "cpu")
-          throw ParameterError("reference_device='gpu': the camera method "
-                               "(physical_method='camera') runs on the CPU");
         if (physical_method == "camera" && !a.reference_from.empty())
           throw ParameterError("reference_from: the runs of `pathtrace mesh` it reads are the "
                                "light method's; not with physical_method='camera'");

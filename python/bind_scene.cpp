@@ -218,9 +218,6 @@ search path ($TRANSLUCENT_DATA).
         if (method == "light" && samples)
           throw ParameterError("samples: camera paths per pixel are the camera method's "
                                "(method=\"camera\"); the light method takes photons=");
-        if (method == "camera" && device == "gpu")
-          throw ParameterError("device='gpu': the camera method runs on the CPU (device='cpu' or "
-                               "'auto', or method='light' for the GPU)");
         Interruptible stop(time_limit);
         scene::Scene scene = py::isinstance<scene::Scene>(sceneArg)
                                  ? sceneArg.cast<scene::Scene>()
@@ -264,6 +261,8 @@ search path ($TRANSLUCENT_DATA).
           d["partial"] = st.partial || stop.interrupted() || stop.timedOut();
           d["seed"] = seed;
         };
+        // Before the tracer, on this thread: the context outlives the walker the tracer holds.
+        const reference::TraceDevice dev = reference::openTraceDevice(device, "device");
         if (method == "camera") {
           // `pathtrace mesh --method camera` (reference/camera_paths.h).
           const uint64_t spp = photonCount(samples.value_or(64.0), "samples");
@@ -273,9 +272,11 @@ search path ($TRANSLUCENT_DATA).
                 o.seed = seed;
                 o.threads = threads;
                 o.split_orders = split_orders;
-                return std::make_unique<reference::CameraPathTracer>(
+                auto t = std::make_unique<reference::CameraPathTracer>(
                     mesh, scene::sceneMaterial(scene, mesh), scene::referenceLights(scene),
                     scene.camera, o);
+                reference::useDevice(dev, device, *t, mesh, scene.mesh_file.string(), "device");
+                return t;
               },
               spp);
           const auto& st = tracer->stats();
@@ -287,14 +288,12 @@ search path ($TRANSLUCENT_DATA).
           d["shadow_rays"] = st.shadow_rays;
           d["complement_photons"] = st.complement_photons;
           d["complement_cone_angle"] = tracer->complementCone();
-          d["device"] = "cpu";
+          d["device"] = tracer->device();
           py::object out = result("MeshTrace", d);
           stop.rethrow(out);
           return out;
         }
         const uint64_t n = photonCount(photons.value_or(1e6));
-        // Before the tracer, on this thread: the context outlives the walker the tracer holds.
-        const reference::TraceDevice dev = reference::openTraceDevice(device, "device");
         const auto tracer = trace(
             [&](const geometry::TriangleMesh& mesh) {
               reference::TracerOptions o{seed, threads};

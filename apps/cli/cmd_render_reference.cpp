@@ -531,9 +531,6 @@ void runPathtraceMeshCamera(const reference::MeshScene& scene, const std::string
   if (a.shard.active())
     throw ParameterError("--shard: not available with --method camera (more samples per pixel "
                          "come from --samples and --passes)");
-  if (device == "gpu")
-    throw ParameterError("--device gpu: the camera method runs on the CPU (--device cpu or auto, "
-                         "or --method light for the GPU)");
   if (a.count != RunArgs{}.count)
     throw ParameterError("--photons: the camera method traces camera paths per pixel (--samples), "
                          "not photons");
@@ -549,8 +546,11 @@ void runPathtraceMeshCamera(const reference::MeshScene& scene, const std::string
   o.split_orders = a.split_orders;
   o.exitance = a.quantity != "cone-radiance";  // the cosine-distributed paths only when asked for
   o.complement_photons = a.complement_photons == "0" ? 0 : parseCount(a.complement_photons, "--complement-photons");
+  // Declared before the tracer: the context outlives the walker the tracer holds.
+  const reference::TraceDevice dev = reference::openTraceDevice(device);
   reference::CameraPathTracer tracer(mesh, scene::sceneMaterial(scene, mesh),
                                      scene::referenceLights(scene), scene.camera, o);
+  reference::useDevice(dev, device, tracer, mesh, sceneFile);
   auto pass = [&](const reference::ProgressCallback& cb) {
     return tracer.addPass(samples, cb).partial;
   };
@@ -590,16 +590,17 @@ void runPathtraceMeshCamera(const reference::MeshScene& scene, const std::string
                         {"median_relative_stderr", medianRelativeError(chosen)},
                         {"majorant_violations", tracer.majorantViolations()},
                         {"split_orders", tracer.splitsOrders()}, {"threads", st.threads},
-                        {"device", "cpu"}, {"partial", partial}};
+                        {"device", tracer.device()}, {"partial", partial}};
     writeJson(out, a, j);
     out.commit();
   };
   runPasses(a, "pathtrace mesh", "samples", pass, write);
   const auto& st = tracer.stats();
-  printStderr("pathtrace mesh: {}{} camera paths per pixel and channel in {:.2f} s ({} threads, "
+  printStderr("pathtrace mesh: {}{} camera paths per pixel and channel in {:.2f} s ({}, "
               "{} triangles, camera method); wrote {}{}\n",
               st.partial ? "stopped early, partial result: " : "", st.samples, st.seconds,
-              st.threads, tracer.body().triangleCount(), a.exr,
+              tracer.device() == "cpu" ? fmt::format("{} threads", st.threads) : tracer.device(),
+              tracer.body().triangleCount(), a.exr,
               a.png.empty() ? "" : " and " + a.png);
 }
 
@@ -818,7 +819,8 @@ void addRenderReferenceCommands(CLI::App& app) {
     cmd->add_option("--method", a->method,
                     "light: photons from the lights, splatted through a cone at the camera; "
                     "camera: paths from the camera with next-event estimation to every light "
-                    "(per-pixel samples, --samples; CPU, no --shard; its cone-radiance is the "
+                    "(per-pixel samples, --samples; no --shard; --device gpu at eta 1 with a "
+                    "homogeneous medium and delta lights; its cone-radiance is the "
                     "true radiance, cone half-angle 0; at eta > 1 exact connections through every "
                     "refracting facet, plus light-traced photons for light that meets the "
                     "surface again before it scatters)")
@@ -834,7 +836,8 @@ void addRenderReferenceCommands(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--device", *device,
                     "cpu: the CPU tracer (Embree); gpu: the GL compute-shader walk against a BVH "
-                    "of the mesh (homogeneous media and 3D fields, deformed or not; Philox streams: "
+                    "of the mesh (homogeneous media and 3D fields, deformed or not; with "
+                    "--method camera: eta 1, homogeneous, delta lights; Philox streams: "
                     "agrees with the "
                     "CPU within the standard errors, not bit for bit); "
                     "auto: the GPU on a hardware GPU where it can trace the scene, else the CPU "

@@ -197,8 +197,6 @@ BAD_CALLS = [
     (lambda: translucent.compare(reference_device="tpu"), ValueError, "reference_device='tpu'"),
     (lambda: translucent.compare(photons=NAN), ValueError, "photons="),
     (lambda: translucent.compare(physical_method="x"), ValueError, "physical_method='x'"),
-    (lambda: translucent.compare(physical_method="camera", reference_device="gpu"), ValueError,
-     "runs on the CPU"),
 ]
 
 

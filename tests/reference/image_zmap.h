@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
+#include <vector>
 
 #include "translucent/reference/mc_image.h"
 
@@ -41,6 +43,15 @@ inline double bonferroniZ(int n, double alpha) {
     (std::erfc(mid / std::sqrt(2.0)) * n > alpha ? lo : hi) = mid;
   }
   return hi;
+}
+
+// The mean of per-pass values and its standard error.
+inline std::pair<double, double> meanAndError(const std::vector<double>& v) {
+  double mean = 0.0, ss = 0.0;
+  for (double x : v) mean += x;
+  mean /= static_cast<double>(v.size());
+  for (double x : v) ss += (x - mean) * (x - mean);
+  return {mean, std::sqrt(ss / static_cast<double>(v.size() - 1) / static_cast<double>(v.size()))};
 }
 
 }  // namespace translucent::reference::test_support

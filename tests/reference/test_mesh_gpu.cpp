@@ -59,6 +59,7 @@ const geometry::TriangleMesh& bunny() {
 using test_support::bonferroniZ;
 using test_support::ZMap;
 using test_support::zmap;
+using test_support::meanAndError;
 
 // The images of the GPU and CPU walks agree pixel by pixel: mean z² within 6 of its standard
 // deviations sqrt(2/N) of 1, and no pixel beyond the Bonferroni-corrected 1% threshold. (With
@@ -326,15 +327,6 @@ material::Material volumeMaterial(std::shared_ptr<const material::VolumeField> f
 std::vector<material::MediumDesc> twoMedia() {
   return {material::mediumDesc({0.3, 0.1, 0.05}, {2.0, 3.0, 4.0}, 0.2),
           material::mediumDesc({0.02, 0.03, 0.4}, {9.0, 6.0, 2.5}, 0.75)};
-}
-
-// The mean and standard error of per-pass values.
-std::pair<double, double> meanAndError(const std::vector<double>& v) {
-  double mean = 0.0, ss = 0.0;
-  for (double x : v) mean += x;
-  mean /= static_cast<double>(v.size());
-  for (double x : v) ss += (x - mean) * (x - mean);
-  return {mean, std::sqrt(ss / static_cast<double>(v.size() - 1) / static_cast<double>(v.size()))};
 }
 
 // The GPU walk of a heterogeneous body against the CPU's, pixel by pixel and in flux, with no

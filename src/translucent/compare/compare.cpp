@@ -385,14 +385,19 @@ Reference computeReference(const scene::Scene& scene, const geometry::TriangleMe
       throw ParameterError(fmt::format("--reference-device '{}': expected cpu or gpu", request.device));
     if (request.method != "light" && request.method != "camera")
       throw ParameterError(fmt::format("--physical-method '{}': expected light or camera", request.method));
+    // On the GPU in a GL context of its own, released before the techniques make theirs;
+    // declared before the tracer, whose walker it outlives.
+    const reference::TraceDevice device =
+        request.device == "gpu" ? reference::openTraceDevice("gpu", "--reference-device")
+                                : reference::TraceDevice{};
     if (request.method == "camera") {
       // Paths from the camera (reference/camera_paths.h): the true radiance per pixel.
-      if (request.device != "cpu")
-        throw ParameterError("--reference-device gpu: the camera method runs on the CPU");
       reference::CameraPathOptions o;
       o.seed = request.seed;
       o.threads = request.threads;
       reference::CameraPathTracer tracer(mesh, material, lights, scene.camera, o);
+      reference::useDevice(device, request.device, tracer, mesh, fs::path(scene.mesh_file).string(),
+                           "--reference-device");
       const reference::CameraPathStats st = tracer.addPass(request.count, progress);
       r.exitance = toCompareImage(tracer.images().exitance);
       r.radiance = toCompareImage(tracer.images().radiance);
@@ -404,11 +409,6 @@ Reference computeReference(const scene::Scene& scene, const geometry::TriangleMe
       return r;
     }
     // Homogeneous: bit-identical to the tracer of scene.medium; a 3D field: delta tracking.
-    // On the GPU (issue 16) in a GL context of its own, released before the techniques make
-    // theirs; declared before the tracer, whose walker it outlives.
-    const reference::TraceDevice device =
-        request.device == "gpu" ? reference::openTraceDevice("gpu", "--reference-device")
-                                : reference::TraceDevice{};
     reference::MeshPathTracer tracer(mesh, material, lights, scene.camera, scene.cone_angle,
                                      {request.seed, request.threads});
     reference::useDevice(device, request.device, tracer, mesh, fs::path(scene.mesh_file).string(),

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -950,6 +951,43 @@ void CameraPathTracer::init(const geometry::TriangleMesh& mesh) {
   rowSamples_.assign(static_cast<size_t>(cam.height), 0);
 }
 
+void CameraPathTracer::sampleRay(int i, int j, uint64_t s, uint32_t shiftX, uint32_t shiftY,
+                                 glm::dvec3& origin, glm::dvec3& dir, double& weight) const {
+  const Camera& cam = camera_.camera();
+  const auto si = static_cast<uint32_t>(s);
+  camera_.ray(i + shifted(vanDerCorput(si), shiftX),
+              static_cast<double>(j) + shifted(sobolSecond(si), shiftY), origin, dir);
+  // The box filter over the pixel's solid angle (pinhole) or area (orthographic).
+  weight = 1.0;
+  if (cam.projection == Camera::Projection::Pinhole) {
+    const double cosT = glm::dot(dir, glm::normalize(cam.look_at - cam.position));
+    weight = cosT * cosT * cosT * camera_.pixelSize() * camera_.pixelSize() /
+             camera_.pixelMeasure(i, j);
+  }
+}
+
+std::string CameraPathTracer::walkerRefusal() const {
+  if (eta_ != 1.0)
+    return fmt::format("the GPU camera walk traces an index-matched boundary (eta 1), the material "
+                       "has eta {}: the CPU's camera method traces it",
+                       eta_);
+  if (volume_)
+    return "the GPU camera walk traces a homogeneous medium: the CPU's camera method, or the "
+           "light method on the GPU, traces a 3D field";
+  for (size_t i = 0; i < lights_.size(); ++i)
+    if (std::holds_alternative<EnvironmentLight>(lights_[i].emitter))
+      return fmt::format("light {} is an environment light: the GPU camera walk has directional, "
+                         "point and beam lights; the CPU's camera method traces it",
+                         i + 1);
+  return {};
+}
+
+void CameraPathTracer::setWalker(std::shared_ptr<CameraWalker> walker) {
+  if (walker)
+    if (const std::string why = walkerRefusal(); !why.empty()) throw ParameterError(why);
+  walker_ = std::move(walker);
+}
+
 const CameraImages& CameraPathTracer::orderImages(ScatteringOrder order) const {
   if (!orders_) throw std::logic_error("camera paths: the images are not split by order");
   return complement_ ? combinedOrders_[static_cast<size_t>(order)] : (*orders_)[static_cast<size_t>(order)];
@@ -963,9 +1001,6 @@ CameraPathStats CameraPathTracer::addPass(uint64_t samples, const ProgressCallba
   for (const uint64_t done : rowSamples_)
     if (done + samples > (uint64_t{1} << 32))
       throw ParameterError("camera paths: more than 2^32 samples per pixel");
-  const bool pinhole = cam.projection == Camera::Projection::Pinhole;
-  const glm::dvec3 forward = glm::normalize(cam.look_at - cam.position);
-  const double planeArea = camera_.pixelSize() * camera_.pixelSize();
   const bool cone = options_.cone_half_angle > 0.0;
   const double theta = options_.cone_half_angle * kPi / 180.0;
   const double cosCone = std::cos(theta), sin2Cone = std::sin(theta) * std::sin(theta);
@@ -1001,7 +1036,6 @@ CameraPathStats CameraPathTracer::addPass(uint64_t samples, const ProgressCallba
     for (int i = 0; i < w; ++i) {
       if (stop.load(std::memory_order_relaxed)) return false;
       const uint64_t pixel = j * static_cast<uint64_t>(w) + static_cast<uint64_t>(i);
-      const double measure = camera_.pixelMeasure(i, static_cast<int>(j));
       Rng shiftRng(seedKey, (uint64_t{1} << 63) | pixel);
       const uint32_t sx = shiftRng.next(), sy = shiftRng.next();
       // Separate: one walk per channel (its own random stream); joint: one walk for all three
@@ -1011,16 +1045,9 @@ CameraPathStats CameraPathTracer::addPass(uint64_t samples, const ProgressCallba
         const size_t c0 = joint ? 0 : gi, c1 = joint ? nc : gi + 1;
         for (uint64_t s = first; s < first + samples; ++s) {
           Rng rng(seedKey, ((pixel * nc + gi) << 32) + s);
-          const uint32_t si = static_cast<uint32_t>(s);
           glm::dvec3 o, d;
-          camera_.ray(i + shifted(vanDerCorput(si), sx),
-                      static_cast<double>(j) + shifted(sobolSecond(si), sy), o, d);
-          // The box filter over the pixel's solid angle (pinhole) or area (orthographic).
           double wPix = 1.0;
-          if (pinhole) {
-            const double cosT = glm::dot(d, forward);
-            wPix = cosT * cosT * cosT * planeArea / measure;
-          }
+          sampleRay(i, static_cast<int>(j), s, sx, sy, o, d, wPix);
           std::array<Scores, 3> sc{};  // per channel
           SurfaceHit hit;
           if (body_.intersect(o, d, 0.0, kInf, hit)) {
@@ -1156,8 +1183,106 @@ CameraPathStats CameraPathTracer::addPass(uint64_t samples, const ProgressCallba
     tick = [&](uint64_t rows, double seconds) {
       return progress(TraceProgress{rows * perRow, total, seconds});
     };
+  // On a device (walker_): rows in batches of about kDeviceBatch samples, each row's sums as the
+  // CPU's rows give them (the per-sample scores in the same order), merged when all its samples
+  // of every channel are in; a stop between batches keeps the rows merged so far.
+  auto onDevice = [&]() {
+    constexpr uint64_t kDeviceBatch = uint64_t{1} << 16;
+    detail::BlockRun r;
+    r.threads = 1;
+    const auto start = std::chrono::steady_clock::now();
+    auto seconds = [&] {
+      return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    };
+    const uint64_t perRowSamples = static_cast<uint64_t>(w) * samples;
+    const uint64_t rowsPerBatch = std::max<uint64_t>(1, kDeviceBatch / perRowSamples);
+    const uint64_t chunk = std::min<uint64_t>(samples, std::max<uint64_t>(1, kDeviceBatch / static_cast<uint64_t>(w)));
+    std::vector<CameraWalkSample> batch;
+    std::vector<CameraWalkScore> scores;
+    for (uint64_t j0 = 0; j0 < static_cast<uint64_t>(h) && !r.stopped; j0 += rowsPerBatch) {
+      const uint64_t j1 = std::min<uint64_t>(static_cast<uint64_t>(h), j0 + rowsPerBatch);
+      std::vector<Row> rows(j1 - j0);
+      for (Row& row : rows) {
+        row.s.assign(static_cast<size_t>(w) * nc * 12, 0.0);
+        row.s2.assign(row.s.size(), 0.0);
+      }
+      for (uint64_t s0 = 0; s0 < samples && !r.stopped; s0 += chunk) {
+        const uint64_t s1 = std::min(samples, s0 + chunk);
+        batch.clear();
+        for (uint64_t j = j0; j < j1; ++j)
+          for (int i = 0; i < w; ++i) {
+            const uint64_t pixel = j * static_cast<uint64_t>(w) + static_cast<uint64_t>(i);
+            Rng shiftRng(seedKey, (uint64_t{1} << 63) | pixel);
+            const uint32_t sx = shiftRng.next(), sy = shiftRng.next();
+            for (uint64_t s = rowSamples_[j] + s0; s < rowSamples_[j] + s1; ++s) {
+              glm::dvec3 o, d;
+              double wPix = 1.0;
+              sampleRay(i, static_cast<int>(j), s, sx, sy, o, d, wPix);
+              CameraWalkSample smp{};
+              for (int a = 0; a < 3; ++a) {
+                smp.origin[a] = static_cast<float>(o[a]);
+                smp.direction[a] = static_cast<float>(d[a]);
+              }
+              smp.weight = static_cast<float>(wPix);
+              smp.pixel = static_cast<uint32_t>(pixel);
+              smp.sample = static_cast<uint32_t>(s);
+              batch.push_back(smp);
+            }
+          }
+        for (size_t c = 0; c < nc; ++c) {
+          CameraWalkSetup setup;
+          setup.medium = channels_[c];
+          setup.lights = lights_;
+          setup.channel = static_cast<int>(c);
+          setup.epsilon = body_.epsilon();
+          setup.seed = seedKey;
+          setup.long_path_roulette = options_.long_path_roulette;
+          setup.cone_half_angle = options_.cone_half_angle;
+          setup.paths = images > 1 ? 2 : 1;
+          walker_->trace(setup, batch, scores);
+          const size_t np = static_cast<size_t>(setup.paths);
+          for (size_t k = 0; k < batch.size(); ++k) {
+            const uint64_t pixel = batch[k].pixel;
+            Row& row = rows[pixel / static_cast<uint64_t>(w) - j0];
+            const int x = static_cast<int>(pixel % static_cast<uint64_t>(w));
+            for (int im = 0; im < images; ++im) {
+              // Image 2 (Ft(η, v) B / π at η = 1) is the exitance's path over π.
+              const CameraWalkScore& sc = scores[k * np + static_cast<size_t>(std::min(im, 1))];
+              const double f = im == 2 ? 1.0 / kPi : 1.0;
+              double sum = 0.0;
+              for (size_t o = 0; o < 3; ++o) {
+                const double v = f * sc.order[o];
+                sum += v;
+                row.s[slot(x, c, im, o)] += v;
+                row.s2[slot(x, c, im, o)] += v * v;
+              }
+              row.s[slot(x, c, im, 3)] += sum;
+              row.s2[slot(x, c, im, 3)] += sum * sum;
+              if (im < 2 && sc.collisions != CameraWalkScore::kMissed) {
+                ++row.k.paths;
+                row.k.events += sc.collisions;
+                row.k.shadowRays += sc.shadow_rays;
+              }
+            }
+          }
+          if (progress &&
+              !progress(TraceProgress{j0 * perRowSamples * nc +
+                                          (j1 - j0) * static_cast<uint64_t>(w) * (s0 * nc + (s1 - s0) * (c + 1)),
+                                      total, seconds()}))
+            r.stopped = true;
+        }
+      }
+      if (r.stopped) break;
+      for (uint64_t j = j0; j < j1; ++j) merge(j, rows[j - j0]);
+      r.blocks_done = j1;
+    }
+    r.seconds = seconds();
+    return r;
+  };
   const detail::BlockRun run =
-      detail::runBlocks<Row>(0, static_cast<uint64_t>(h), options_.threads, make, work, merge, tick);
+      walker_ ? onDevice()
+              : detail::runBlocks<Row>(0, static_cast<uint64_t>(h), options_.threads, make, work,
+                                       merge, tick);
   if (progress) progress(TraceProgress{run.blocks_done * perRow, total, run.seconds});
   pass.samples = samples;
   pass.seconds = run.seconds;

@@ -148,6 +148,47 @@ struct CameraPathStats {
   bool partial = false;  // a pass was stopped: some rows hold fewer samples than others
 };
 
+// A device that traces the camera method's paths (reference/gpu/camera_gpu.h: the GL walk of
+// shaders/reference/camera_walk.comp): the paths of an index-matched body of a homogeneous
+// medium under delta lights (CameraPathTracer::walkerRefusal says why not for the rest). The
+// tracer draws every sample's camera ray (as its own walk does) and scores what comes back.
+struct CameraWalkSample {
+  float origin[3];
+  float weight;  // the pixel's box filter (camera_paths.cpp)
+  float direction[3];
+  uint32_t pixel;   // y * width + x
+  uint32_t sample;  // its index in the pixel's sequence (the paths' random streams)
+  uint32_t pad[3];
+};
+static_assert(sizeof(CameraWalkSample) == 48);
+// One path's scores, already weighted: the radiance towards the camera (path 0) or π times the
+// radiance of the exitance's cosine-distributed direction (path 1), by scattering order
+// (unscattered, single, multiple: the unscattered light leaving at the visible point included).
+struct CameraWalkScore {
+  double order[3];
+  uint32_t collisions, shadow_rays;  // collisions kMissed: the camera ray missed the body
+  static constexpr uint32_t kMissed = 0xFFFFFFFFu;
+};
+static_assert(sizeof(CameraWalkScore) == 32);
+struct CameraWalkSetup {
+  ScalarMedium medium;          // the channel's
+  std::span<const Light> lights;
+  int channel = 0;
+  double epsilon = 0.0;         // MeshBody::epsilon
+  uint64_t seed = 0;
+  uint64_t long_path_roulette = 0;
+  double cone_half_angle = 0.0;  // degrees (CameraPathOptions)
+  int paths = 2;                 // 1: path 0 only; 2: and the exitance's
+};
+class CameraWalker {
+ public:
+  virtual ~CameraWalker() = default;
+  // Per sample, paths (0, then 1) of `setup.channel`: samples.size() * paths scores.
+  virtual void trace(const CameraWalkSetup& setup, std::span<const CameraWalkSample> samples,
+                     std::vector<CameraWalkScore>& out) = 0;
+  virtual std::string name() const = 0;  // "gpu (<renderer>)"
+};
+
 class CameraPathTracer {
  public:
   // Three channels of a medium (coefficients per scene unit) or one (grey images).
@@ -183,6 +224,15 @@ class CameraPathTracer {
   const VolumeMedium* volume() const { return volume_ ? &*volume_ : nullptr; }
   uint64_t majorantViolations() const { return volume_ ? volume_->majorantViolations() : 0; }
 
+  // Trace the paths with `walker` (a device's) rather than on the CPU's threads. ParameterError
+  // with walkerRefusal() where it cannot trace this scene.
+  void setWalker(std::shared_ptr<CameraWalker> walker);
+  // Why a walker cannot trace this scene ("" when it can): η ≠ 1, a 3D field, an environment
+  // light (the GL walk has the index-matched, homogeneous, delta-lit case).
+  std::string walkerRefusal() const;
+  // What traces the paths: "cpu", or the walker's name.
+  std::string device() const { return walker_ ? walker_->name() : "cpu"; }
+
   // Why the camera method cannot render this scene ("" when it can): η < 1 or a pencil beam (see
   // the header comment). The constructors throw it as a ParameterError.
   static std::string refusal(double eta, std::span<const Light> lights);
@@ -197,6 +247,10 @@ class CameraPathTracer {
   template <class M>
   void initComplement(const geometry::TriangleMesh& mesh, const M& medium, glm::ivec3 cells = {});
   void combine();  // combined_ from images_ and the complement's
+  // The camera ray of sample s of pixel (i, j) and its box-filter weight (addPass).
+  void sampleRay(int i, int j, uint64_t s, uint32_t shiftX, uint32_t shiftY, glm::dvec3& origin,
+                 glm::dvec3& dir, double& weight) const;
+  std::shared_ptr<CameraWalker> walker_;
   std::vector<ScalarMedium> channels_;
   std::optional<VolumeMedium> volume_;
   std::vector<Light> lights_;

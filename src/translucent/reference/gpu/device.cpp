@@ -8,6 +8,7 @@
 
 #include "translucent/material/layers.h"
 #include "translucent/optics/medium.h"
+#include "translucent/reference/gpu/camera_gpu.h"
 #include "translucent/reference/gpu/field_gpu.h"
 #include "translucent/reference/gpu/mesh_gpu.h"
 #include "translucent/reference/gpu/slab_gpu.h"
@@ -70,6 +71,17 @@ void useDevice(const TraceDevice& device, const std::string& choice, MeshPathTra
     throw ParameterError(fmt::format("{} gpu: {}", option, why));
   }
   tracer.setWalker(makeGpuMeshWalker(*device.context, mesh, what));
+}
+
+void useDevice(const TraceDevice& device, const std::string& choice, CameraPathTracer& tracer,
+               const geometry::TriangleMesh& mesh, const std::string& what,
+               const std::string& option) {
+  if (device.device != Device::Gpu) return;
+  if (const std::string why = tracer.walkerRefusal(); !why.empty()) {
+    if (choice == "auto") return;
+    throw ParameterError(fmt::format("{} gpu: {}", option, why));
+  }
+  tracer.setWalker(makeGpuCameraWalker(*device.context, mesh, what));
 }
 
 SlabResult traceSlab(const TraceDevice& device, const SlabSetup& setup, const TraceOptions& options,

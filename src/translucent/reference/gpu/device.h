@@ -9,6 +9,7 @@
 
 #include "translucent/geometry/mesh.h"
 #include "translucent/gpu/context.h"
+#include "translucent/reference/camera_paths.h"
 #include "translucent/reference/mesh_tracer.h"
 #include "translucent/reference/slab_request.h"
 #include "translucent/reference/sphere.h"
@@ -38,6 +39,13 @@ void useDevice(const TraceDevice& device, SpherePathTracer& tracer);
 // (MeshPathTracer::walkerRefusal: lights, deformation) or a 3D field fields.glsl lacks.
 std::string meshGpuRefusal(const MeshPathTracer& tracer);
 void useDevice(const TraceDevice& device, const std::string& choice, MeshPathTracer& tracer,
+               const geometry::TriangleMesh& mesh, const std::string& what,
+               const std::string& option = "--device");
+
+// The camera method (camera_paths.h) on the device: the GPU camera walk (camera_gpu.h) where it
+// can trace the scene (CameraPathTracer::walkerRefusal); with "auto" the CPU for the rest, with
+// "gpu" a ParameterError "<option> gpu: <why>".
+void useDevice(const TraceDevice& device, const std::string& choice, CameraPathTracer& tracer,
                const geometry::TriangleMesh& mesh, const std::string& what,
                const std::string& option = "--device");
 

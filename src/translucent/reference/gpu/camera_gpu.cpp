@@ -1,0 +1,187 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The GPU walker of the camera method (camera_gpu.h).
+#include "translucent/reference/gpu/camera_gpu.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <variant>
+
+#include "translucent/geometry/flat_bvh.h"
+#include "translucent/gpu/bvh_buffers.h"
+#include "translucent/gpu/compute.h"
+#include "translucent/gpu/program.h"
+#include "translucent/reference/gpu/walk_program.h"
+
+namespace translucent::reference {
+namespace {
+
+// camera_walk.comp's records (std430).
+struct PathState {
+  double x, y, z, beta, o0, o1, o2, scale;
+  float dx, dy, dz;
+  uint32_t flags, counter, used, scatters, shadowRays;
+};
+static_assert(sizeof(PathState) == 96);
+struct GpuLight {
+  float p[3];
+  uint32_t type;
+  float dir[3];
+  float radius;
+  float e;
+  float pad[3];
+};
+static_assert(sizeof(GpuLight) == 48);
+
+void put(float (&out)[3], const glm::dvec3& v) {
+  for (int a = 0; a < 3; ++a) out[a] = static_cast<float>(v[a]);
+}
+
+// The delta lights in channel c (camera_paths.cpp: deltaIncident times the light's colour).
+std::vector<GpuLight> gpuLights(std::span<const Light> lights, int c) {
+  std::vector<GpuLight> out;
+  for (const Light& l : lights) {
+    GpuLight g{};
+    const double color = l.color[static_cast<size_t>(c)];
+    if (const auto* dl = std::get_if<DirectionalLight>(&l.emitter)) {
+      g.type = 0;
+      put(g.dir, dl->direction);
+      g.e = static_cast<float>(dl->irradiance * color);
+    } else if (const auto* pl = std::get_if<PointLight>(&l.emitter)) {
+      g.type = 1;
+      put(g.p, pl->position);
+      g.e = static_cast<float>(pl->intensity * color);
+    } else if (const auto* bl = std::get_if<BeamLight>(&l.emitter)) {
+      g.type = 2;
+      put(g.p, bl->origin);
+      put(g.dir, bl->direction);
+      g.radius = static_cast<float>(bl->radius);
+      g.e = static_cast<float>(bl->power / (std::numbers::pi * bl->radius * bl->radius) * color);
+    } else {
+      // CameraPathTracer::walkerRefusal keeps environment lights away from this walker.
+      throw gpu::GlError("GPU camera walk: an environment light (the CPU traces it)");
+    }
+    out.push_back(g);
+  }
+  return out;
+}
+
+using namespace gpu_walk;
+
+class GpuCameraWalker final : public CameraWalker {
+ public:
+  GpuCameraWalker(gpu::Context& context, const geometry::TriangleMesh& mesh, const std::string& what)
+      : context_(context), program_(build(context)) {
+    bvh_ = gpu::BvhBuffers::upload(geometry::FlatBvh::build(mesh, what));
+    control_ = gpu::makeStorageBuffer(2 * sizeof(uint32_t));
+    name_ = deviceName();
+    limit_ = loopLimit();
+  }
+  ~GpuCameraWalker() override { context_.makeCurrent(); }
+
+  void trace(const CameraWalkSetup& setup, std::span<const CameraWalkSample> samples,
+             std::vector<CameraWalkScore>& out) override {
+    context_.makeCurrent();
+    const gpu::ShaderProgram& p = program_;
+    const std::vector<GpuLight> lights = gpuLights(setup.lights, setup.channel);
+    gpu::Buffer lightBuffer = gpu::makeStorageBuffer(std::span<const GpuLight>(lights));
+    const ScalarMedium& m = setup.medium;
+    setLowHigh(p, "Seed", setup.seed);
+    p.set("Channel", static_cast<unsigned>(setup.channel));
+    p.set("LightCount", static_cast<unsigned>(lights.size()));
+    p.set("Paths", static_cast<unsigned>(setup.paths));
+    p.set("SigmaT", static_cast<float>(m.sigmaT()));
+    p.set("Albedo", static_cast<float>(m.sigma_s / m.sigmaT()));
+    p.set("G", static_cast<float>(m.g));
+    p.set("Epsilon", static_cast<float>(setup.epsilon));
+    setLongPath(p, setup.long_path_roulette);
+    const double theta = setup.cone_half_angle * std::numbers::pi / 180.0;
+    const double sin2 = std::sin(theta) * std::sin(theta);
+    p.set("Cone", setup.cone_half_angle > 0.0);
+    p.set("CosCone", static_cast<float>(std::cos(theta)));
+    p.set("ConeFactor", static_cast<float>(sin2 > 0.0 ? 2.0 * (1.0 - std::cos(theta)) / sin2 : 0.0));
+    p.set("ConeMeasure", static_cast<float>(std::numbers::pi * sin2));
+
+    const uint64_t n = samples.size() * static_cast<uint64_t>(setup.paths);
+    if (n > (uint64_t{1} << 31)) throw gpu::GlError("GPU camera walk: too many paths in one batch");
+    out.assign(n, CameraWalkScore{});
+    if (n == 0) return;
+    if (samples.size() > sampleCapacity_) {
+      samples_ = gpu::makeStorageBuffer(samples.size() * sizeof(CameraWalkSample));
+      sampleCapacity_ = samples.size();
+    }
+    gpu::uploadBytes(samples_, 0, samples.size() * sizeof(CameraWalkSample), samples.data());
+    if (n > pathCapacity_) {
+      outs_ = gpu::makeStorageBuffer(n * sizeof(CameraWalkScore));
+      states_ = gpu::makeStorageBuffer(n * sizeof(PathState));
+      for (gpu::Buffer& l : lists_) l = gpu::makeStorageBuffer(n * sizeof(uint32_t));
+      pathCapacity_ = n;
+    }
+    // Paths suspend after `budget` loop iterations and are resumed by further dispatches (the
+    // shader's "Suspension"); a batch whose largest count could have met the driver's limit is
+    // traced again with half the budget (the same paths: the streams are counters).
+    uint32_t budget = limit_.budget();
+    for (;;) {
+      p.set("WorkBudget", budget);
+      gpu::bindStorage(0, samples_);
+      gpu::bindStorage(1, bvh_.nodes);
+      gpu::bindStorage(2, bvh_.triangles);
+      gpu::bindStorage(3, outs_);
+      gpu::bindStorage(5, lightBuffer);
+      gpu::bindStorage(10, states_);
+      gpu::bindStorage(11, control_);
+      uint32_t maxWork = 0;
+      uint64_t walks = n;
+      for (unsigned phase = 0, list = 0;; phase = 1, list ^= 1u) {
+        const uint32_t control[2] = {0, 0};
+        gpu::uploadBytes(control_, 0, sizeof(control), control);
+        gpu::bindStorage(12, lists_[list]);
+        gpu::bindStorage(13, lists_[list ^ 1u]);
+        p.set("Phase", phase);
+        p.set("Count", static_cast<unsigned>(walks));
+        gpu::dispatch1D(p, walks);
+        uint32_t got[2];
+        gpu::downloadBytes(control_, 0, sizeof(got), got);
+        maxWork = std::max(maxWork, got[1]);
+        if (got[0] == 0) break;
+        walks = got[0];
+      }
+      if (limit_.clear(maxWork)) break;
+      if (budget <= 64)
+        throw gpu::GlError(fmt::format(
+            "GPU camera walk: one free flight took {} loop iterations, more than {} ({}'s limit "
+            "of {} per group of {} invocations allows): trace this scene with --device cpu",
+            maxWork, limit_.iterations / limit_.lanes, name_, limit_.iterations, limit_.lanes));
+      budget /= 2;
+    }
+    gpu::downloadBytes(outs_, 0, n * sizeof(CameraWalkScore), out.data());
+  }
+
+  std::string name() const override { return name_; }
+
+ private:
+  static gpu::ShaderProgram build(const gpu::Context& context) {
+    context.makeCurrent();
+    return gpu::ShaderProgram::compute("reference/camera_walk.comp");
+  }
+  gpu::Context& context_;
+  gpu::ShaderProgram program_;
+  gpu::BvhBuffers bvh_;
+  gpu::Buffer control_, samples_, outs_, states_;
+  gpu::Buffer lists_[2];
+  LoopLimit limit_;
+  uint64_t sampleCapacity_ = 0, pathCapacity_ = 0;
+  std::string name_;
+};
+
+}  // namespace
+
+std::shared_ptr<CameraWalker> makeGpuCameraWalker(gpu::Context& context,
+                                                  const geometry::TriangleMesh& mesh,
+                                                  const std::string& what) {
+  return std::make_shared<GpuCameraWalker>(context, mesh, what);
+}
+
+}  // namespace translucent::reference

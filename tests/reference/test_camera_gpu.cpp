@@ -1,0 +1,263 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The camera method's GPU walk (reference/gpu/camera_gpu.h, shaders/reference/camera_walk.comp)
+// against the CPU's camera method (camera_paths.h), pixel by pixel (z maps of the true radiance,
+// the exitance and the diffusion radiance, and of the single-scattered exitance): a sphere under
+// a sun, a point light and a beam; the bunny (non-convex: flights in air, re-entries, shadow
+// rays through several parts) of a little-absorbing medium whose long paths are suspended and
+// resumed on llvmpipe; a cone average; the same images whatever the pass split; the refusals,
+// naming the CPU. GL runs on whatever EGL offers (llvmpipe here): small images, bounds from the
+// standard errors.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "gpu/gpu_test.h"
+#include "image_zmap.h"
+#include "mesh_test_scenes.h"
+#include "test_fields.h"
+#include "translucent/geometry/icosphere.h"
+#include "translucent/geometry/mesh.h"
+#include "translucent/lights/environment_map.h"
+#include "translucent/reference/camera_paths.h"
+#include "translucent/reference/gpu/camera_gpu.h"
+
+namespace translucent::reference {
+namespace {
+
+using gpu::testing::GpuTest;
+using test_support::bonferroniZ;
+using test_support::ZMap;
+using test_support::zmap;
+using test_support::meanAndError;
+
+class CameraGpu : public GpuTest {};
+
+Medium medium(const Rgb& sigma_a, const Rgb& sigma_s, double g) {
+  Medium m;
+  m.sigma_a = sigma_a;
+  m.sigma_s = sigma_s;
+  m.g = g;
+  m.eta = 1.0;
+  m.scale = 1.0;
+  return m;
+}
+
+Camera cameraAt(const glm::dvec3& position, int size) {
+  Camera camera;
+  camera.position = position;
+  camera.look_at = {0.0, 0.0, 0.0};
+  camera.fov = 40.0;
+  camera.width = camera.height = size;
+  return camera;
+}
+
+// The closed bunny of glmark2-data, centred and scaled to a bounding radius of 1.
+const geometry::TriangleMesh& bunny() {
+  static const geometry::TriangleMesh mesh = [] {
+    geometry::TriangleMesh m = geometry::loadMesh(TRANSLUCENT_BUNNY_OBJ);
+    const geometry::Bounds b = m.bounds();
+    m.transform(1.0 / b.radius(), -b.center() / b.radius());
+    return m;
+  }();
+  return mesh;
+}
+
+// Mean z² within 6 of its standard deviations sqrt(2/N) of 1 and no value beyond the
+// Bonferroni-corrected 1% threshold, over at least `minValues` pixel values; and per channel the
+// image means within 4 standard errors (far more sensitive to a small bias than the pixels).
+void expectAgree(const McImage& g, const McImage& c, int minValues, const std::string& what) {
+  std::vector<uint32_t> all(static_cast<size_t>(g.width() * g.height()));
+  for (uint32_t i = 0; i < all.size(); ++i) all[i] = i;
+  for (int ch = 0; ch < g.channels(); ++ch) {
+    const Estimate a = g.average(all, ch), b = c.average(all, ch);
+    EXPECT_GT(a.value, 0.0) << what;
+    EXPECT_NEAR(a.value, b.value, 4.0 * std::hypot(a.std_error, b.std_error))
+        << what << " channel " << ch << ": image mean GPU " << a.value << " ± " << a.std_error
+        << ", CPU " << b.value << " ± " << b.std_error;
+  }
+  const ZMap m = zmap(g, c);
+  EXPECT_GT(m.n, minValues) << what;
+  EXPECT_NEAR(m.meanZ2, 1.0, 6.0 * std::sqrt(2.0 / std::max(m.n, 1)))
+      << what << ": mean z² over " << m.n << " pixel values";
+  EXPECT_LT(m.maxAbs, bonferroniZ(m.n, 0.01)) << what << ": largest |z| over " << m.n;
+}
+
+void expectImagesAgree(const CameraPathTracer& g, const CameraPathTracer& c, int minValues) {
+  expectAgree(g.images().cone_radiance, c.images().cone_radiance, minValues, "radiance to the camera");
+  expectAgree(g.images().exitance, c.images().exitance, minValues, "exitance");
+  expectAgree(g.images().radiance, c.images().radiance, minValues, "diffusion radiance");
+  if (g.splitsOrders() && c.splitsOrders()) {
+    expectAgree(g.orderImages(ScatteringOrder::Single).exitance,
+                c.orderImages(ScatteringOrder::Single).exitance, minValues, "single-scattered exitance");
+    expectAgree(g.orderImages(ScatteringOrder::Multiple).cone_radiance,
+                c.orderImages(ScatteringOrder::Multiple).cone_radiance, minValues,
+                "multiply scattered radiance to the camera");
+  }
+}
+
+// The CPU's and the GPU's camera paths of one scene, different seeds (independent estimates).
+void expectGpuMatchesCpu(const geometry::TriangleMesh& mesh, const Medium& m,
+                         const std::vector<Light>& lights, const Camera& camera,
+                         CameraPathOptions o, uint64_t samples, int minValues) {
+  o.threads = 2;
+  o.split_orders = true;
+  o.seed = 3;
+  CameraPathTracer cpu(mesh, m, lights, camera, o);
+  cpu.addPass(samples);
+  o.seed = 4;
+  CameraPathTracer gpu(mesh, m, lights, camera, o);
+  gpu.setWalker(makeGpuCameraWalker(gpu::testing::context(), mesh));
+  EXPECT_NE(gpu.device().find("gpu ("), std::string::npos) << gpu.device();
+  gpu.addPass(samples);
+  EXPECT_EQ(gpu.stats().samples, samples);
+  EXPECT_GT(gpu.stats().scattering_events, 0u);
+  EXPECT_GT(gpu.stats().shadow_rays, 0u);
+  expectImagesAgree(gpu, cpu, minValues);
+}
+
+TEST_F(CameraGpu, SphereUnderASunAPointLightAndABeamMatchesTheCpu) {
+  const auto mesh = geometry::makeIcosphere(3);
+  const std::vector<Light> lights = {
+      Light{DirectionalLight{glm::normalize(glm::dvec3(0.4, 0.3, 1.0)), 1.0}, {1.0, 0.9, 0.8}},
+      Light{PointLight{{1.2, 1.5, 1.4}, 1.5}, {0.8, 0.8, 1.0}},
+      Light{BeamLight{{-0.3, 0.2, 3.0}, {0.0, 0.0, -1.0}, 0.4, 0.4}, {1.0, 1.0, 1.0}}};
+  expectGpuMatchesCpu(mesh, medium({0.5, 1.0, 2.0}, {4.0, 4.0, 4.0}, 0.2), lights,
+                      cameraAt({0.0, 0.5, 3.5}, 10), {}, 64, 150);
+}
+
+// The bunny (non-convex: flights in air and re-entries, shadow rays through several parts)
+// lit from behind (its light through the ears) and from the front.
+TEST_F(CameraGpu, BunnyMatchesTheCpu) {
+  const std::vector<Light> lights = {
+      Light{DirectionalLight{glm::normalize(glm::dvec3(-0.2, 0.3, -1.0)), 1.0}, {1.0, 1.0, 1.0}},
+      Light{PointLight{{0.8, 1.5, 1.8}, 1.0}, {1.0, 0.8, 0.6}}};
+  expectGpuMatchesCpu(bunny(), medium({0.2, 0.5, 1.0}, {10.0, 10.0, 10.0}, 0.0), lights,
+                      cameraAt({0.0, 0.3, 3.2}, 12), {}, 32, 90);
+}
+
+// A cube 200 mean free paths across without absorption, seen face on: a path that enters scatters
+// about as many times as the slab is thick in mean free paths before it leaves (a random walk
+// between two walls), each collision with a shadow ray through the BVH: far beyond what
+// llvmpipe's loop limit lets one dispatch do, so every long path is suspended and resumed. Cut
+// short, its light would be lost; resumed, the collisions per path and the images are the CPU's.
+TEST_F(CameraGpu, LongPathsAreSuspendedAndResumedNotCutShort) {
+  const auto cube = geometry::makeBox(glm::dvec3(-0.5), glm::dvec3(0.5));
+  const ScalarMedium m{0.0, 200.0, 0.0, 1.0};
+  const std::vector<Light> lights = {
+      Light{DirectionalLight{glm::normalize(glm::dvec3(0.3, 0.2, 1.0)), 1.0}, {1.0, 1.0, 1.0}}};
+  Camera camera = test_support::orthographic({0.0, 0.0, 3.0}, 0.9, 8);
+  CameraPathOptions o;
+  o.threads = 2;
+  o.seed = 5;
+  CameraPathTracer cpu(cube, m, lights, camera, o);
+  o.seed = 6;
+  CameraPathTracer gpu(cube, m, lights, camera, o);
+  gpu.setWalker(makeGpuCameraWalker(gpu::testing::context(), cube));
+  std::vector<double> g, c;
+  for (int p = 0; p < 8; ++p) {
+    const CameraPathStats a = gpu.addPass(4), b = cpu.addPass(4);
+    g.push_back(static_cast<double>(a.scattering_events) / static_cast<double>(a.paths));
+    c.push_back(static_cast<double>(b.scattering_events) / static_cast<double>(b.paths));
+  }
+  EXPECT_EQ(gpu.stats().paths, cpu.stats().paths);  // every camera ray hits: two paths each
+  const auto [gm, ge] = meanAndError(g);
+  const auto [cm, ce] = meanAndError(c);
+  EXPECT_GT(cm, 50.0);
+  EXPECT_NEAR(gm, cm, 5.0 * std::hypot(ge, ce)) << "collisions per path: GPU " << gm << " ± " << ge
+                                                << ", CPU " << cm << " ± " << ce;
+  expectAgree(gpu.images().exitance, cpu.images().exitance, 50, "exitance");
+  expectAgree(gpu.images().cone_radiance, cpu.images().cone_radiance, 50, "radiance to the camera");
+}
+
+TEST_F(CameraGpu, ConeAverageMatchesTheCpu) {
+  const auto cube = geometry::makeBox(glm::dvec3(-0.5), glm::dvec3(0.5));
+  const std::vector<Light> lights = {
+      Light{DirectionalLight{glm::normalize(glm::dvec3(-0.3, 1.0, 0.5)), 1.0}, {1.0, 1.0, 1.0}},
+      Light{BeamLight{{0.2, 0.1, 3.0}, {0.0, 0.0, -1.0}, 0.3, 0.5}, {1.0, 1.0, 1.0}}};
+  CameraPathOptions o;
+  o.cone_half_angle = 15.0;
+  Medium m = medium({0.5, 1.0, 2.0}, {3.0, 3.0, 3.0}, 0.5);
+  expectGpuMatchesCpu(cube, m, lights, cameraAt({1.6, 1.2, 2.2}, 10), o, 64, 100);
+}
+
+// Each path draws from its own stream (the sample's index), so the pass split changes only the
+// order of the sums: equal to rounding, as on the CPU; and a run is a function of its seed.
+TEST_F(CameraGpu, SameSeedSameImagesWhateverThePassSplit) {
+  const auto cube = geometry::makeBox(glm::dvec3(-0.5), glm::dvec3(0.5));
+  const std::vector<Light> lights = {
+      Light{PointLight{{1.5, 0.5, 1.0}, 0.4}, {1.0, 0.7, 0.5}}};
+  const Medium m = medium({0.5, 1.0, 2.0}, {3.0, 3.0, 3.0}, 0.0);
+  const Camera camera = cameraAt({1.6, 1.2, 2.2}, 8);
+  std::vector<CameraImages> images;
+  for (const int run : {0, 1, 2}) {
+    CameraPathOptions o;
+    o.seed = 17;
+    CameraPathTracer t(cube, m, lights, camera, o);
+    t.setWalker(makeGpuCameraWalker(gpu::testing::context(), cube));
+    if (run < 2) {
+      t.addPass(16);
+    } else {
+      t.addPass(4);
+      t.addPass(12);
+    }
+    EXPECT_EQ(t.stats().samples, 16u);
+    images.push_back(t.images());
+  }
+  double total = 0.0;
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 8; ++x)
+      for (int c = 0; c < 3; ++c) {
+        const Estimate a = images[0].exitance.pixel(x, y, c), b = images[1].exitance.pixel(x, y, c);
+        const Estimate p = images[0].cone_radiance.pixel(x, y, c);
+        ASSERT_EQ(a.value, b.value);
+        ASSERT_EQ(a.std_error, b.std_error);
+        ASSERT_EQ(p.value, images[1].cone_radiance.pixel(x, y, c).value);
+        const Estimate e = images[2].exitance.pixel(x, y, c);
+        ASSERT_NEAR(a.value, e.value, 1e-12 * std::abs(a.value));
+        ASSERT_NEAR(a.std_error, e.std_error, 1e-9 * a.std_error);
+        ASSERT_NEAR(p.value, images[2].cone_radiance.pixel(x, y, c).value, 1e-12 * std::abs(p.value));
+        total += p.value;
+      }
+  EXPECT_GT(total, 0.0);
+}
+
+// What the GL walk does not trace is refused with the reason and the way out (the CPU).
+TEST_F(CameraGpu, RefusesWhatItCannotTraceNamingTheCpu) {
+  const auto cube = geometry::makeBox(glm::dvec3(-0.5), glm::dvec3(0.5));
+  const Camera camera = cameraAt({1.6, 1.2, 2.2}, 4);
+  const Light sun{DirectionalLight{{0.0, 0.0, 1.0}, 1.0}, {1.0, 1.0, 1.0}};
+  auto message = [&](CameraPathTracer& t) {
+    try {
+      t.setWalker(makeGpuCameraWalker(gpu::testing::context(), cube));
+    } catch (const ParameterError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  Medium refractive = medium({0.5, 0.5, 0.5}, {2.0, 2.0, 2.0}, 0.0);
+  refractive.eta = 1.3;
+  CameraPathTracer a(cube, refractive, {sun}, camera, {});
+  EXPECT_NE(message(a).find("eta 1.3"), std::string::npos) << message(a);
+  EXPECT_NE(message(a).find("the CPU's camera method traces it"), std::string::npos) << message(a);
+
+  auto map = std::make_shared<lights::EnvironmentMap>(lights::EnvironmentMap::constant({1.0f, 1.0f, 1.0f}));
+  CameraPathTracer b(cube, medium({0.5, 0.5, 0.5}, {2.0, 2.0, 2.0}, 0.0),
+                     {sun, Light{EnvironmentLight::make(map, 0.0, 1.0), {1.0, 1.0, 1.0}}}, camera, {});
+  EXPECT_NE(message(b).find("light 2 is an environment light"), std::string::npos) << message(b);
+
+  material::Material field;
+  field.kind = material::Material::Kind::Volume;
+  field.medium.eta = 1.0;
+  field.medium.scale = 1.0;
+  field.volume = std::make_shared<testing::CoreField>(0.3, testing::grey(1.0, 11.0, 0.0),
+                                                      testing::grey(0.5, 2.5, 0.3));
+  CameraPathTracer c(cube, field, {sun}, camera, {});
+  EXPECT_NE(message(c).find("homogeneous"), std::string::npos) << message(c);
+  // The CPU still traces all three.
+  for (CameraPathTracer* t : {&a, &b, &c}) EXPECT_EQ(t->device(), "cpu");
+}
+
+}  // namespace
+}  // namespace translucent::reference
