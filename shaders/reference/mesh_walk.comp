@@ -56,10 +56,6 @@ uint gWork = 0u;
 #include "reference/philox.glsl"
 #include "reference/walk_math.glsl"
 #include "reference/bvh.glsl"
-#ifdef VOLUME
-#include "reference/fields.glsl"
-#include "common/deform.glsl"
-#endif
 
 struct PhotonOut {
   double entered, exited, escaped;
@@ -103,12 +99,6 @@ layout(std430, binding = 11) buffer Control { uint control[]; };
 // it suspends, in the order they did (the next dispatch's list).
 layout(std430, binding = 12) readonly buffer ResumeList { uint resumeList[]; };
 layout(std430, binding = 13) writeonly buffer SuspendList { uint suspendList[]; };
-#ifdef VOLUME
-// The majorant grid's bounds of this channel [1/scene unit], cell (i, j, k) at
-// (k * ny + j) * nx + i; tentative collisions above the bound in force.
-layout(std430, binding = 8) readonly buffer Majorants { float majorants[]; };
-layout(std430, binding = 9) buffer Violations { uint violationCount; };
-#endif
 
 uniform uvec2 Seed;
 uniform uvec2 FirstPhoton;
@@ -121,21 +111,6 @@ uniform uvec2 AbsorbThreshold;  // (high, low): absorbed when a 64-bit word < th
 uniform uint LongPath;
 uniform uint Phase;       // 0: emit and walk Count photons; 1: resume the Count of ResumeList
 uniform uint WorkBudget;  // loop iterations after which a walk suspends at its next free flight
-#ifdef VOLUME
-uniform vec3 GridLower, GridUpper, GridCell;  // the grid's box and cell size [scene units]
-uniform ivec3 GridCells;
-uniform float GridOuterBound;  // the largest cell's bound: beyond the box
-uniform float CoefficientScale;  // per medium unit -> per scene unit (Medium::scale)
-uniform mat3 FrameRotationT;     // material frame (material.h): q = scale Rᵀ (x − translate)
-uniform dvec3 FrameTranslate;
-uniform float FrameScale;
-// The material frame's deformations at this time (material.h: MaterialFrame::toMaterial undoes
-// them before the rest transform; geometry/deform.h), as common/deform.comp takes them.
-uniform int DeformCount;                 // 0: the body is not deformed
-uniform vec4 DeformA[8];                 // origin, type
-uniform vec4 DeformB[8];                 // axis, magnitude at this time
-uniform vec4 DeformC[8];                 // direction, wavelength
-#endif
 
 const uint kSurviveThreshold = 429496730u;  // walk.h: keep with probability 1/10 ...
 const double kSurviveBoost = 4294967296.0lf / 429496730.0lf;  // ... and the exact inverse weight
@@ -215,121 +190,7 @@ bool reenter(inout dvec3 x, inout vec3 d) {
 }
 
 #ifdef VOLUME
-// ---- Delta tracking (majorant_grid.h: MajorantGrid::track) ---------------------------------
-
-vec3 gLocalA, gLocalS;  // the medium at the last tentative collision [1/medium unit]
-float gLocalG, gLocalSigmaT;  // its g, and its σt in this channel [1/scene unit]
-float gTau;                   // optical depth left to the next tentative collision
-
-bool acceptCollision(dvec3 o, vec3 d, float tc, float bound) {
-  vec3 q;
-  if (DeformCount == 0) {
-    q = FrameScale * (FrameRotationT * vec3(o + double(tc) * dvec3(d) - FrameTranslate));
-  } else {
-    // The rest pose's point first, step by step in reverse order (geometry::undeformPoint).
-    vec3 rest = vec3(o + double(tc) * dvec3(d));
-    for (int k = DeformCount - 1; k >= 0; --k) {
-      WALK_WORK();
-      if (DeformB[k].w != 0.0) rest = undeformPoint(DeformA[k], DeformB[k], DeformC[k], rest);
-    }
-    q = FrameScale * (FrameRotationT * (rest - vec3(FrameTranslate)));
-  }
-  fieldAt(q, gLocalA, gLocalS, gLocalG);
-  gLocalSigmaT = (gLocalA[Channel] + gLocalS[Channel]) * CoefficientScale;
-  if (gLocalSigmaT >= bound) {
-    if (gLocalSigmaT > bound * 1.000001) atomicAdd(violationCount, 1u);
-    return true;
-  }
-  return uniformFloat() * bound < gLocalSigmaT;
-}
-
-// Spends gTau over [ta, tb) at rate m: true at a real collision (tOut set).
-bool spend(dvec3 o, vec3 d, float ta, float tb, float m, inout float tOut) {
-  if (!(m > 0.0)) return false;
-  for (;;) {
-    WALK_WORK();
-    const float len = tb > ta ? tb - ta : 0.0;
-    if (gTau >= m * len) {
-      gTau -= m * len;
-      return false;
-    }
-    const float t = ta + gTau / m;
-    if (acceptCollision(o, d, t, m)) {
-      tOut = t;
-      return true;
-    }
-    gTau = -fastLog(unitOpenZeroFromBits(nextWord()));
-    ta = t;
-  }
-}
-
-float cellBound(ivec3 c) {
-  return majorants[(c.z * GridCells.y + c.y) * GridCells.x + c.x];
-}
-
-// The first real collision from o along d (no end: the boundary is the caller's), false when
-// none (a ray that leaves the grid's box into nothing: only a photon that slipped out, see
-// traceVolumePhoton).
-bool track(dvec3 o, vec3 d, out float tOut) {
-  tOut = 0.0;
-  gTau = -fastLog(unitOpenZeroFromBits(nextWord()));
-  const vec3 p = vec3(o);
-  float t0 = 0.0, t1 = kInf;
-  vec3 inv;
-  for (int a = 0; a < 3; ++a) {
-    inv[a] = d[a] != 0.0 ? 1.0 / d[a] : 0.0;
-    if (d[a] == 0.0) {
-      if (p[a] < GridLower[a] || p[a] > GridUpper[a]) t1 = -1.0;
-      continue;
-    }
-    float ta = (GridLower[a] - p[a]) * inv[a], tb = (GridUpper[a] - p[a]) * inv[a];
-    if (ta > tb) {
-      const float tmp = ta;
-      ta = tb;
-      tb = tmp;
-    }
-    t0 = max(t0, ta);
-    t1 = min(t1, tb);
-  }
-  if (!(t0 < t1)) return spend(o, d, 0.0, kInf, GridOuterBound, tOut);
-  if (t0 > 0.0 && spend(o, d, 0.0, t0, GridOuterBound, tOut)) return true;
-  const vec3 start = p + t0 * d;
-  ivec3 cell, step;
-  vec3 next, delta;
-  for (int a = 0; a < 3; ++a) {
-    cell[a] = clamp(int((start[a] - GridLower[a]) / GridCell[a]), 0, GridCells[a] - 1);
-    if (d[a] > 0.0) {
-      step[a] = 1;
-      next[a] = (GridLower[a] + float(cell[a] + 1) * GridCell[a] - p[a]) * inv[a];
-      delta[a] = GridCell[a] * inv[a];
-    } else if (d[a] < 0.0) {
-      step[a] = -1;
-      next[a] = (GridLower[a] + float(cell[a]) * GridCell[a] - p[a]) * inv[a];
-      delta[a] = -GridCell[a] * inv[a];
-    } else {
-      step[a] = 0;
-      next[a] = kInf;
-      delta[a] = kInf;
-    }
-  }
-  float t = t0;
-  for (;;) {
-    WALK_WORK();
-    const int a = next[0] < next[1] ? (next[0] < next[2] ? 0 : 2) : (next[1] < next[2] ? 1 : 2);
-    const float tExit = min(next[a], t1);
-    if (spend(o, d, t, tExit, cellBound(cell), tOut)) return true;
-    if (tExit >= t1) break;
-    t = tExit;
-    cell[a] += step[a];
-    if (cell[a] < 0 || cell[a] >= GridCells[a]) {  // left the box early (rounding)
-      if (spend(o, d, t, t1, GridOuterBound, tOut)) return true;
-      break;
-    }
-    next[a] += delta[a];
-  }
-  return spend(o, d, t1, kInf, GridOuterBound, tOut);
-}
-
+#include "reference/delta_tracking.glsl"
 #endif
 
 // ---- The walk ------------------------------------------------------------------------------

@@ -2,12 +2,16 @@
 // The fields' packing for fields.glsl (field_gpu.h says the layout).
 #include "translucent/reference/gpu/field_gpu.h"
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <limits>
 
 #include <fmt/format.h>
 
+#include "translucent/geometry/deform.h"
+#include "translucent/gpu/compute.h"
+#include "translucent/reference/gpu/walk_program.h"
 #include "translucent/material/checker.h"
 #include "translucent/material/gradient.h"
 #include "translucent/material/layers.h"
@@ -242,6 +246,82 @@ std::vector<uint32_t> pack(const material::VolumeField& f) {
   }
   if (const auto* l = dynamic_cast<const material::LayersField*>(&f)) return packLayers(*l);
   return packVoxels(dynamic_cast<const material::VoxelsField&>(f));
+}
+
+namespace {
+// Rounded up to float: a bound below σt would bias the tracking.
+float roundUp(double b) {
+  float f = static_cast<float>(b);
+  if (static_cast<double>(f) < b) f = std::nextafter(f, std::numeric_limits<float>::infinity());
+  return f;
+}
+}  // namespace
+
+void VolumeBuffers::set(const gpu::ShaderProgram& p, const VolumeMedium* v, int channel) {
+  if (!violations_) violations_ = gpu::makeStorageBuffer(sizeof(uint32_t));
+  if (v == nullptr) {
+    if (!fieldWords_) fieldWords_ = gpu::makeStorageBuffer(16);  // bound, never read
+    for (gpu::Buffer& b : majorants_)
+      if (!b) b = gpu::makeStorageBuffer(16);
+    return;
+  }
+  if (v != volume_) {
+    const std::vector<uint32_t> words = pack(*v->field);
+    fieldWords_ = gpu::makeStorageBuffer(std::span<const uint32_t>(words));
+    const MajorantGrid& g = *v->grid;
+    const glm::ivec3 n = g.cells();
+    for (int c = 0; c < 3; ++c) {
+      std::vector<float> bounds;
+      bounds.reserve(static_cast<size_t>(n.x) * static_cast<size_t>(n.y) * static_cast<size_t>(n.z));
+      for (int k = 0; k < n.z; ++k)
+        for (int j = 0; j < n.y; ++j)
+          for (int i = 0; i < n.x; ++i) bounds.push_back(roundUp(g.bound(i, j, k, c)));
+      majorants_[static_cast<size_t>(c)] = gpu::makeStorageBuffer(std::span<const float>(bounds));
+    }
+    volume_ = v;
+  }
+  const MajorantGrid& g = *v->grid;
+  const glm::dvec3 cell = (g.upper() - g.lower()) / glm::dvec3(g.cells());
+  p.set("GridLower", glm::vec3(g.lower()));
+  p.set("GridUpper", glm::vec3(g.upper()));
+  p.set("GridCell", glm::vec3(cell));
+  p.set("GridCells", g.cells());
+  p.set("GridOuterBound", roundUp(g.maxBound(std::min(channel, 2))));
+  p.set("CoefficientScale", static_cast<float>(v->coefficient_scale));
+  p.set("FrameRotationT", glm::mat3(glm::transpose(v->frame.rotation)));
+  gpu_walk::setDvec3(p, "FrameTranslate", v->frame.translate);
+  p.set("FrameScale", static_cast<float>(v->frame.scale));
+  // The deformations at the frame's time (shaders/common/deform.comp's form).
+  const auto& chain = v->frame.deform;
+  if (chain.size() > geometry::kMaxDeformations)
+    throw gpu::GlError(fmt::format("GPU walk: {} deformations, at most {}", chain.size(),
+                                   geometry::kMaxDeformations));
+  const bool deformed = v->frame.deformed();
+  p.set("DeformCount", deformed ? static_cast<int>(chain.size()) : 0);
+  if (deformed) {
+    const geometry::DeformUniforms u = geometry::deformUniforms(chain, v->frame.time);
+    const auto n = static_cast<GLsizei>(chain.size());
+    glProgramUniform4fv(p.id(), p.uniformLocation("DeformA"), n, &u.a[0].x);
+    glProgramUniform4fv(p.id(), p.uniformLocation("DeformB"), n, &u.b[0].x);
+    glProgramUniform4fv(p.id(), p.uniformLocation("DeformC"), n, &u.c[0].x);
+  }
+}
+
+void VolumeBuffers::bind(int channel) const {
+  gpu::bindStorage(7, fieldWords_);
+  gpu::bindStorage(8, majorants_[static_cast<size_t>(std::min(channel, 2))]);
+  gpu::bindStorage(9, violations_);
+}
+
+void VolumeBuffers::resetViolations() const {
+  const uint32_t zero = 0;
+  gpu::uploadBytes(violations_, 0, sizeof(zero), &zero);
+}
+
+uint32_t VolumeBuffers::violations() const {
+  uint32_t n = 0;
+  gpu::downloadBytes(violations_, 0, sizeof(n), &n);
+  return n;
 }
 
 }  // namespace translucent::reference::gpu_field

@@ -38,7 +38,10 @@
 #include <string>
 #include <vector>
 
+#include "translucent/gpu/objects.h"
+#include "translucent/gpu/program.h"
 #include "translucent/material/material.h"
+#include "translucent/reference/majorant_grid.h"
 
 namespace translucent::reference::gpu_field {
 
@@ -49,5 +52,24 @@ std::string refusal(const material::VolumeField& f);
 // The words of the layout above. Throws ParameterError (with refusal()'s reason) for a field
 // that refusal() refuses.
 std::vector<uint32_t> pack(const material::VolumeField& f);
+
+// What shaders/reference/delta_tracking.glsl reads of a heterogeneous medium, for one walker: the
+// field packed once per medium (binding 7), the majorant grid's bounds per channel rounded up to
+// float (binding 8; a bound below σt would bias the tracking), the violation counter (binding 9),
+// and the uniforms (grid, frame, deformations).
+class VolumeBuffers {
+ public:
+  // The uniforms of `volume` in `channel` on `p`, its buffers made when the medium changes; null:
+  // placeholders (bound, never read).
+  void set(const gpu::ShaderProgram& p, const VolumeMedium* volume, int channel);
+  // Binds the buffers of the last set() in `channel`.
+  void bind(int channel) const;
+  void resetViolations() const;
+  uint32_t violations() const;  // counted since resetViolations()
+
+ private:
+  gpu::Buffer fieldWords_, violations_, majorants_[3];
+  const VolumeMedium* volume_ = nullptr;  // the medium fieldWords_ and majorants_ hold
+};
 
 }  // namespace translucent::reference::gpu_field

@@ -142,7 +142,7 @@ class GpuMeshWalker final : public MeshWalker {
     p.set("Matched", ch.eta == 1.0);
     p.set("Eta", static_cast<float>(ch.eta));
     p.set("Epsilon", static_cast<float>(setup.epsilon));
-    setVolume(p, setup.volume, channel);
+    volume_.set(p, setup.volume, channel);
 
     const uint64_t n = count * kBlockPhotons, firstPhoton = first * kBlockPhotons;
     if (n > photonCapacity_) {
@@ -165,7 +165,7 @@ class GpuMeshWalker final : public MeshWalker {
     for (;;) {
       const uint32_t zero = 0;
       gpu::uploadBytes(counter_, 0, sizeof(zero), &zero);
-      gpu::uploadBytes(violations_, 0, sizeof(zero), &zero);
+      volume_.resetViolations();
       p.set("ExitCapacity", static_cast<unsigned>(exitCapacity_));
       p.set("WorkBudget", budget);
       gpu::bindStorage(0, photons_);
@@ -175,9 +175,7 @@ class GpuMeshWalker final : public MeshWalker {
       gpu::bindStorage(4, counter_);
       gpu::bindStorage(5, lightBuffer);
       gpu::bindStorage(6, envDirs_);
-      gpu::bindStorage(7, fieldWords_);
-      gpu::bindStorage(8, majorants_[static_cast<size_t>(std::min(channel, 2))]);
-      gpu::bindStorage(9, violations_);
+      volume_.bind(channel);
       gpu::bindStorage(10, states_);
       gpu::bindStorage(11, control_);
       uint32_t maxWork = 0;
@@ -213,8 +211,7 @@ class GpuMeshWalker final : public MeshWalker {
     gpu::downloadBytes(photons_, 0, n * sizeof(PhotonOut), hostPhotons_.data());
     if (setup.volume) {
       // Of the dispatch that fit (the counter is zeroed before each).
-      uint32_t violations = 0;
-      gpu::downloadBytes(violations_, 0, sizeof(violations), &violations);
+      const uint32_t violations = volume_.violations();
       if (violations)
         setup.volume->majorant_violations->fetch_add(violations, std::memory_order_relaxed);
     }
@@ -314,64 +311,6 @@ class GpuMeshWalker final : public MeshWalker {
     gpu::uploadBytes(envDirs_, 0, n * 4 * sizeof(float), hostDirs_.data());
   }
 
-  // The heterogeneous medium's uniforms and buffers (mesh_walk.comp with VOLUME): the field packed
-  // once per medium (fields.glsl), the majorant grid's bounds per channel rounded up to float
-  // (a bound below σt would bias the tracking), the violation counter zeroed per batch.
-  void setVolume(const gpu::ShaderProgram& p, const VolumeMedium* v, int channel) {
-    if (!violations_) violations_ = gpu::makeStorageBuffer(sizeof(uint32_t));
-    if (v == nullptr) {
-      if (!fieldWords_) fieldWords_ = gpu::makeStorageBuffer(16);  // bound, never read
-      for (gpu::Buffer& b : majorants_)
-        if (!b) b = gpu::makeStorageBuffer(16);
-      return;
-    }
-    if (v != volume_) {
-      const std::vector<uint32_t> words = gpu_field::pack(*v->field);
-      fieldWords_ = gpu::makeStorageBuffer(std::span<const uint32_t>(words));
-      const MajorantGrid& g = *v->grid;
-      const glm::ivec3 n = g.cells();
-      for (int c = 0; c < 3; ++c) {
-        std::vector<float> bounds;
-        bounds.reserve(static_cast<size_t>(n.x) * static_cast<size_t>(n.y) * static_cast<size_t>(n.z));
-        for (int k = 0; k < n.z; ++k)
-          for (int j = 0; j < n.y; ++j)
-            for (int i = 0; i < n.x; ++i) bounds.push_back(roundUp(g.bound(i, j, k, c)));
-        majorants_[static_cast<size_t>(c)] = gpu::makeStorageBuffer(std::span<const float>(bounds));
-      }
-      volume_ = v;
-    }
-    const MajorantGrid& g = *v->grid;
-    const glm::dvec3 cell = (g.upper() - g.lower()) / glm::dvec3(g.cells());
-    p.set("GridLower", glm::vec3(g.lower()));
-    p.set("GridUpper", glm::vec3(g.upper()));
-    p.set("GridCell", glm::vec3(cell));
-    p.set("GridCells", g.cells());
-    p.set("GridOuterBound", roundUp(g.maxBound(std::min(channel, 2))));
-    p.set("CoefficientScale", static_cast<float>(v->coefficient_scale));
-    p.set("FrameRotationT", glm::mat3(glm::transpose(v->frame.rotation)));
-    setDvec3(p, "FrameTranslate", v->frame.translate);
-    p.set("FrameScale", static_cast<float>(v->frame.scale));
-    // The deformations at the frame's time (shaders/common/deform.comp's form).
-    const auto& chain = v->frame.deform;
-    if (chain.size() > geometry::kMaxDeformations)
-      throw gpu::GlError(fmt::format("GPU mesh walk: {} deformations, at most {}", chain.size(),
-                                     geometry::kMaxDeformations));
-    const bool deformed = v->frame.deformed();
-    p.set("DeformCount", deformed ? static_cast<int>(chain.size()) : 0);
-    if (deformed) {
-      const geometry::DeformUniforms u = geometry::deformUniforms(chain, v->frame.time);
-      const auto n = static_cast<GLsizei>(chain.size());
-      glProgramUniform4fv(p.id(), p.uniformLocation("DeformA"), n, &u.a[0].x);
-      glProgramUniform4fv(p.id(), p.uniformLocation("DeformB"), n, &u.b[0].x);
-      glProgramUniform4fv(p.id(), p.uniformLocation("DeformC"), n, &u.c[0].x);
-    }
-  }
-  static float roundUp(double b) {
-    float f = static_cast<float>(b);
-    if (static_cast<double>(f) < b) f = std::nextafter(f, std::numeric_limits<float>::infinity());
-    return f;
-  }
-
   void growExits(uint64_t capacity) {
     exits_ = gpu::makeStorageBuffer(capacity * sizeof(ExitOut));
     exitCapacity_ = capacity;
@@ -383,8 +322,7 @@ class GpuMeshWalker final : public MeshWalker {
   gpu::Buffer counter_, photons_, exits_, envDirs_, states_, control_;
   gpu::Buffer lists_[2];  // resume and suspend lists, swapped between dispatches
   LoopLimit limit_;
-  gpu::Buffer fieldWords_, violations_, majorants_[3];
-  const VolumeMedium* volume_ = nullptr;  // the medium fieldWords_ and majorants_ hold
+  gpu_field::VolumeBuffers volume_;
   uint64_t photonCapacity_ = 0, exitCapacity_ = 0, dirCapacity_ = 0;
   std::vector<float> hostDirs_;
   std::vector<PhotonOut> hostPhotons_;
