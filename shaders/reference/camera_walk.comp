@@ -9,7 +9,9 @@
 //     cone of half-angle θc > 0) along -ω for ω uniform in the cone about v = -d, weighted
 //     (n·ω) Ω_c / (π sin²θc (n·v)); path 1, the exitance: along -ω' for ω' cosine-distributed
 //     about n, weighted π (B = π E[L]);
-//   - inside, exponential free flights of density σt e^{-σt s}; a flight that meets the boundary
+//   - inside, exponential free flights of density σt e^{-σt s} (compiled with VOLUME, a 3D field:
+//     delta tracking through the majorant grid, delta_tracking.glsl, the local albedo and g at
+//     the collision, ratio tracking along the shadow rays); a flight that meets the boundary
 //     flies on straight in air and re-enters where its line meets the body again with the rest
 //     of its free path (memoryless), or escapes (no environment light here: nothing to score);
 //   - at each collision the throughput times the albedo, then next-event estimation to every
@@ -107,14 +109,18 @@ uint nextWord() {
 }
 float uniformFloat() { return unitFromBits(nextWord()); }
 
+#ifdef VOLUME
+#include "reference/delta_tracking.glsl"
+#endif
+
 double gOut[3];
 double gScale;
 uint gScatters = 0u, gShadowRays = 0u, gIndex;
 
 // Henyey-Greenstein per steradian (phase.h: hgCosineDensity / 2π).
-float hgPhase(float mu) {
-  const float d = 1.0 + G * G - 2.0 * G * mu;
-  return 0.5 * (1.0 - G * G) / (d * sqrt(d)) / (2.0 * kPi);
+float hgPhase(float mu, float g) {
+  const float d = 1.0 + g * g - 2.0 * g * mu;
+  return 0.5 * (1.0 - g * g) / (d * sqrt(d)) / (2.0 * kPi);
 }
 
 // Light l's direction w from x, its irradiance there (on a plane perpendicular to w) and the
@@ -143,11 +149,12 @@ bool incident(GpuLight L, dvec3 x, out vec3 w, out float e, out float dist) {
   return e > 0.0;
 }
 
-// e^{-σt ℓ}, ℓ the length of x + t w, t in (0, dist], inside the body; x inside, or on the
+// The transmittance of x + t w, t in (0, dist], through the parts of it inside the body: e^{-σt ℓ}
+// (ℓ their length), or with VOLUME the product of their ratio tracking; x inside, or on the
 // surface with w pointing in (onSurface: hits closer than ε are its own surface).
 float transmittance(dvec3 x, vec3 w, float dist, bool onSurface) {
   ++gShadowRays;
-  float depth = 0.0;
+  float depth = 0.0, ratio = 1.0;
   bool inside = true;
   for (;;) {
     WALK_WORK();
@@ -156,7 +163,14 @@ float transmittance(dvec3 x, vec3 w, float dist, bool onSurface) {
     uint tri;
     const bool h = bvhIntersect(vec3(x), w, onSurface ? Epsilon : 0.0, dist, t, n, tri);
     const float len = h ? t : dist;
-    if (inside && len > 0.0) depth += SigmaT * len;
+    if (inside && len > 0.0) {
+#ifdef VOLUME
+      ratio *= ratioTracking(x, w, len);
+      if (!(ratio > 0.0)) return 0.0;
+#else
+      depth += SigmaT * len;
+#endif
+    }
     if (depth > kOpaqueDepth) return 0.0;
     if (!h) break;
     x += double(t) * dvec3(w);
@@ -164,42 +178,31 @@ float transmittance(dvec3 x, vec3 w, float dist, bool onSurface) {
     inside = !inside;
     onSurface = true;
   }
-  return exp(-depth);
+  return ratio * exp(-depth);
 }
 
-// Σ over the lights of p(d·ω_l) L_l T(x, light) (camera_paths.cpp: ChannelPaths::direct).
-double direct(dvec3 x, vec3 d) {
+// Per light, its light at x times the transmittance to it: one loop (and one inlined copy of the
+// transmittance and its tracking) for both uses. Next-event estimation (!exiting): Σ p(d·ω_l)
+// L_l T at the collision x of a path along d (camera_paths.cpp: ChannelPaths::direct). The
+// unscattered light (exiting) leaving at the visible point x (normal n towards the camera, v
+// towards it): its exitance Σ E_l μ T, and with a cone its cone average in c0
+// (ChannelPaths::unscattered).
+double lightSum(dvec3 x, vec3 d, float g, bool exiting, vec3 n, vec3 v, out double c0) {
   double sum = 0.0lf;
+  c0 = 0.0lf;
   WALK_WORK();  // the loop may run no iteration
   for (uint l = 0u; l < LightCount; ++l) {
     WALK_WORK();
     vec3 w;
     float e, dist;
     if (!incident(lights[l], x, w, e, dist)) continue;
-    const float phase = hgPhase(dot(d, w));
-    if (!(phase > 0.0)) continue;
-    sum += double(phase * e) * double(transmittance(x, w, dist, false));
+    const float f = exiting ? -dot(n, w) : hgPhase(dot(d, w), g);
+    if (!(f > 0.0)) continue;
+    const double u = double(f * e) * double(transmittance(x, w, dist, exiting));
+    sum += u;
+    if (exiting && Cone && dot(-w, v) >= CosCone) c0 += u / double(ConeMeasure * dot(n, v));
   }
   return sum;
-}
-
-// The unscattered light leaving at the visible point x (normal n towards the camera, v towards
-// it): its exitance (b0) and, with a cone, its cone average (c0) (ChannelPaths::unscattered).
-void unscattered(dvec3 x, vec3 n, vec3 v, out double b0, out double c0) {
-  b0 = 0.0lf;
-  c0 = 0.0lf;
-  WALK_WORK();
-  for (uint l = 0u; l < LightCount; ++l) {
-    WALK_WORK();
-    vec3 w;
-    float e, dist;
-    if (!incident(lights[l], x, w, e, dist)) continue;
-    const float mu = -dot(n, w);
-    if (!(mu > 0.0)) continue;
-    const double u = double(e * mu) * double(transmittance(x, w, dist, true));
-    b0 += u;
-    if (Cone && dot(-w, v) >= CosCone) c0 += u / double(ConeMeasure * dot(n, v));
-  }
 }
 
 void finish() {
@@ -242,6 +245,25 @@ bool walk(dvec3 x, vec3 d, double beta, bool onSurface) {
       suspend(x, d, beta, onSurface);
       return false;
     }
+    float albedo = Albedo, g = G;
+#ifdef VOLUME
+    // The first real collision ignoring the boundary (delta tracking), then the boundary up to
+    // there; at the boundary on in air to the re-entry, where the tracking starts afresh.
+    float tc;
+    const bool collided = track(x, d, tc);
+    if (bvhIntersect(vec3(x), d, onSurface ? Epsilon : 0.0, collided ? tc : kInf, t, n, tri)) {
+      x += double(t) * dvec3(d);
+      if (!bvhIntersect(vec3(x), d, Epsilon, kInf, t, n, tri)) break;  // escaped
+      x += double(t) * dvec3(d);
+      onSurface = true;
+      continue;
+    }
+    if (!collided) break;  // neither a collision nor the boundary: lost
+    x += double(tc) * dvec3(d);
+    onSurface = false;
+    albedo = gLocalSigmaT > 0.0 ? gLocalS[Channel] * CoefficientScale / gLocalSigmaT : 0.0;
+    g = gLocalG;
+#else
     float s = -fastLog(unitOpenZeroFromBits(nextWord())) / SigmaT;
     bool escaped = false;
     for (;;) {
@@ -262,9 +284,11 @@ bool walk(dvec3 x, vec3 d, double beta, bool onSurface) {
       onSurface = true;
     }
     if (escaped) break;
-    beta *= double(Albedo);
+#endif
+    beta *= double(albedo);
     if (!(beta > 0.0lf)) break;
-    gOut[gScatters == 0u ? 1 : 2] += beta * direct(x, d);
+    double unused;
+    gOut[gScatters == 0u ? 1 : 2] += beta * lightSum(x, d, g, false, d, d, unused);
     ++gScatters;
     if (LongPath != 0u && gScatters > LongPath) {
       if (nextWord() >= kSurviveThreshold) break;
@@ -274,7 +298,7 @@ bool walk(dvec3 x, vec3 d, double beta, bool onSurface) {
       if (!(double(uniformFloat()) * kRoulette < beta)) break;
       beta = kRoulette;
     }
-    d = scatterDirection(d, sampleHgCosine(G, uniformFloat()), uniformAzimuth(nextWord()));
+    d = scatterDirection(d, sampleHgCosine(g, uniformFloat()), uniformAzimuth(nextWord()));
   }
   finish();
   return true;
@@ -346,8 +370,8 @@ void main() {
     gScale = double(cs.weight) * double(kPi);
   }
   // The unscattered light at x, after the path's random numbers are drawn (it draws none).
-  double b0, c0;
-  if (gPath == 1u || Cone) unscattered(x, nrm, v, b0, c0);
+  double b0 = 0.0lf, c0 = 0.0lf;
+  if (gPath == 1u || Cone) b0 = lightSum(x, cs.d, G, true, nrm, v, c0);
   const double base = gPath == 1u ? double(cs.weight) * b0 : (Cone ? double(cs.weight) * c0 : 0.0lf);
   if (gScale > 0.0lf) {
     // The unscattered part rides in gOut[0] in the path's units (scaled back in finish()).

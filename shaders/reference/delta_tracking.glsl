@@ -105,6 +105,8 @@ float cellBound(ivec3 c) {
 }
 
 // The first real collision from o along d in (0, tMax] (tMax may be kBvhInf), false when none.
+// The segments (before the box at the outer bound, the cells by a 3D DDA, after the box) are
+// spent by one call of spend, so that the field's code is inlined once per call of trackTo.
 bool trackTo(dvec3 o, vec3 d, float tMax, out float tOut) {
   tOut = 0.0;
   gTau = -fastLog(unitOpenZeroFromBits(nextWord()));
@@ -126,43 +128,69 @@ bool trackTo(dvec3 o, vec3 d, float tMax, out float tOut) {
     t0 = max(t0, ta);
     t1 = min(t1, tb);
   }
-  if (!(t0 < t1)) return spend(o, d, 0.0, tMax, GridOuterBound, tOut);
-  if (t0 > 0.0 && spend(o, d, 0.0, t0, GridOuterBound, tOut)) return true;
-  const vec3 start = p + t0 * d;
-  ivec3 cell, step;
-  vec3 next, delta;
-  for (int a = 0; a < 3; ++a) {
-    cell[a] = clamp(int((start[a] - GridLower[a]) / GridCell[a]), 0, GridCells[a] - 1);
-    if (d[a] > 0.0) {
-      step[a] = 1;
-      next[a] = (GridLower[a] + float(cell[a] + 1) * GridCell[a] - p[a]) * inv[a];
-      delta[a] = GridCell[a] * inv[a];
-    } else if (d[a] < 0.0) {
-      step[a] = -1;
-      next[a] = (GridLower[a] + float(cell[a]) * GridCell[a] - p[a]) * inv[a];
-      delta[a] = -GridCell[a] * inv[a];
-    } else {
-      step[a] = 0;
-      next[a] = kBvhInf;
-      delta[a] = kBvhInf;
+  // Stage 0: [0, t0) at the outer bound; 1: the cells over [t0, t1); 2: [t1, tMax) at the outer
+  // bound; 3: done. A ray that misses the box: [0, tMax) at the outer bound only.
+  const bool inBox = t0 < t1;
+  int stage = inBox ? 0 : 2;
+  if (!inBox) t1 = 0.0;
+  ivec3 cell = ivec3(0), step = ivec3(0);
+  vec3 next = vec3(kBvhInf), delta = vec3(kBvhInf);
+  if (inBox) {
+    const vec3 start = p + t0 * d;
+    for (int a = 0; a < 3; ++a) {
+      cell[a] = clamp(int((start[a] - GridLower[a]) / GridCell[a]), 0, GridCells[a] - 1);
+      if (d[a] > 0.0) {
+        step[a] = 1;
+        next[a] = (GridLower[a] + float(cell[a] + 1) * GridCell[a] - p[a]) * inv[a];
+        delta[a] = GridCell[a] * inv[a];
+      } else if (d[a] < 0.0) {
+        step[a] = -1;
+        next[a] = (GridLower[a] + float(cell[a]) * GridCell[a] - p[a]) * inv[a];
+        delta[a] = -GridCell[a] * inv[a];
+      }
     }
   }
   float t = t0;
   for (;;) {
     WALK_WORK();
-    const int a = next[0] < next[1] ? (next[0] < next[2] ? 0 : 2) : (next[1] < next[2] ? 1 : 2);
-    const float tExit = min(next[a], t1);
-    if (spend(o, d, t, tExit, cellBound(cell), tOut)) return true;
-    if (tExit >= t1) break;
-    t = tExit;
-    cell[a] += step[a];
-    if (cell[a] < 0 || cell[a] >= GridCells[a]) {  // left the box early (rounding)
-      if (spend(o, d, t, t1, GridOuterBound, tOut)) return true;
-      break;
+    float ta, tb, m;
+    int axis = 0;
+    if (stage == 0) {
+      ta = 0.0;
+      tb = t0;
+      m = GridOuterBound;
+    } else if (stage == 1) {
+      axis = next[0] < next[1] ? (next[0] < next[2] ? 0 : 2) : (next[1] < next[2] ? 1 : 2);
+      ta = t;
+      tb = min(next[axis], t1);
+      m = cellBound(cell);
+    } else {
+      if (!(t1 < tMax)) return false;
+      ta = t1;
+      tb = tMax;
+      m = GridOuterBound;
     }
-    next[a] += delta[a];
+    if (tb > ta && spend(o, d, ta, tb, m, tOut)) return true;
+    if (stage == 0) {
+      stage = 1;
+    } else if (stage == 1) {
+      if (tb >= t1) {
+        stage = 2;
+        continue;
+      }
+      t = tb;
+      cell[axis] += step[axis];
+      if (cell[axis] < 0 || cell[axis] >= GridCells[axis]) {  // left the box early (rounding)
+        t1 = t;  // the outer bound from here
+        stage = 2;
+        continue;
+      }
+      next[axis] += delta[axis];
+    } else {
+      return false;
+    }
   }
-  return t1 < tMax && spend(o, d, t1, tMax, GridOuterBound, tOut);
+  return false;
 }
 
 // The first real collision from o along d, no end: the boundary is the caller's (false: a ray

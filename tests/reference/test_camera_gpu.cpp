@@ -4,24 +4,27 @@
 // the exitance and the diffusion radiance, and of the single-scattered exitance): a sphere under
 // a sun, a point light and a beam; the bunny (non-convex: flights in air, re-entries, shadow
 // rays through several parts) of a little-absorbing medium whose long paths are suspended and
-// resumed on llvmpipe; a cone average; the same images whatever the pass split; the refusals,
-// naming the CPU. GL runs on whatever EGL offers (llvmpipe here): small images, bounds from the
+// resumed on llvmpipe; a cone average; a heterogeneous sphere (delta and ratio tracking); the
+// same images whatever the pass split; the refusals, naming the CPU. GL runs on whatever EGL offers (llvmpipe here): small images, bounds from the
 // standard errors.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "gpu/gpu_test.h"
 #include "image_zmap.h"
 #include "mesh_test_scenes.h"
-#include "test_fields.h"
 #include "translucent/geometry/icosphere.h"
 #include "translucent/geometry/mesh.h"
 #include "translucent/lights/environment_map.h"
+#include "translucent/material/checker.h"
+#include "translucent/material/medium_desc.h"
 #include "translucent/reference/camera_paths.h"
 #include "translucent/reference/gpu/camera_gpu.h"
+#include "translucent/reference/gpu/device.h"
 
 namespace translucent::reference {
 namespace {
@@ -33,6 +36,21 @@ using test_support::zmap;
 using test_support::meanAndError;
 
 class CameraGpu : public GpuTest {};
+
+material::Material volume(std::shared_ptr<const material::VolumeField> field) {
+  material::Material m;
+  m.kind = material::Material::Kind::Volume;
+  m.medium.eta = 1.0;
+  m.medium.scale = 1.0;
+  m.volume = std::move(field);
+  return m;
+}
+
+// A field without a GLSL twin.
+struct OpaqueField final : material::VolumeField {
+  material::LocalMedium at(const glm::dvec3&) const override { return {{0.1, 0.1, 0.1}, {1.0, 1.0, 1.0}, 0.0}; }
+  Rgb majorant(const glm::dvec3&, const glm::dvec3&) const override { return {1.1, 1.1, 1.1}; }
+};
 
 Medium medium(const Rgb& sigma_a, const Rgb& sigma_s, double g) {
   Medium m;
@@ -182,6 +200,42 @@ TEST_F(CameraGpu, ConeAverageMatchesTheCpu) {
   expectGpuMatchesCpu(cube, m, lights, cameraAt({1.6, 1.2, 2.2}, 10), o, 64, 100);
 }
 
+// A 3D checker of two media (σt 2-4 and 3-9 per unit, g 0.2 and 0.75) in the unit sphere, the
+// material frame rotated and moved: delta tracking for the flights, ratio tracking for the
+// shadow rays, the local albedo and g at each collision; the true radiance and a cone average.
+TEST_F(CameraGpu, HeterogeneousSphereMatchesTheCpu) {
+  const auto mesh = geometry::makeIcosphere(3);
+  material::CheckerDesc desc;
+  desc.cell = {0.7, 0.5, 0.9};
+  desc.media = {material::mediumDesc({0.3, 0.1, 0.05}, {2.0, 3.0, 4.0}, 0.2),
+                material::mediumDesc({0.02, 0.03, 0.4}, {9.0, 6.0, 2.5}, 0.75)};
+  material::Material mat = volume(std::make_shared<material::CheckerField>(desc));
+  const double a = 0.5;
+  mat.frame.rotation = glm::dmat3(std::cos(a), 0.0, -std::sin(a), 0.0, 1.0, 0.0, std::sin(a), 0.0, std::cos(a));
+  mat.frame.translate = {0.1, -0.2, 0.15};
+  const std::vector<Light> lights = {
+      Light{DirectionalLight{glm::normalize(glm::dvec3(0.4, 0.2, 1.0)), 1.0}, {1.0, 1.0, 1.0}},
+      Light{PointLight{{1.2, -1.5, 1.4}, 1.5}, {0.8, 0.8, 1.0}}};
+  const Camera camera = cameraAt({0.0, -2.0, 3.5}, 10);
+  for (const double cone : {0.0, 10.0}) {
+    SCOPED_TRACE(::testing::Message() << "cone " << cone);
+    CameraPathOptions o;
+    o.threads = 2;
+    o.split_orders = true;
+    o.cone_half_angle = cone;
+    o.seed = 8;
+    CameraPathTracer cpu(mesh, mat, lights, camera, o);
+    const uint64_t samples = cone > 0.0 ? 64 : 256;
+    cpu.addPass(samples);
+    o.seed = 9;
+    CameraPathTracer gpu(mesh, mat, lights, camera, o);
+    gpu.setWalker(makeGpuCameraWalker(gpu::testing::context(), mesh));
+    gpu.addPass(samples);
+    expectImagesAgree(gpu, cpu, 100);
+    EXPECT_EQ(gpu.majorantViolations(), 0u);
+  }
+}
+
 // Each path draws from its own stream (the sample's index), so the pass split changes only the
 // order of the sums: equal to rounding, as on the CPU; and a run is a function of its seed.
 TEST_F(CameraGpu, SameSeedSameImagesWhateverThePassSplit) {
@@ -247,14 +301,11 @@ TEST_F(CameraGpu, RefusesWhatItCannotTraceNamingTheCpu) {
                      {sun, Light{EnvironmentLight::make(map, 0.0, 1.0), {1.0, 1.0, 1.0}}}, camera, {});
   EXPECT_NE(message(b).find("light 2 is an environment light"), std::string::npos) << message(b);
 
-  material::Material field;
-  field.kind = material::Material::Kind::Volume;
-  field.medium.eta = 1.0;
-  field.medium.scale = 1.0;
-  field.volume = std::make_shared<testing::CoreField>(0.3, testing::grey(1.0, 11.0, 0.0),
-                                                      testing::grey(0.5, 2.5, 0.3));
-  CameraPathTracer c(cube, field, {sun}, camera, {});
-  EXPECT_NE(message(c).find("homogeneous"), std::string::npos) << message(c);
+  // A field without a GLSL twin: useDevice refuses it with "gpu" and keeps the CPU with "auto".
+  CameraPathTracer c(cube, volume(std::make_shared<OpaqueField>()), {sun}, camera, {});
+  const TraceDevice dev{Device::Gpu, nullptr};
+  EXPECT_THROW(useDevice(dev, "gpu", c, cube, "cube"), ParameterError);
+  useDevice(dev, "auto", c, cube, "cube");
   // The CPU still traces all three.
   for (CameraPathTracer* t : {&a, &b, &c}) EXPECT_EQ(t->device(), "cpu");
 }

@@ -971,9 +971,6 @@ std::string CameraPathTracer::walkerRefusal() const {
     return fmt::format("the GPU camera walk traces an index-matched boundary (eta 1), the material "
                        "has eta {}: the CPU's camera method traces it",
                        eta_);
-  if (volume_)
-    return "the GPU camera walk traces a homogeneous medium: the CPU's camera method, or the "
-           "light method on the GPU, traces a 3D field";
   for (size_t i = 0; i < lights_.size(); ++i)
     if (std::holds_alternative<EnvironmentLight>(lights_[i].emitter))
       return fmt::format("light {} is an environment light: the GPU camera walk has directional, "
@@ -1232,6 +1229,7 @@ CameraPathStats CameraPathTracer::addPass(uint64_t samples, const ProgressCallba
         for (size_t c = 0; c < nc; ++c) {
           CameraWalkSetup setup;
           setup.medium = channels_[c];
+          setup.volume = volume_ ? &*volume_ : nullptr;
           setup.lights = lights_;
           setup.channel = static_cast<int>(c);
           setup.epsilon = body_.epsilon();

@@ -150,7 +150,8 @@ struct CameraPathStats {
 
 // A device that traces the camera method's paths (reference/gpu/camera_gpu.h: the GL walk of
 // shaders/reference/camera_walk.comp): the paths of an index-matched body of a homogeneous
-// medium under delta lights (CameraPathTracer::walkerRefusal says why not for the rest). The
+// medium or a 3D field under delta lights (CameraPathTracer::walkerRefusal says why not for the
+// rest). The
 // tracer draws every sample's camera ray (as its own walk does) and scores what comes back.
 struct CameraWalkSample {
   float origin[3];
@@ -171,7 +172,8 @@ struct CameraWalkScore {
 };
 static_assert(sizeof(CameraWalkScore) == 32);
 struct CameraWalkSetup {
-  ScalarMedium medium;          // the channel's
+  ScalarMedium medium;          // the channel's (homogeneous)
+  const VolumeMedium* volume = nullptr;  // a 3D field (delta tracking through its grid)
   std::span<const Light> lights;
   int channel = 0;
   double epsilon = 0.0;         // MeshBody::epsilon
@@ -227,8 +229,9 @@ class CameraPathTracer {
   // Trace the paths with `walker` (a device's) rather than on the CPU's threads. ParameterError
   // with walkerRefusal() where it cannot trace this scene.
   void setWalker(std::shared_ptr<CameraWalker> walker);
-  // Why a walker cannot trace this scene ("" when it can): η ≠ 1, a 3D field, an environment
-  // light (the GL walk has the index-matched, homogeneous, delta-lit case).
+  // Why a walker cannot trace this scene ("" when it can): η ≠ 1 or an environment light (the GL
+  // walk has the index-matched, delta-lit case). A device walker may refuse a field it cannot
+  // evaluate (device.h: useDevice).
   std::string walkerRefusal() const;
   // What traces the paths: "cpu", or the walker's name.
   std::string device() const { return walker_ ? walker_->name() : "cpu"; }

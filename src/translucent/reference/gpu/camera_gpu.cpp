@@ -7,12 +7,14 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <variant>
 
 #include "translucent/geometry/flat_bvh.h"
 #include "translucent/gpu/bvh_buffers.h"
 #include "translucent/gpu/compute.h"
 #include "translucent/gpu/program.h"
+#include "translucent/reference/gpu/field_gpu.h"
 #include "translucent/reference/gpu/walk_program.h"
 
 namespace translucent::reference {
@@ -73,7 +75,7 @@ using namespace gpu_walk;
 class GpuCameraWalker final : public CameraWalker {
  public:
   GpuCameraWalker(gpu::Context& context, const geometry::TriangleMesh& mesh, const std::string& what)
-      : context_(context), program_(build(context)) {
+      : context_(context), program_(build(context, false)) {
     bvh_ = gpu::BvhBuffers::upload(geometry::FlatBvh::build(mesh, what));
     control_ = gpu::makeStorageBuffer(2 * sizeof(uint32_t));
     name_ = deviceName();
@@ -84,7 +86,8 @@ class GpuCameraWalker final : public CameraWalker {
   void trace(const CameraWalkSetup& setup, std::span<const CameraWalkSample> samples,
              std::vector<CameraWalkScore>& out) override {
     context_.makeCurrent();
-    const gpu::ShaderProgram& p = program_;
+    if (setup.volume && !volumeProgram_) volumeProgram_.emplace(build(context_, true));
+    const gpu::ShaderProgram& p = setup.volume ? *volumeProgram_ : program_;
     const std::vector<GpuLight> lights = gpuLights(setup.lights, setup.channel);
     gpu::Buffer lightBuffer = gpu::makeStorageBuffer(std::span<const GpuLight>(lights));
     const ScalarMedium& m = setup.medium;
@@ -93,7 +96,8 @@ class GpuCameraWalker final : public CameraWalker {
     p.set("LightCount", static_cast<unsigned>(lights.size()));
     p.set("Paths", static_cast<unsigned>(setup.paths));
     p.set("SigmaT", static_cast<float>(m.sigmaT()));
-    p.set("Albedo", static_cast<float>(m.sigma_s / m.sigmaT()));
+    p.set("Albedo", static_cast<float>(m.sigmaT() > 0.0 ? m.sigma_s / m.sigmaT() : 0.0));
+    volume_.set(p, setup.volume, setup.channel);
     p.set("G", static_cast<float>(m.g));
     p.set("Epsilon", static_cast<float>(setup.epsilon));
     setLongPath(p, setup.long_path_roulette);
@@ -125,6 +129,8 @@ class GpuCameraWalker final : public CameraWalker {
     uint32_t budget = limit_.budget();
     for (;;) {
       p.set("WorkBudget", budget);
+      volume_.resetViolations();
+      volume_.bind(setup.channel);
       gpu::bindStorage(0, samples_);
       gpu::bindStorage(1, bvh_.nodes);
       gpu::bindStorage(2, bvh_.triangles);
@@ -157,17 +163,27 @@ class GpuCameraWalker final : public CameraWalker {
       budget /= 2;
     }
     gpu::downloadBytes(outs_, 0, n * sizeof(CameraWalkScore), out.data());
+    if (setup.volume) {
+      // Of the dispatch that fit (the counter is zeroed before each).
+      if (const uint32_t v = volume_.violations())
+        setup.volume->majorant_violations->fetch_add(v, std::memory_order_relaxed);
+    }
   }
 
   std::string name() const override { return name_; }
 
  private:
-  static gpu::ShaderProgram build(const gpu::Context& context) {
+  // VOLUME: the 3D fields' walk (a second program, so that the homogeneous one does not carry
+  // the tracking's code).
+  static gpu::ShaderProgram build(const gpu::Context& context, bool volume) {
     context.makeCurrent();
-    return gpu::ShaderProgram::compute("reference/camera_walk.comp");
+    return gpu::ShaderProgram::compute("reference/camera_walk.comp",
+                                       volume ? gpu::Defines{{"VOLUME", "1"}} : gpu::Defines{});
   }
   gpu::Context& context_;
-  gpu::ShaderProgram program_;
+  gpu::ShaderProgram program_;                      // homogeneous media
+  std::optional<gpu::ShaderProgram> volumeProgram_;  // VOLUME: made on first use
+  gpu_field::VolumeBuffers volume_;
   gpu::BvhBuffers bvh_;
   gpu::Buffer control_, samples_, outs_, states_;
   gpu::Buffer lists_[2];

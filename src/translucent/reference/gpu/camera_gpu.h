@@ -5,8 +5,8 @@
 // paths as its own; only the random numbers differ (Philox4x32-10 per path: the shader's
 // header), so the images are a function of (scene, seed, samples per pixel) on a given device
 // and agree with the CPU's camera method within the standard errors. An index-matched body of
-// a homogeneous medium under directional, point and beam lights (CameraPathTracer::
-// walkerRefusal says why not for the rest).
+// a homogeneous medium or a 3D field of fields.glsl under directional, point and beam lights
+// (CameraPathTracer::walkerRefusal and device.h's useDevice say why not for the rest).
 #pragma once
 
 #include <memory>
