@@ -51,6 +51,8 @@ struct CameraSample {
 struct PathOut {
   double o0, o1, o2;
   uint collisions, shadowRays;
+  float ftView;  // Ft(η, n·v) at the visible point (the diffusion radiance's factor)
+  uint pad;
 };
 // A delta light in this channel: directional (0: dir towards the light, e its irradiance),
 // point (1: p its position, e its intensity), beam of radius > 0 (2: p its origin, dir its
@@ -61,7 +63,8 @@ struct GpuLight {
   vec3 dir;
   float radius;
   float e;
-  float pad0, pad1, pad2;
+  float color;  // the light's colour in this channel (its refracted connections' factor)
+  float pad1, pad2;
 };
 struct PathState {
   double x, y, z, beta;
@@ -80,10 +83,22 @@ layout(std430, binding = 10) buffer States { PathState states[]; };
 layout(std430, binding = 11) buffer Control { uint control[]; };
 layout(std430, binding = 12) readonly buffer ResumeList { uint resumeList[]; };
 layout(std430, binding = 13) writeonly buffer SuspendList { uint suspendList[]; };
+// η ≠ 1: every light's refracted connections (refracted_light.h, packed by camera_gpu.cpp).
+// RefUints: per light l at 8 l: the first double of its facets in RefDoubles, the first word of
+// its grid's cell starts and of its items here, the grid's cells (x, y, z), its kind (0
+// directional, 1 point, 2 beam; 3 none: an environment light). RefDoubles: per light at 16 l:
+// the grid's lower corner (3), cell size (3), the light's origin (3), its direction towards the
+// light (3), power (directional, beam: irradiance; point: intensity), beam radius; facet k at
+// (its first) + 16 k: v0 (3), outward normal (3), barycentric duals a (3) and b (3), refracted
+// direction of travel (3), irradiance (directional, beam).
+layout(std430, binding = 4) readonly buffer RefDoubles { double refD[]; };
+layout(std430, binding = 6) readonly buffer RefUints { uint refU[]; };
 
 uniform uvec2 Seed;
 uniform uint Count, Channel, LightCount, Paths;  // Paths: 1 (path 0 only) or 2
 uniform float SigmaT, Albedo, G, Epsilon;
+uniform bool Matched;   // η = 1
+uniform float Eta;      // n_inside / n_outside
 uniform uint LongPath;
 uniform bool Cone;               // θc > 0: path 0 averages over the cone
 uniform float CosCone, ConeFactor;  // cos θc; Ω_c / (π sin²θc)
@@ -108,6 +123,8 @@ uint nextWord() {
   return gWords[gUsed++];
 }
 float uniformFloat() { return unitFromBits(nextWord()); }
+
+#include "reference/boundary.glsl"
 
 #ifdef VOLUME
 #include "reference/delta_tracking.glsl"
@@ -151,8 +168,9 @@ bool incident(GpuLight L, dvec3 x, out vec3 w, out float e, out float dist) {
 
 // The transmittance of x + t w, t in (0, dist], through the parts of it inside the body: e^{-σt ℓ}
 // (ℓ their length), or with VOLUME the product of their ratio tracking; x inside, or on the
-// surface with w pointing in (onSurface: hits closer than ε are its own surface).
-float transmittance(dvec3 x, vec3 w, float dist, bool onSurface) {
+// surface with w pointing in (onSurface: hits closer than ε are its own surface). oneSegment:
+// the segment is inside the body all the way (a refracted connection, checked by the caller).
+float transmittance(dvec3 x, vec3 w, float dist, bool onSurface, bool oneSegment) {
   ++gShadowRays;
   float depth = 0.0, ratio = 1.0;
   bool inside = true;
@@ -161,7 +179,8 @@ float transmittance(dvec3 x, vec3 w, float dist, bool onSurface) {
     float t;
     vec3 n;
     uint tri;
-    const bool h = bvhIntersect(vec3(x), w, onSurface ? Epsilon : 0.0, dist, t, n, tri);
+    const bool h =
+        !oneSegment && bvhIntersect(vec3(x), w, onSurface ? Epsilon : 0.0, dist, t, n, tri);
     const float len = h ? t : dist;
     if (inside && len > 0.0) {
 #ifdef VOLUME
@@ -181,26 +200,209 @@ float transmittance(dvec3 x, vec3 w, float dist, bool onSurface) {
   return ratio * exp(-depth);
 }
 
+// ---- Refracted connections (η ≠ 1; refracted_light.h: candidate, visible) ------------------
+
+// The refraction point of a point light through a plane, in its plane of incidence
+// (refracted_light.cpp: refractionPoint): safeguarded Newton on the monotone Snell equation.
+double refractionPoint(double D, double hp, double hx, double eta) {
+  double lo = 0.0lf, hi = D;
+  double u = D * hp / (hp + hx);
+  for (int i = 0; i < 100; ++i) {
+    WALK_WORK();
+    const double a2 = u * u + hp * hp, b2 = (D - u) * (D - u) + hx * hx;
+    const double a = sqrt(a2), b = sqrt(b2);
+    const double g = u / a - eta * (D - u) / b;
+    if (g == 0.0lf) return u;
+    if (g > 0.0lf)
+      hi = u;
+    else
+      lo = u;
+    const double dg = hp * hp / (a2 * a) + eta * hx * hx / (b2 * b);
+    double next = u - g / dg;
+    if (!(next > lo && next < hi)) next = 0.5lf * (lo + hi);
+    if (abs(next - u) <= 1e-15lf * D) return next;
+    u = next;
+  }
+  return u;
+}
+
+dvec3 refVec(uint i) { return dvec3(refD[i], refD[i + 1u], refD[i + 2u]); }
+
+// The connection of light l through facet k to x by its closed form (y in the triangle, inside a
+// beam's cylinder): the unit direction w towards y, the distance and the irradiance at x on a
+// plane perpendicular to w; then whether light takes it (nothing of the boundary between x and
+// y, nothing of the body between y and the light).
+bool refractedCandidate(uint l, uint k, dvec3 x, bool onSurface, out vec3 w, out float dist,
+                        out float irradiance) {
+  w = vec3(0.0);
+  dist = 0.0;
+  irradiance = 0.0;
+  const uint kind = refU[8u * l + 6u];
+  const uint f = refU[8u * l] + 16u * k, h = 16u * l;
+  const dvec3 v0 = refVec(f), n = refVec(f + 3u), fa = refVec(f + 6u), fb = refVec(f + 9u);
+  const dvec3 origin = refVec(h + 6u), toLight = refVec(h + 9u);
+  const double eta = double(Eta);
+  const double hx = -dot(x - v0, n);  // depth of x below the facet's plane
+  if (!(hx > 0.0lf)) return false;
+  dvec3 y;
+  double e;
+  if (kind != 1u) {
+    const dvec3 din = refVec(f + 12u);
+    y = x - (hx / -dot(din, n)) * din;
+    e = refD[f + 15u];
+  } else {
+    const double hp = dot(origin - v0, n);
+    const dvec3 pf = origin - hp * n, xf = x + hx * n;
+    // The refraction point lies between the straight line's crossing and x's foot: a facet
+    // that segment misses is no connection (refracted_light.cpp).
+    const dvec3 y0 = origin + (hp / (hp + hx)) * (x - origin);
+    const double s0 = dot(y0 - v0, fa), t0 = dot(y0 - v0, fb);
+    const double s1 = dot(xf - v0, fa), t1 = dot(xf - v0, fb);
+    double lo = 0.0lf, hi = 1.0lf;
+    const dvec3 ca = dvec3(s0, t0, 1.0lf - s0 - t0);
+    const dvec3 cb = dvec3(s1 - s0, t1 - t0, (s0 + t0) - (s1 + t1));
+    for (int i = 0; i < 3; ++i) {  // ca + cb λ >= 0 on [lo, hi]
+      if (cb[i] > 0.0lf)
+        lo = max(lo, -ca[i] / cb[i]);
+      else if (cb[i] < 0.0lf)
+        hi = min(hi, -ca[i] / cb[i]);
+      else if (ca[i] < 0.0lf)
+        hi = -1.0lf;
+    }
+    if (!(lo <= hi)) return false;
+    dvec3 ev = xf - pf;
+    const double D = length(ev);
+    double u = 0.0lf;
+    if (D > 1e-12lf * (hp + hx)) {
+      ev /= D;
+      u = refractionPoint(D, hp, hx, eta);
+    }
+    y = pf + u * ev;
+    const double a = sqrt(u * u + hp * hp), bb = sqrt((D - u) * (D - u) + hx * hx);
+    const double cosI = hp / a, cosT = hx / bb;
+    e = refD[h + 12u] * (1.0lf - fresnelReflectanceDouble(cosI, eta)) /
+        ((a + bb / eta) * (a * cosT / cosI + bb * cosI / (eta * cosT)));
+  }
+  const dvec3 r = y - v0;
+  const double sb = dot(r, fa), tb = dot(r, fb);
+  if (!(sb >= 0.0lf && tb >= 0.0lf && sb + tb <= 1.0lf)) return false;
+  dvec3 wd = y - x;
+  const double len = length(wd);
+  if (!(len > double(onSurface ? Epsilon : 0.0))) return false;
+  wd /= len;
+  double air = double(kInf);
+  dvec3 lightDir = toLight;
+  if (kind == 2u) {
+    const dvec3 q = y - origin;
+    air = -dot(q, toLight);
+    if (!(air > 0.0lf) || length(q + air * toLight) > refD[h + 13u]) return false;
+  } else if (kind == 1u) {
+    lightDir = origin - y;
+    air = length(lightDir);
+    lightDir /= air;
+  }
+  w = vec3(wd);
+  dist = float(len);
+  irradiance = float(e);
+  return irradiance > 0.0;
+}
+
+// refractedCandidate's ray queries (refracted_light.cpp: visible).
+bool refractedVisible(uint l, dvec3 x, bool onSurface, vec3 w, float dist) {
+  const uint kind = refU[8u * l + 6u], h = 16u * l;
+  const dvec3 y = x + double(dist) * dvec3(w);
+  vec3 toLight = vec3(refVec(h + 9u));
+  float air = kInf;
+  if (kind == 2u) {
+    air = float(-dot(y - refVec(h + 6u), refVec(h + 9u)));
+  } else if (kind == 1u) {
+    const dvec3 r = refVec(h + 6u) - y;
+    air = float(length(r));
+    toLight = vec3(r / length(r));
+  }
+  float t;
+  vec3 n;
+  uint tri;
+  const float t0 = onSurface ? Epsilon : 0.0, t1 = dist - Epsilon;
+  if (t1 > t0 && bvhIntersect(vec3(x), w, t0, t1, t, n, tri)) return false;
+  return !bvhIntersect(vec3(y), toLight, Epsilon, air, t, n, tri);
+}
+
+// The cell of light l's grid that x falls in: its items' range.
+uvec2 refractedItems(uint l, dvec3 x) {
+  const uint h = 16u * l;
+  const dvec3 lower = refVec(h), cell = refVec(h + 3u);
+  const ivec3 dims = ivec3(refU[8u * l + 3u], refU[8u * l + 4u], refU[8u * l + 5u]);
+  ivec3 i;
+  for (int a = 0; a < 3; ++a) i[a] = clamp(int(floor((x[a] - lower[a]) / cell[a])), 0, dims[a] - 1);
+  const uint c = uint((i.z * dims.y + i.y) * dims.x + i.x);
+  const uint start = refU[8u * l + 1u];
+  return uvec2(refU[start + c], refU[start + c + 1u]);
+}
+
 // Per light, its light at x times the transmittance to it: one loop (and one inlined copy of the
-// transmittance and its tracking) for both uses. Next-event estimation (!exiting): Σ p(d·ω_l)
+// transmittance and its tracking) for every use. Next-event estimation (!exiting): Σ p(d·ω_l)
 // L_l T at the collision x of a path along d (camera_paths.cpp: ChannelPaths::direct). The
 // unscattered light (exiting) leaving at the visible point x (normal n towards the camera, v
 // towards it): its exitance Σ E_l μ T, and with a cone its cone average in c0
-// (ChannelPaths::unscattered).
+// (ChannelPaths::unscattered). At η ≠ 1 every light reaches x through each facet that refracts
+// it there (refractedCandidate), and leaves at the visible point refracted out (μ Ft).
 double lightSum(dvec3 x, vec3 d, float g, bool exiting, vec3 n, vec3 v, out double c0) {
   double sum = 0.0lf;
   c0 = 0.0lf;
   WALK_WORK();  // the loop may run no iteration
   for (uint l = 0u; l < LightCount; ++l) {
     WALK_WORK();
-    vec3 w;
-    float e, dist;
-    if (!incident(lights[l], x, w, e, dist)) continue;
-    const float f = exiting ? -dot(n, w) : hgPhase(dot(d, w), g);
-    if (!(f > 0.0)) continue;
-    const double u = double(f * e) * double(transmittance(x, w, dist, exiting));
-    sum += u;
-    if (exiting && Cone && dot(-w, v) >= CosCone) c0 += u / double(ConeMeasure * dot(n, v));
+    // η = 1: one straight connection; η ≠ 1: the candidate facets of x's cell.
+    uvec2 range = uvec2(0u, 1u);
+    if (!Matched) {
+      if (refU[8u * l + 6u] == 3u) continue;
+      range = refractedItems(l, x);
+    }
+    const uint itemBase = Matched ? 0u : refU[8u * l + 2u];
+    WALK_WORK();
+    for (uint k = range.x; k < range.y; ++k) {
+      WALK_WORK();
+      vec3 w, leave;
+      float e, dist;
+      if (Matched) {
+        if (!incident(lights[l], x, w, e, dist)) continue;
+      } else {
+        if (!refractedCandidate(l, refU[itemBase + k], x, exiting, w, dist, e)) continue;
+        e *= lights[l].color;
+      }
+      float f;
+      if (exiting) {
+        f = -dot(n, w);
+        leave = -w;
+        if (!Matched && f > 0.0) {
+          // Refracted out at x (camera_paths.cpp: refractedExit): μ Ft seen from inside.
+          const float ft = 1.0 - fresnelReflectanceFloat(f, 1.0 / Eta);
+          leave = refractDir(-w, n, Eta, refractedCosineFloat(f, 1.0 / Eta));
+          f *= ft;
+        }
+      } else {
+        f = hgPhase(dot(d, w), g);
+      }
+      if (!(f > 0.0)) continue;
+      float keep = 1.0;
+#ifndef VOLUME
+      if (!Matched && !exiting) {
+        // A roulette on the transmittance the connection will carry, before its ray queries
+        // (camera_paths.cpp: connectionWeight).
+        const float T = exp(-SigmaT * dist);
+        if (T < 1e-3) {
+          if (!(uniformFloat() * 1e-3 < T)) continue;
+          keep = 1e-3 / T;
+        }
+      }
+#endif
+      if (!Matched && !refractedVisible(l, x, exiting, w, dist)) continue;
+      const double u =
+          double(f * e * keep) * double(transmittance(x, w, dist, exiting, !Matched));
+      sum += u;
+      if (exiting && Cone && dot(leave, v) >= CosCone) c0 += u / double(ConeMeasure * dot(n, v));
+    }
   }
   return sum;
 }
@@ -233,6 +435,25 @@ void suspend(dvec3 x, vec3 d, double beta, bool onSurface) {
   suspendList[atomicAdd(control[0], 1u)] = gIndex;
 }
 
+// A path at the boundary point x (geometric normal n), reached from inside along d
+// (camera_paths.cpp: crossFromInside): η = 1 straight on in air to the re-entry; η ≠ 1 Fresnel
+// reflection back in with probability F (1 under total internal reflection), else refraction out
+// and the flight in air (Fresnel at every hit of the outside) to the re-entry. False when it
+// escapes (no environment light here: nothing to score; out and in again the radiance factors
+// η² / η² cancel).
+bool crossFromInside(inout dvec3 x, inout vec3 d, vec3 n) {
+  if (!Matched) {
+    const vec3 outward = dot(n, d) > 0.0 ? n : -n;
+    const float cosIn = dot(d, outward);
+    if (uniformFloat() < fresnelReflectanceFloat(max(cosIn, 0.0), 1.0 / Eta)) {
+      d = normalize(d - 2.0 * cosIn * outward);
+      return true;
+    }
+    d = refractDir(d, outward, Eta, refractedCosineFloat(max(cosIn, 0.0), 1.0 / Eta));
+  }
+  return reenter(x, d);
+}
+
 // The radiance arriving at x from inside along -d, into gOut by order (ChannelPaths::radiance
 // at η = 1): true when the path ended (finish() written), false when suspended.
 bool walk(dvec3 x, vec3 d, double beta, bool onSurface) {
@@ -253,8 +474,7 @@ bool walk(dvec3 x, vec3 d, double beta, bool onSurface) {
     const bool collided = track(x, d, tc);
     if (bvhIntersect(vec3(x), d, onSurface ? Epsilon : 0.0, collided ? tc : kInf, t, n, tri)) {
       x += double(t) * dvec3(d);
-      if (!bvhIntersect(vec3(x), d, Epsilon, kInf, t, n, tri)) break;  // escaped
-      x += double(t) * dvec3(d);
+      if (!crossFromInside(x, d, n)) break;  // escaped
       onSurface = true;
       continue;
     }
@@ -274,14 +494,12 @@ bool walk(dvec3 x, vec3 d, double beta, bool onSurface) {
         break;
       }
       x += double(t) * dvec3(d);
-      s = max(0.0, s - t);
-      // The index-matched boundary: on in air to where the line meets the body again.
-      if (!bvhIntersect(vec3(x), d, Epsilon, kInf, t, n, tri)) {
+      s = max(0.0, s - t);  // the rest of the free path goes on (memoryless flights)
+      onSurface = true;
+      if (!crossFromInside(x, d, n)) {
         escaped = true;
         break;
       }
-      x += double(t) * dvec3(d);
-      onSurface = true;
     }
     if (escaped) break;
 #endif
@@ -345,6 +563,7 @@ void main() {
   if (!bvhIntersect(cs.o, cs.d, 0.0, kInf, t, n, tri)) {
     finish();
     outs[gIndex].collisions = kMissed;
+    outs[gIndex].ftView = 0.0;
     atomicMax(control[1], gWork);
     return;
   }
@@ -369,7 +588,16 @@ void main() {
     dir = -scatterDirection(nrm, mu, uniformAzimuth(nextWord()));
     gScale = double(cs.weight) * double(kPi);
   }
-  // The unscattered light at x, after the path's random numbers are drawn (it draws none).
+  outs[gIndex].ftView = Matched ? 1.0 : 1.0 - fresnelReflectanceFloat(max(dot(nrm, v), 0.0), Eta);
+  if (!Matched && gScale > 0.0lf) {
+    // Refracted in at x with the weight Ft(θo) / η² (L / n² is invariant along a refracted ray;
+    // the specular reflection of the surroundings is not subsurface light).
+    const vec3 inward = -nrm;
+    const float cosI = max(dot(dir, inward), 0.0);
+    gScale *= double((1.0 - fresnelReflectanceFloat(cosI, Eta)) / (Eta * Eta));
+    dir = refractDir(dir, inward, 1.0 / Eta, refractedCosineFloat(cosI, Eta));
+  }
+  // The unscattered light at x (with a field its ratio tracking draws from the path's stream).
   double b0 = 0.0lf, c0 = 0.0lf;
   if (gPath == 1u || Cone) b0 = lightSum(x, cs.d, G, true, nrm, v, c0);
   const double base = gPath == 1u ? double(cs.weight) * b0 : (Cone ? double(cs.weight) * c0 : 0.0lf);

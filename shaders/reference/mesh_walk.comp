@@ -128,10 +128,6 @@ uint nextWord() {
 }
 float uniformFloat() { return unitFromBits(nextWord()); }
 
-vec3 refractDir(vec3 d, vec3 n, float ratio, float cosT) {  // transport_impl.h: refract
-  return normalize(ratio * d + (cosT - ratio * dot(d, n)) * n);
-}
-
 double gEntered = 0.0lf, gExited = 0.0lf, gEscaped = 0.0lf;
 uint gScatters = 0u, gExits = 0u;
 uint gIndex;
@@ -166,28 +162,7 @@ void finish() {
   photons[gIndex].exits = gExits;
 }
 
-// The flight in air after an exit at x along d (transport_impl.h: reenter): true with x, d the
-// re-entry point and the inward direction, false when it escapes.
-bool reenter(inout dvec3 x, inout vec3 d) {
-  for (;;) {
-    WALK_WORK();
-    float t;
-    vec3 n;
-    uint tri;
-    if (!bvhIntersect(vec3(x), d, Epsilon, kInf, t, n, tri)) return false;
-    x += double(t) * dvec3(d);
-    if (Matched) return true;
-    const vec3 inward = dot(n, d) > 0.0 ? n : -n;
-    const float cosI = dot(d, inward);
-    const float F = fresnelReflectanceFloat(max(cosI, 0.0), Eta);
-    if (uniformFloat() < F) {
-      d = normalize(d - 2.0 * cosI * inward);
-      continue;
-    }
-    d = refractDir(d, inward, 1.0 / Eta, refractedCosineFloat(max(cosI, 0.0), Eta));
-    return true;
-  }
-}
+#include "reference/boundary.glsl"
 
 #ifdef VOLUME
 #include "reference/delta_tracking.glsl"

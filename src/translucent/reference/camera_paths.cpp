@@ -967,10 +967,6 @@ void CameraPathTracer::sampleRay(int i, int j, uint64_t s, uint32_t shiftX, uint
 }
 
 std::string CameraPathTracer::walkerRefusal() const {
-  if (eta_ != 1.0)
-    return fmt::format("the GPU camera walk traces an index-matched boundary (eta 1), the material "
-                       "has eta {}: the CPU's camera method traces it",
-                       eta_);
   for (size_t i = 0; i < lights_.size(); ++i)
     if (std::holds_alternative<EnvironmentLight>(lights_[i].emitter))
       return fmt::format("light {} is an environment light: the GPU camera walk has directional, "
@@ -1230,6 +1226,8 @@ CameraPathStats CameraPathTracer::addPass(uint64_t samples, const ProgressCallba
           CameraWalkSetup setup;
           setup.medium = channels_[c];
           setup.volume = volume_ ? &*volume_ : nullptr;
+          setup.eta = eta_;
+          setup.refracted = refracted_;
           setup.lights = lights_;
           setup.channel = static_cast<int>(c);
           setup.epsilon = body_.epsilon();
@@ -1244,9 +1242,9 @@ CameraPathStats CameraPathTracer::addPass(uint64_t samples, const ProgressCallba
             Row& row = rows[pixel / static_cast<uint64_t>(w) - j0];
             const int x = static_cast<int>(pixel % static_cast<uint64_t>(w));
             for (int im = 0; im < images; ++im) {
-              // Image 2 (Ft(η, v) B / π at η = 1) is the exitance's path over π.
+              // Image 2, Ft(η, v) B / π, from the exitance's path.
               const CameraWalkScore& sc = scores[k * np + static_cast<size_t>(std::min(im, 1))];
-              const double f = im == 2 ? 1.0 / kPi : 1.0;
+              const double f = im == 2 ? static_cast<double>(sc.ft_view) / kPi : 1.0;
               double sum = 0.0;
               for (size_t o = 0; o < 3; ++o) {
                 const double v = f * sc.order[o];

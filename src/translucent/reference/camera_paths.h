@@ -149,10 +149,11 @@ struct CameraPathStats {
 };
 
 // A device that traces the camera method's paths (reference/gpu/camera_gpu.h: the GL walk of
-// shaders/reference/camera_walk.comp): the paths of an index-matched body of a homogeneous
-// medium or a 3D field under delta lights (CameraPathTracer::walkerRefusal says why not for the
-// rest). The
-// tracer draws every sample's camera ray (as its own walk does) and scores what comes back.
+// shaders/reference/camera_walk.comp): the paths through a homogeneous medium or a 3D field
+// under delta lights, index-matched or through a refractive boundary (its refracted connections,
+// RefractedLight, on the device; the light-traced complement stays the CPU's);
+// CameraPathTracer::walkerRefusal says why not for the rest. The tracer draws every sample's
+// camera ray (as its own walk does) and scores what comes back.
 struct CameraWalkSample {
   float origin[3];
   float weight;  // the pixel's box filter (camera_paths.cpp)
@@ -168,9 +169,11 @@ static_assert(sizeof(CameraWalkSample) == 48);
 struct CameraWalkScore {
   double order[3];
   uint32_t collisions, shadow_rays;  // collisions kMissed: the camera ray missed the body
+  float ft_view;  // Ft(η, n·v) at the visible point (the diffusion radiance Ft B / π)
+  uint32_t pad;
   static constexpr uint32_t kMissed = 0xFFFFFFFFu;
 };
-static_assert(sizeof(CameraWalkScore) == 32);
+static_assert(sizeof(CameraWalkScore) == 40);
 struct CameraWalkSetup {
   ScalarMedium medium;          // the channel's (homogeneous)
   const VolumeMedium* volume = nullptr;  // a 3D field (delta tracking through its grid)
@@ -181,6 +184,9 @@ struct CameraWalkSetup {
   uint64_t long_path_roulette = 0;
   double cone_half_angle = 0.0;  // degrees (CameraPathOptions)
   int paths = 2;                 // 1: path 0 only; 2: and the exitance's
+  double eta = 1.0;              // n_inside / n_outside
+  // η ≠ 1: per light its refracted connections (null for an environment light).
+  std::span<const std::unique_ptr<RefractedLight>> refracted;
 };
 class CameraWalker {
  public:
@@ -229,9 +235,8 @@ class CameraPathTracer {
   // Trace the paths with `walker` (a device's) rather than on the CPU's threads. ParameterError
   // with walkerRefusal() where it cannot trace this scene.
   void setWalker(std::shared_ptr<CameraWalker> walker);
-  // Why a walker cannot trace this scene ("" when it can): η ≠ 1 or an environment light (the GL
-  // walk has the index-matched, delta-lit case). A device walker may refuse a field it cannot
-  // evaluate (device.h: useDevice).
+  // Why a walker cannot trace this scene ("" when it can): an environment light (the GL walk has
+  // delta lights). A device walker may refuse a field it cannot evaluate (device.h: useDevice).
   std::string walkerRefusal() const;
   // What traces the paths: "cpu", or the walker's name.
   std::string device() const { return walker_ ? walker_->name() : "cpu"; }

@@ -100,7 +100,7 @@ class RefractedLight {
   size_t gridEntries() const { return items_.size(); }
   glm::ivec3 gridCells() const { return dims_; }
 
- private:
+  // What a device copy of candidate() and visible() reads (reference/gpu/camera_gpu.cpp).
   enum class Kind { Directional, Point, Beam };
   struct Facet {
     glm::dvec3 v0, e1, e2, n;  // vertex, edges, outward unit normal
@@ -108,6 +108,20 @@ class RefractedLight {
     glm::dvec3 din;            // directional / beam: the refracted direction of travel
     double irradiance = 0.0;   // directional / beam: E Ft cos θi / cos θt
   };
+  Kind kind() const { return kind_; }
+  double eta() const { return eta_; }
+  const glm::dvec3& toLight() const { return toLight_; }
+  const glm::dvec3& origin() const { return origin_; }
+  double power() const { return power_; }
+  double radius() const { return radius_; }
+  std::span<const Facet> facets() const { return facets_; }
+  const glm::dvec3& gridLower() const { return lower_; }
+  const glm::dvec3& gridCell() const { return cell_; }
+  // Per cell (x fastest), the facets listed in it: items()[start()[c] .. start()[c + 1]).
+  std::span<const uint32_t> start() const { return start_; }
+  std::span<const uint32_t> items() const { return items_; }
+
+ private:
   // The connection through one facet by its closed form (y in the triangle, the beam's cylinder),
   // and whether light takes it (the ray queries).
   bool candidate(uint32_t facet, const glm::dvec3& x, bool onSurface, Path& p) const;

@@ -25,15 +25,19 @@ struct PathState {
   double x, y, z, beta, o0, o1, o2, scale;
   float dx, dy, dz;
   uint32_t flags, counter, used, scatters, shadowRays;
+  uint32_t light, item;
+  float g;
+  uint32_t pad;
 };
-static_assert(sizeof(PathState) == 96);
+static_assert(sizeof(PathState) == 112);
 struct GpuLight {
   float p[3];
   uint32_t type;
   float dir[3];
   float radius;
   float e;
-  float pad[3];
+  float color;  // the light's colour in this channel
+  float pad[2];
 };
 static_assert(sizeof(GpuLight) == 48);
 
@@ -47,6 +51,7 @@ std::vector<GpuLight> gpuLights(std::span<const Light> lights, int c) {
   for (const Light& l : lights) {
     GpuLight g{};
     const double color = l.color[static_cast<size_t>(c)];
+    g.color = static_cast<float>(color);
     if (const auto* dl = std::get_if<DirectionalLight>(&l.emitter)) {
       g.type = 0;
       put(g.dir, dl->direction);
@@ -68,6 +73,56 @@ std::vector<GpuLight> gpuLights(std::span<const Light> lights, int c) {
     out.push_back(g);
   }
   return out;
+}
+
+// camera_walk.comp's RefDoubles and RefUints: every light's refracted connections (the shader's
+// header gives the layout).
+void packRefracted(std::span<const std::unique_ptr<RefractedLight>> refracted,
+                   std::vector<double>& d, std::vector<uint32_t>& u) {
+  const size_t n = refracted.size();
+  d.assign(16 * n, 0.0);
+  u.assign(8 * n, 0);
+  auto put3 = [&](size_t at, const glm::dvec3& v) {
+    for (int a = 0; a < 3; ++a) d[at + static_cast<size_t>(a)] = v[a];
+  };
+  auto checked = [](size_t v) {
+    if (v > 0xFFFFFFFFu)
+      throw gpu::GlError("GPU camera walk: the refracted connections exceed 2^32 entries");
+    return static_cast<uint32_t>(v);
+  };
+  for (size_t l = 0; l < n; ++l) {
+    const RefractedLight* r = refracted[l].get();
+    if (r == nullptr) {
+      u[8 * l + 6] = 3;  // an environment light (walkerRefusal keeps them off the GPU)
+      continue;
+    }
+    put3(16 * l, r->gridLower());
+    put3(16 * l + 3, r->gridCell());
+    put3(16 * l + 6, r->origin());
+    put3(16 * l + 9, r->toLight());
+    d[16 * l + 12] = r->power();
+    d[16 * l + 13] = r->radius();
+    u[8 * l] = checked(d.size());
+    for (const RefractedLight::Facet& f : r->facets()) {
+      const size_t at = d.size();
+      d.resize(at + 16, 0.0);
+      put3(at, f.v0);
+      put3(at + 3, f.n);
+      put3(at + 6, f.a);
+      put3(at + 9, f.b);
+      put3(at + 12, f.din);
+      d[at + 15] = f.irradiance;
+    }
+    u[8 * l + 1] = checked(u.size());
+    u.insert(u.end(), r->start().begin(), r->start().end());
+    u[8 * l + 2] = checked(u.size());
+    u.insert(u.end(), r->items().begin(), r->items().end());
+    const glm::ivec3 dims = r->gridCells();
+    u[8 * l + 3] = static_cast<uint32_t>(dims.x);
+    u[8 * l + 4] = static_cast<uint32_t>(dims.y);
+    u[8 * l + 5] = static_cast<uint32_t>(dims.z);
+    u[8 * l + 6] = static_cast<uint32_t>(r->kind());  // Directional 0, Point 1, Beam 2
+  }
 }
 
 using namespace gpu_walk;
@@ -100,6 +155,9 @@ class GpuCameraWalker final : public CameraWalker {
     volume_.set(p, setup.volume, setup.channel);
     p.set("G", static_cast<float>(m.g));
     p.set("Epsilon", static_cast<float>(setup.epsilon));
+    p.set("Matched", setup.eta == 1.0);
+    p.set("Eta", static_cast<float>(setup.eta));
+    refracted(setup);
     setLongPath(p, setup.long_path_roulette);
     const double theta = setup.cone_half_angle * std::numbers::pi / 180.0;
     const double sin2 = std::sin(theta) * std::sin(theta);
@@ -135,6 +193,8 @@ class GpuCameraWalker final : public CameraWalker {
       gpu::bindStorage(1, bvh_.nodes);
       gpu::bindStorage(2, bvh_.triangles);
       gpu::bindStorage(3, outs_);
+      gpu::bindStorage(4, refDoubles_);
+      gpu::bindStorage(6, refUints_);
       gpu::bindStorage(5, lightBuffer);
       gpu::bindStorage(10, states_);
       gpu::bindStorage(11, control_);
@@ -180,7 +240,24 @@ class GpuCameraWalker final : public CameraWalker {
     return gpu::ShaderProgram::compute("reference/camera_walk.comp",
                                        volume ? gpu::Defines{{"VOLUME", "1"}} : gpu::Defines{});
   }
+  // The refracted connections on the device, uploaded when the lights' change (placeholders at
+  // η = 1: bound, never read).
+  void refracted(const CameraWalkSetup& setup) {
+    std::vector<const RefractedLight*> key;
+    for (const auto& r : setup.refracted) key.push_back(setup.eta == 1.0 ? nullptr : r.get());
+    if (refDoubles_ && key == refractedKey_) return;
+    std::vector<double> d;
+    std::vector<uint32_t> u;
+    if (setup.eta != 1.0) packRefracted(setup.refracted, d, u);
+    if (d.empty()) d.assign(2, 0.0);
+    if (u.empty()) u.assign(4, 0);
+    refDoubles_ = gpu::makeStorageBuffer(std::span<const double>(d));
+    refUints_ = gpu::makeStorageBuffer(std::span<const uint32_t>(u));
+    refractedKey_ = std::move(key);
+  }
   gpu::Context& context_;
+  gpu::Buffer refDoubles_, refUints_;
+  std::vector<const RefractedLight*> refractedKey_;
   gpu::ShaderProgram program_;                      // homogeneous media
   std::optional<gpu::ShaderProgram> volumeProgram_;  // VOLUME: made on first use
   gpu_field::VolumeBuffers volume_;

@@ -4,9 +4,11 @@
 // mesh built on the CPU by Embree's builder (geometry/flat_bvh.h). The tracer scores the walker's
 // paths as its own; only the random numbers differ (Philox4x32-10 per path: the shader's
 // header), so the images are a function of (scene, seed, samples per pixel) on a given device
-// and agree with the CPU's camera method within the standard errors. An index-matched body of
-// a homogeneous medium or a 3D field of fields.glsl under directional, point and beam lights
-// (CameraPathTracer::walkerRefusal and device.h's useDevice say why not for the rest).
+// and agree with the CPU's camera method within the standard errors. A homogeneous medium or a 3D
+// field of fields.glsl under directional, point and beam lights, index-matched or through a
+// refractive boundary (the refracted connections of RefractedLight searched on the device, the
+// light-traced complement the CPU's); CameraPathTracer::walkerRefusal and device.h's useDevice
+// say why not for the rest.
 #pragma once
 
 #include <memory>
