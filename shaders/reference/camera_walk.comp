@@ -72,8 +72,14 @@ struct PathState {
   vec3 d;
   uint flags;
   uint counter, used, scatters, shadowRays;
+  uint light, item;  // kLights: the light and candidate to go on from
+  float g;           // kLights: the collision's g
+  uint pad;
 };
-const uint kAlive = 1u, kOnSurface = 2u;
+// flags: kAlive (suspended, to be resumed), kOnSurface (the next ray starts on the boundary),
+// kLights (suspended in the next-event estimation of a collision, at `light`, `item`).
+const uint kAlive = 1u, kOnSurface = 2u, kLights = 4u;
+const uint kFresh = 0xFFFFFFFFu;  // a light's candidates not begun
 const uint kMissed = 0xFFFFFFFFu;  // PathOut.collisions of a camera ray that missed the body
 
 layout(std430, binding = 0) readonly buffer Samples { CameraSample samples[]; };
@@ -347,11 +353,14 @@ uvec2 refractedItems(uint l, dvec3 x) {
 // towards it): its exitance Σ E_l μ T, and with a cone its cone average in c0
 // (ChannelPaths::unscattered). At η ≠ 1 every light reaches x through each facet that refracts
 // it there (refractedCandidate), and leaves at the visible point refracted out (μ Ft).
-double lightSum(dvec3 x, vec3 d, float g, bool exiting, vec3 n, vec3 v, out double c0) {
-  double sum = 0.0lf;
-  c0 = 0.0lf;
+//
+// Resumable (a cell of a refracted light can list hundreds of facets): from light l and its
+// candidate k (kFresh: from its first), adding to sum and c0; with `suspendable`, false once the
+// path has spent its budget (l, k where to go on), true when every light is done.
+bool lightLoop(dvec3 x, vec3 d, float g, bool exiting, vec3 n, vec3 v, bool suspendable,
+               inout uint l, inout uint k, inout double sum, inout double c0) {
   WALK_WORK();  // the loop may run no iteration
-  for (uint l = 0u; l < LightCount; ++l) {
+  for (; l < LightCount; ++l, k = kFresh) {
     WALK_WORK();
     // η = 1: one straight connection; η ≠ 1: the candidate facets of x's cell.
     uvec2 range = uvec2(0u, 1u);
@@ -359,10 +368,12 @@ double lightSum(dvec3 x, vec3 d, float g, bool exiting, vec3 n, vec3 v, out doub
       if (refU[8u * l + 6u] == 3u) continue;
       range = refractedItems(l, x);
     }
+    if (k == kFresh) k = range.x;
     const uint itemBase = Matched ? 0u : refU[8u * l + 2u];
     WALK_WORK();
-    for (uint k = range.x; k < range.y; ++k) {
+    for (; k < range.y; ++k) {
       WALK_WORK();
+      if (suspendable && gWork > WorkBudget) return false;
       vec3 w, leave;
       float e, dist;
       if (Matched) {
@@ -404,7 +415,7 @@ double lightSum(dvec3 x, vec3 d, float g, bool exiting, vec3 n, vec3 v, out doub
       if (exiting && Cone && dot(leave, v) >= CosCone) c0 += u / double(ConeMeasure * dot(n, v));
     }
   }
-  return sum;
+  return true;
 }
 
 void finish() {
@@ -415,7 +426,7 @@ void finish() {
   outs[gIndex].shadowRays = gShadowRays;
 }
 
-void suspend(dvec3 x, vec3 d, double beta, bool onSurface) {
+void suspend(dvec3 x, vec3 d, double beta, bool onSurface, bool lights, uint l, uint k, float g) {
   PathState st;
   st.x = x.x;
   st.y = x.y;
@@ -426,7 +437,11 @@ void suspend(dvec3 x, vec3 d, double beta, bool onSurface) {
   st.o2 = gOut[2];
   st.scale = gScale;
   st.d = d;
-  st.flags = kAlive | (onSurface ? kOnSurface : 0u);
+  st.flags = kAlive | (onSurface ? kOnSurface : 0u) | (lights ? kLights : 0u);
+  st.light = l;
+  st.item = k;
+  st.g = g;
+  st.pad = 0u;
   st.counter = gCounter;
   st.used = gUsed;
   st.scatters = gScatters;
@@ -454,59 +469,73 @@ bool crossFromInside(inout dvec3 x, inout vec3 d, vec3 n) {
   return reenter(x, d);
 }
 
-// The radiance arriving at x from inside along -d, into gOut by order (ChannelPaths::radiance
-// at η = 1): true when the path ended (finish() written), false when suspended.
-bool walk(dvec3 x, vec3 d, double beta, bool onSurface) {
+// The radiance arriving at x from inside along -d, into gOut by order (ChannelPaths::radiance):
+// true when the path ended (finish() written), false when suspended. `lights`: resumed in the
+// next-event estimation of the collision at x (from light l, candidate k, its g).
+bool walk(dvec3 x, vec3 d, double beta, bool onSurface, bool lights, uint l, uint k, float g) {
   float t;
   vec3 n;
   uint tri;
   for (;;) {
-    WALK_WORK();
-    if (gWork > WorkBudget) {
-      suspend(x, d, beta, onSurface);
+    if (!lights) {
+      WALK_WORK();
+      if (gWork > WorkBudget) {
+        suspend(x, d, beta, onSurface, false, 0u, 0u, 0.0);
+        return false;
+      }
+      float albedo = Albedo;
+      g = G;
+#ifdef VOLUME
+      // The first real collision ignoring the boundary (delta tracking), then the boundary up to
+      // there; at the boundary on in air to the re-entry, where the tracking starts afresh.
+      float tc;
+      const bool collided = track(x, d, tc);
+      if (bvhIntersect(vec3(x), d, onSurface ? Epsilon : 0.0, collided ? tc : kInf, t, n, tri)) {
+        x += double(t) * dvec3(d);
+        if (!crossFromInside(x, d, n)) break;  // escaped
+        onSurface = true;
+        continue;
+      }
+      if (!collided) break;  // neither a collision nor the boundary: lost
+      x += double(tc) * dvec3(d);
+      onSurface = false;
+      albedo = gLocalSigmaT > 0.0 ? gLocalS[Channel] * CoefficientScale / gLocalSigmaT : 0.0;
+      g = gLocalG;
+#else
+      float s = -fastLog(unitOpenZeroFromBits(nextWord())) / SigmaT;
+      bool escaped = false;
+      for (;;) {
+        WALK_WORK();
+        if (!bvhIntersect(vec3(x), d, onSurface ? Epsilon : 0.0, s, t, n, tri)) {
+          x += double(s) * dvec3(d);
+          onSurface = false;
+          break;
+        }
+        x += double(t) * dvec3(d);
+        s = max(0.0, s - t);  // the rest of the free path goes on (memoryless flights)
+        onSurface = true;
+        if (!crossFromInside(x, d, n)) {
+          escaped = true;
+          break;
+        }
+      }
+      if (escaped) break;
+#endif
+      beta *= double(albedo);
+      if (!(beta > 0.0lf)) break;
+      lights = true;
+      l = 0u;
+      k = kFresh;
+    }
+    // Next-event estimation at the collision (its sum is linear: added as it comes).
+    double sum = 0.0lf, unused = 0.0lf;
+    const bool done = lightLoop(x, d, g, false, d, d, true, l, k, sum, unused);
+    gOut[gScatters == 0u ? 1 : 2] += beta * sum;
+    if (!done) {
+      suspend(x, d, beta, onSurface, true, l, k, g);
       return false;
     }
-    float albedo = Albedo, g = G;
-#ifdef VOLUME
-    // The first real collision ignoring the boundary (delta tracking), then the boundary up to
-    // there; at the boundary on in air to the re-entry, where the tracking starts afresh.
-    float tc;
-    const bool collided = track(x, d, tc);
-    if (bvhIntersect(vec3(x), d, onSurface ? Epsilon : 0.0, collided ? tc : kInf, t, n, tri)) {
-      x += double(t) * dvec3(d);
-      if (!crossFromInside(x, d, n)) break;  // escaped
-      onSurface = true;
-      continue;
-    }
-    if (!collided) break;  // neither a collision nor the boundary: lost
-    x += double(tc) * dvec3(d);
-    onSurface = false;
-    albedo = gLocalSigmaT > 0.0 ? gLocalS[Channel] * CoefficientScale / gLocalSigmaT : 0.0;
-    g = gLocalG;
-#else
-    float s = -fastLog(unitOpenZeroFromBits(nextWord())) / SigmaT;
-    bool escaped = false;
-    for (;;) {
-      WALK_WORK();
-      if (!bvhIntersect(vec3(x), d, onSurface ? Epsilon : 0.0, s, t, n, tri)) {
-        x += double(s) * dvec3(d);
-        onSurface = false;
-        break;
-      }
-      x += double(t) * dvec3(d);
-      s = max(0.0, s - t);  // the rest of the free path goes on (memoryless flights)
-      onSurface = true;
-      if (!crossFromInside(x, d, n)) {
-        escaped = true;
-        break;
-      }
-    }
-    if (escaped) break;
-#endif
-    beta *= double(albedo);
-    if (!(beta > 0.0lf)) break;
-    double unused;
-    gOut[gScatters == 0u ? 1 : 2] += beta * lightSum(x, d, g, false, d, d, unused);
+    lights = false;
     ++gScatters;
     if (LongPath != 0u && gScatters > LongPath) {
       if (nextWord() >= kSurviveThreshold) break;
@@ -547,7 +576,8 @@ void main() {
     gUsed = st.used;
     if (gUsed < 4u)
       gWords = philox4x32_10(uvec4(gSample, gPixel, gCounter - 1u, 32u + 2u * Channel + gPath), Seed);
-    walk(dvec3(st.x, st.y, st.z), st.d, st.beta, (st.flags & kOnSurface) != 0u);
+    walk(dvec3(st.x, st.y, st.z), st.d, st.beta, (st.flags & kOnSurface) != 0u,
+         (st.flags & kLights) != 0u, st.light, st.item, st.g);
     atomicMax(control[1], gWork);
     return;
   }
@@ -599,12 +629,15 @@ void main() {
   }
   // The unscattered light at x (with a field its ratio tracking draws from the path's stream).
   double b0 = 0.0lf, c0 = 0.0lf;
-  if (gPath == 1u || Cone) b0 = lightSum(x, cs.d, G, true, nrm, v, c0);
+  if (gPath == 1u || Cone) {
+    uint l = 0u, k = kFresh;
+    lightLoop(x, cs.d, G, true, nrm, v, false, l, k, b0, c0);
+  }
   const double base = gPath == 1u ? double(cs.weight) * b0 : (Cone ? double(cs.weight) * c0 : 0.0lf);
   if (gScale > 0.0lf) {
     // The unscattered part rides in gOut[0] in the path's units (scaled back in finish()).
     gOut[0] = base / gScale;
-    if (!walk(x, dir, 1.0lf, true)) {
+    if (!walk(x, dir, 1.0lf, true, false, 0u, 0u, G)) {
       atomicMax(control[1], gWork);
       return;
     }
