@@ -1037,7 +1037,7 @@ void addCompareCommand(CLI::App& app) {
   cmd->add_option("--reference-device", a->reference_device,
                   "Physical reference: cpu (Embree, the default) or gpu (the GL compute-shader "
                   "walk: homogeneous materials and 3D fields, deformed or not; with "
-                  "--physical-method camera eta 1, homogeneous, delta lights; its own "
+                  "--physical-method camera delta lights; its own "
                   "random streams, so its "
                   "own cache entries)")
       ->check(CLI::IsMember({"cpu", "gpu"}))
