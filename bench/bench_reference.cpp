@@ -26,7 +26,9 @@
 // straight shadow rays, at η = 1.3 the refracted connections (refracted_light.h) and the
 // light-traced complement; camera paths per second of tracing (paths/s, the complement's photons
 // included), shadow rays (the connections found) per path, and the tracer's set-up (the BVH, at
-// η = 1.3 the outward normals and the refracted grid) in setup_ms.
+// η = 1.3 the outward normals and the refracted grid) in setup_ms; pixel samples (all three
+// channels) per second. bunny_camera/gpu_*: the same through the GPU camera walk
+// (reference/gpu/camera_gpu.h; the light-traced complement on the CPU).
 //
 // Run: build/release/bin/bench_reference [--benchmark_filter=mcml_slab]
 #include <benchmark/benchmark.h>
@@ -43,6 +45,7 @@
 #include "translucent/material/veins.h"
 #include "mcml_peer.h"
 #include "translucent/reference/gpu/slab_gpu.h"
+#include "translucent/reference/gpu/camera_gpu.h"
 #include "translucent/reference/gpu/mesh_gpu.h"
 #include "translucent/reference/gpu/sphere_gpu.h"
 #include "translucent/reference/slab.h"
@@ -284,7 +287,7 @@ void BM_Bunny(benchmark::State& state, bool gpu, bool veins, bool split) {
   });
 }
 
-void BM_BunnyCamera(benchmark::State& state, double eta, bool point) {
+void BM_BunnyCamera(benchmark::State& state, double eta, bool point, bool gpu) {
   const geometry::TriangleMesh& mesh = unitBunny();
   Medium medium;  // Marble at 5 mm per unit, as BM_Bunny
   medium.scale = 5.0;
@@ -296,6 +299,7 @@ void BM_BunnyCamera(benchmark::State& state, double eta, bool point) {
   reference::Camera cam;
   cam.position = {0.15, 0.2, 3.2};
   cam.width = cam.height = 48;
+  if (gpu) state.SetLabel(gpuContext().info().renderer);
   uint64_t paths = 0, shadow = 0, seed = 1, runs = 0;
   double seconds = 0.0, build = 0.0;
   for (auto _ : state) {
@@ -305,6 +309,7 @@ void BM_BunnyCamera(benchmark::State& state, double eta, bool point) {
     o.exitance = false;
     const auto t0 = std::chrono::steady_clock::now();
     reference::CameraPathTracer t(mesh, medium, {light}, cam, o);
+    if (gpu) t.setWalker(reference::makeGpuCameraWalker(gpuContext(), mesh));
     build += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const reference::CameraPathStats st = t.addPass(16);
     seconds += st.seconds;  // the paths and the complement's photons
@@ -313,17 +318,22 @@ void BM_BunnyCamera(benchmark::State& state, double eta, bool point) {
     ++runs;
   }
   state.counters["paths/s"] = static_cast<double>(paths) / seconds;
+  // The CPU walks the three channels of a path together, the GPU one per channel: pixel samples
+  // (all three channels) per second compare the two.
+  state.counters["pixel_samples/s"] = static_cast<double>(runs) * 48.0 * 48.0 * 16.0 / seconds;
   state.counters["shadow_rays/path"] = static_cast<double>(shadow) / static_cast<double>(paths);
   state.counters["setup_ms"] = 1e3 * build / static_cast<double>(runs);
 }
 
 const bool registered = [] {
-  for (const auto& [name, eta, point] : {std::tuple{"bunny_camera/eta1_sun", 1.0, false},
-                                         std::tuple{"bunny_camera/eta1.3_sun", 1.3, false},
-                                         std::tuple{"bunny_camera/eta1.3_point", 1.3, true}})
-    benchmark::RegisterBenchmark(name, BM_BunnyCamera, eta, point)
-        ->MeasureProcessCPUTime()->UseRealTime()
-        ->Unit(benchmark::kMillisecond);
+  for (const bool gpu : {false, true})
+    for (const auto& [name, eta, point] : {std::tuple{"eta1_sun", 1.0, false},
+                                           std::tuple{"eta1.3_sun", 1.3, false},
+                                           std::tuple{"eta1.3_point", 1.3, true}})
+      benchmark::RegisterBenchmark((std::string(gpu ? "bunny_camera/gpu_" : "bunny_camera/") + name).c_str(),
+                                   BM_BunnyCamera, eta, point, gpu)
+          ->MeasureProcessCPUTime()->UseRealTime()
+          ->Unit(benchmark::kMillisecond);
   for (bool veins : {false, true})
     for (bool gpu : {false, true})
       benchmark::RegisterBenchmark((std::string(veins ? "bunny_veins/" : "bunny/") + (gpu ? "gpu" : "cpu_1t")).c_str(),
