@@ -1,27 +1,32 @@
 #version 450
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The camera method of the mesh reference on the GPU (src/reference/camera_paths.h, its
-// ChannelPaths for an index-matched boundary): one camera path of one channel per invocation.
-// The host (camera_gpu.cpp) hands each sample's camera ray (origin, unit direction, the pixel's
-// box-filter weight) as CameraPathTracer draws it; here:
+// ChannelPaths): one camera path of one channel per invocation. The host (camera_gpu.cpp) hands
+// each sample's camera ray (origin, unit direction, the pixel's box-filter weight) as
+// CameraPathTracer draws it; here:
 //   - the ray's first hit x on the body, its normal n facing the camera;
-//   - path 0, the radiance towards the camera: the ray goes straight in (η = 1) along d, or (a
-//     cone of half-angle θc > 0) along -ω for ω uniform in the cone about v = -d, weighted
-//     (n·ω) Ω_c / (π sin²θc (n·v)); path 1, the exitance: along -ω' for ω' cosine-distributed
-//     about n, weighted π (B = π E[L]);
+//   - path 0, the radiance towards the camera: along d, or (a cone of half-angle θc > 0) along -ω
+//     for ω uniform in the cone about v = -d, weighted (n·ω) Ω_c / (π sin²θc (n·v)); path 1, the
+//     exitance: along -ω' for ω' cosine-distributed about n, weighted π (B = π E[L]); at η ≠ 1
+//     the direction refracted in with the weight Ft / η² (L / n² is invariant along a refracted
+//     ray), and Ft(η, n·v) returned for the diffusion radiance Ft B / π;
 //   - inside, exponential free flights of density σt e^{-σt s} (compiled with VOLUME, a 3D field:
 //     delta tracking through the majorant grid, delta_tracking.glsl, the local albedo and g at
-//     the collision, ratio tracking along the shadow rays); a flight that meets the boundary
-//     flies on straight in air and re-enters where its line meets the body again with the rest
-//     of its free path (memoryless), or escapes (no environment light here: nothing to score);
+//     the collision, ratio tracking along the shadow rays); at the boundary (crossFromInside)
+//     straight on at η = 1, else Fresnel reflection or refraction out, then the flight in air
+//     (boundary.glsl: Fresnel at every hit of the outside) to the re-entry with the rest of the
+//     free path (memoryless), or away (no environment light here: nothing to score);
 //   - at each collision the throughput times the albedo, then next-event estimation to every
-//     light: p(d·ω_l) L_l T, p the Henyey-Greenstein phase function per steradian and T =
-//     e^{-σt ℓ} with ℓ the length of the shadow ray inside the body (every part it crosses);
+//     light: p(d·ω_l) L_l T, p the Henyey-Greenstein phase function per steradian and T the
+//     transmittance of the shadow ray through every part of the body it crosses (η = 1), or at
+//     η ≠ 1 through every facet that refracts the light to x (refracted_light.h: the closed
+//     forms, searched in the light's grid of refracted prisms, a roulette on T < 10⁻³ before the
+//     two visibility queries), T along the segment inside;
 //   - then a Henyey-Greenstein direction, the long-path roulette of transport.h and the
 //     throughput roulette (β < 1/4: survive with probability 4β at weight 1/4);
 //   - the unscattered light (a delta light's light that crossed the body without a collision and
-//     leaves at x): Σ E_l μ T per light to the exitance (path 1), and to the cone average where
-//     -ω_l lies in the cone (path 0), as ChannelPaths::unscattered.
+//     leaves at x, refracted out at η ≠ 1 with μ Ft): to the exitance (path 1), and to the cone
+//     average where it leaves within the cone (path 0), as ChannelPaths::unscattered.
 // Scores per path (already weighted): order 0 (unscattered), 1 (single), 2 (multiple), the
 // collisions and shadow rays it traced (collisions kMissed: the camera ray missed the body).
 //
@@ -30,8 +35,9 @@
 // function of the seed and the samples per pixel only (not of batches or scheduling).
 //
 // Suspension, as mesh_walk.comp: a path that has counted more than WorkBudget loop iterations
-// (llvmpipe's loop limit, walk_program.h) writes its state at the start of a free flight and
-// the next dispatch (Phase 1) resumes it.
+// (llvmpipe's loop limit, walk_program.h) writes its state at the start of a free flight, or in
+// the next-event estimation of a collision before a light's next candidate facet (a cell of a
+// refracted light's grid can list hundreds), and the next dispatch (Phase 1) resumes it there.
 layout(local_size_x = 64) in;
 uint gWork = 0u;
 #define WALK_WORK() gWork += 2u
