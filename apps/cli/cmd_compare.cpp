@@ -1036,8 +1036,7 @@ void addCompareCommand(CLI::App& app) {
       ->allow_extra_args(false);
   cmd->add_option("--reference-device", a->reference_device,
                   "Physical reference: cpu (Embree, the default) or gpu (the GL compute-shader "
-                  "walk: homogeneous materials and 3D fields, deformed or not; with "
-                  "--physical-method camera delta lights; its own "
+                  "walk: homogeneous materials and 3D fields, deformed or not; its own "
                   "random streams, so its "
                   "own cache entries)")
       ->check(CLI::IsMember({"cpu", "gpu"}))

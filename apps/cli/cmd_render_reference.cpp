@@ -819,8 +819,7 @@ void addRenderReferenceCommands(CLI::App& app) {
     cmd->add_option("--method", a->method,
                     "light: photons from the lights, splatted through a cone at the camera; "
                     "camera: paths from the camera with next-event estimation to every light "
-                    "(per-pixel samples, --samples; no --shard; --device gpu under delta lights; "
-                    "its cone-radiance is the "
+                    "(per-pixel samples, --samples; no --shard; its cone-radiance is the "
                     "true radiance, cone half-angle 0; at eta > 1 exact connections through every "
                     "refracting facet, plus light-traced photons for light that meets the "
                     "surface again before it scatters)")
@@ -837,7 +836,7 @@ void addRenderReferenceCommands(CLI::App& app) {
     cmd->add_option("--device", *device,
                     "cpu: the CPU tracer (Embree); gpu: the GL compute-shader walk against a BVH "
                     "of the mesh (homogeneous media and 3D fields, deformed or not; with "
-                    "--method camera: delta lights, the complement on the CPU; Philox streams: "
+                    "--method camera: the complement at eta != 1 on the CPU; Philox streams: "
                     "agrees with the "
                     "CPU within the standard errors, not bit for bit); "
                     "auto: the GPU on a hardware GPU where it can trace the scene, else the CPU "

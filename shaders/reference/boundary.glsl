@@ -11,8 +11,9 @@ vec3 refractDir(vec3 d, vec3 n, float ratio, float cosT) {  // transport_impl.h:
 
 // The flight in air after an exit at x along d (transport_impl.h: reenter): at every hit of the
 // body's outside a mirror reflection with probability F, else refraction in. True with x, d the
-// re-entry point and the inward direction, false when it escapes.
-bool reenter(inout dvec3 x, inout vec3 d) {
+// re-entry point and the inward direction, false when it escapes; `mirrored` set when it was
+// reflected on the way.
+bool reenter(inout dvec3 x, inout vec3 d, inout bool mirrored) {
   for (;;) {
     WALK_WORK();
     float t;
@@ -26,6 +27,7 @@ bool reenter(inout dvec3 x, inout vec3 d) {
     const float F = fresnelReflectanceFloat(max(cosI, 0.0), Eta);
     if (uniformFloat() < F) {
       d = normalize(d - 2.0 * cosI * inward);
+      mirrored = true;
       continue;
     }
     d = refractDir(d, inward, 1.0 / Eta, refractedCosineFloat(max(cosI, 0.0), Eta));

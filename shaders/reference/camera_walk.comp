@@ -15,13 +15,17 @@
 //     the collision, ratio tracking along the shadow rays); at the boundary (crossFromInside)
 //     straight on at η = 1, else Fresnel reflection or refraction out, then the flight in air
 //     (boundary.glsl: Fresnel at every hit of the outside) to the re-entry with the rest of the
-//     free path (memoryless), or away (no environment light here: nothing to score);
+//     free path (memoryless), or away: it then sees the environment lights along its direction
+//     (at η = 1 weighted by the balance heuristic against their sampling, Veach 1997 §9.2; at
+//     η ≠ 1 with weight 1 and the radiance factor η²; nothing after a mirror reflection on its
+//     way out, as the light method);
 //   - at each collision the throughput times the albedo, then next-event estimation to every
 //     light: p(d·ω_l) L_l T, p the Henyey-Greenstein phase function per steradian and T the
 //     transmittance of the shadow ray through every part of the body it crosses (η = 1), or at
 //     η ≠ 1 through every facet that refracts the light to x (refracted_light.h: the closed
 //     forms, searched in the light's grid of refracted prisms, a roulette on T < 10⁻³ before the
-//     two visibility queries), T along the segment inside;
+//     two visibility queries), T along the segment inside; an environment light (η = 1) by a
+//     direction from its sampler for this channel, weighted by the balance heuristic;
 //   - then a Henyey-Greenstein direction, the long-path roulette of transport.h and the
 //     throughput roulette (β < 1/4: survive with probability 4β at weight 1/4);
 //   - the unscattered light (a delta light's light that crossed the body without a collision and
@@ -60,9 +64,9 @@ struct PathOut {
   float ftView;  // Ft(η, n·v) at the visible point (the diffusion radiance's factor)
   uint pad;
 };
-// A delta light in this channel: directional (0: dir towards the light, e its irradiance),
-// point (1: p its position, e its intensity), beam of radius > 0 (2: p its origin, dir its
-// direction of flight, e its irradiance P / (π r²) inside its cylinder).
+// A light in this channel: directional (0: dir towards the light, e its irradiance), point (1: p
+// its position, e its intensity), beam of radius > 0 (2: p its origin, dir its direction of
+// flight, e its irradiance P / (π r²) inside its cylinder), environment (3: RefDoubles).
 struct GpuLight {
   vec3 p;
   uint type;
@@ -80,7 +84,7 @@ struct PathState {
   uint counter, used, scatters, shadowRays;
   uint light, item;  // kLights: the light and candidate to go on from
   float g;           // kLights: the collision's g
-  uint pad;
+  float phasePdf;    // of the last scattering's direction [1/sr] (0: none yet)
 };
 // flags: kAlive (suspended, to be resumed), kOnSurface (the next ray starts on the boundary),
 // kLights (suspended in the next-event estimation of a collision, at `light`, `item`).
@@ -103,6 +107,12 @@ layout(std430, binding = 13) writeonly buffer SuspendList { uint suspendList[]; 
 // light (3), power (directional, beam: irradiance; point: intensity), beam radius; facet k at
 // (its first) + 16 k: v0 (3), outward normal (3), barycentric duals a (3) and b (3), refracted
 // direction of travel (3), irradiance (directional, beam).
+// An environment light l (kind 3): RefUints at 8 l: its first double in RefDoubles, the map's
+// width and height; RefDoubles at 16 l: the rotation [rad], per channel the radiance scale
+// (intensity × colour) and its sampler's integral (0: the channel is black); from its first
+// double, per channel c: the map's channel-c texels (rows from the top), the sampler's row sums
+// (height + 1) and per row its column sums (width + 1) of texel × solid angle
+// (lights/environment_map.h: EnvironmentSampler).
 layout(std430, binding = 4) readonly buffer RefDoubles { double refD[]; };
 layout(std430, binding = 6) readonly buffer RefUints { uint refU[]; };
 
@@ -210,6 +220,110 @@ float transmittance(dvec3 x, vec3 w, float dist, bool onSurface, bool oneSegment
     onSurface = true;
   }
   return ratio * exp(-depth);
+}
+
+// ---- Environment lights (lights/environment_map.h) ------------------------------------------
+
+// The texel of environment light l's map that direction d falls in (EnvironmentMap::texelOf).
+uvec2 envTexel(uint l, vec3 d) {
+  const uint w = refU[8u * l + 1u], h = refU[8u * l + 2u];
+  const float kTwoPi = 6.28318530717959;
+  const float theta = acos(clamp(d.y, -1.0, 1.0));
+  float u = (atan(d.x, -d.z) - float(refD[16u * l]) + kPi) / kTwoPi;
+  u -= floor(u);
+  return uvec2(min(w - 1u, uint(u * float(w))), min(h - 1u, uint(theta / kPi * float(h))));
+}
+
+// Where channel c's arrays of environment light l start in RefDoubles.
+uint envBase(uint l) {
+  const uint w = refU[8u * l + 1u], h = refU[8u * l + 2u];
+  return refU[8u * l] + Channel * (w * h + (h + 1u) + h * (w + 1u));
+}
+
+// Its radiance towards d in this channel, and its sampler's density for d [1/sr].
+double envRadiance(uint l, vec3 d, out double pdf) {
+  const uint w = refU[8u * l + 1u];
+  const uvec2 t = envTexel(l, d);
+  const double texel = refD[envBase(l) + t.y * w + t.x];
+  const double total = refD[16u * l + 4u + Channel];
+  pdf = total > 0.0lf ? texel / total : 0.0lf;
+  return texel * refD[16u * l + 1u + Channel];
+}
+
+// A direction from the channel's sampler (EnvironmentSampler::sample: the row, then the column,
+// by inverting the sums; uniform in solid angle within the texel), its density and radiance.
+bool envSample(uint l, out vec3 dir, out double pdf, out double radiance) {
+  dir = vec3(0.0, 1.0, 0.0);
+  pdf = 0.0lf;
+  radiance = 0.0lf;
+  const double total = refD[16u * l + 4u + Channel];
+  if (!(total > 0.0lf)) return false;
+  const uint w = refU[8u * l + 1u], h = refU[8u * l + 2u];
+  const uint texels = envBase(l), rows = texels + w * h, cols = rows + h + 1u;
+  const double uy = double(nextWord()) * (1.0lf / 4294967296.0lf);
+  const double ux = double(nextWord()) * (1.0lf / 4294967296.0lf);
+  // The last row whose sum is <= ty (upper_bound - 1), by bisection.
+  const double ty = uy * total;
+  uint lo = 0u, hi = h;  // rowCdf[lo] <= ty < rowCdf[hi]
+  WALK_WORK();
+  while (hi - lo > 1u) {
+    WALK_WORK();
+    const uint mid = (lo + hi) / 2u;
+    if (refD[rows + mid] <= ty) lo = mid; else hi = mid;
+  }
+  uint y = lo;
+  WALK_WORK();
+  while (y > 0u && !(refD[rows + y + 1u] - refD[rows + y] > 0.0lf)) {
+    WALK_WORK();
+    --y;
+  }
+  const double rowW = refD[rows + y + 1u] - refD[rows + y];
+  const double ry = clamp((ty - refD[rows + y]) / rowW, 0.0lf, 1.0lf);
+  const uint row = cols + y * (w + 1u);
+  const double tx = ux * refD[row + w];
+  lo = 0u;
+  hi = w;
+  WALK_WORK();
+  while (hi - lo > 1u) {
+    WALK_WORK();
+    const uint mid = (lo + hi) / 2u;
+    if (refD[row + mid] <= tx) lo = mid; else hi = mid;
+  }
+  uint x = lo;
+  WALK_WORK();
+  while (x > 0u && !(refD[row + x + 1u] - refD[row + x] > 0.0lf)) {
+    WALK_WORK();
+    --x;
+  }
+  const double cw = refD[row + x + 1u] - refD[row + x];
+  const double rx = clamp((tx - refD[row + x]) / max(cw, 1e-300lf), 0.0lf, 1.0lf);
+  const float c0 = cos(kPi * float(y) / float(h)), c1 = cos(kPi * float(y + 1u) / float(h));
+  const float cosT = clamp(c0 + float(ry) * (c1 - c0), -1.0, 1.0);
+  const float sinT = sqrt(max(0.0, 1.0 - cosT * cosT));
+  const float phi = 6.28318530717959 * (float(x) + float(rx)) / float(w) - kPi + float(refD[16u * l]);
+  dir = vec3(sinT * sin(phi), cosT, -sinT * cos(phi));
+  const double texel = refD[texels + y * w + x];
+  pdf = texel / total;
+  radiance = texel * refD[16u * l + 1u + Channel];
+  return pdf > 0.0lf;
+}
+
+// Σ over the environment lights of their radiance towards the escape direction d, weighted by
+// the balance heuristic against next-event estimation's density for it (phasePdf 0: a camera or
+// exitance ray that met no collision, or η ≠ 1, where only escaping paths find the
+// environment: weight 1) (camera_paths.cpp: ChannelPaths::escaped).
+double environmentSeen(vec3 d, float phasePdf) {
+  double sum = 0.0lf;
+  WALK_WORK();
+  for (uint l = 0u; l < LightCount; ++l) {
+    WALK_WORK();
+    if (lights[l].type != 3u) continue;
+    double pdfLight;
+    const double L = envRadiance(l, d, pdfLight);
+    if (!(L > 0.0lf)) continue;
+    sum += phasePdf > 0.0 ? L * double(phasePdf) / (double(phasePdf) + pdfLight) : L;
+  }
+  return sum;
 }
 
 // ---- Refracted connections (η ≠ 1; refracted_light.h: candidate, visible) ------------------
@@ -382,7 +496,17 @@ bool lightLoop(dvec3 x, vec3 d, float g, bool exiting, vec3 n, vec3 v, bool susp
       if (suspendable && gWork > WorkBudget) return false;
       vec3 w, leave;
       float e, dist;
-      if (Matched) {
+      if (Matched && lights[l].type == 3u) {
+        // An environment light: a direction from its sampler, weighted by the balance heuristic
+        // against phase sampling (environmentSeen()); its light leaving unscattered is the escaping
+        // camera and exitance rays'.
+        if (exiting) continue;
+        double pdf, L;
+        if (!envSample(l, w, pdf, L)) continue;
+        const float phase = hgPhase(dot(d, w), g);
+        e = float(L / (pdf + double(phase)));
+        dist = kInf;
+      } else if (Matched) {
         if (!incident(lights[l], x, w, e, dist)) continue;
       } else {
         if (!refractedCandidate(l, refU[itemBase + k], x, exiting, w, dist, e)) continue;
@@ -432,7 +556,8 @@ void finish() {
   outs[gIndex].shadowRays = gShadowRays;
 }
 
-void suspend(dvec3 x, vec3 d, double beta, bool onSurface, bool lights, uint l, uint k, float g) {
+void suspend(dvec3 x, vec3 d, double beta, bool onSurface, bool lights, uint l, uint k, float g,
+             float phasePdf) {
   PathState st;
   st.x = x.x;
   st.y = x.y;
@@ -447,7 +572,7 @@ void suspend(dvec3 x, vec3 d, double beta, bool onSurface, bool lights, uint l, 
   st.light = l;
   st.item = k;
   st.g = g;
-  st.pad = 0u;
+  st.phasePdf = phasePdf;
   st.counter = gCounter;
   st.used = gUsed;
   st.scatters = gScatters;
@@ -462,7 +587,7 @@ void suspend(dvec3 x, vec3 d, double beta, bool onSurface, bool lights, uint l, 
 // and the flight in air (Fresnel at every hit of the outside) to the re-entry. False when it
 // escapes (no environment light here: nothing to score; out and in again the radiance factors
 // η² / η² cancel).
-bool crossFromInside(inout dvec3 x, inout vec3 d, vec3 n) {
+bool crossFromInside(inout dvec3 x, inout vec3 d, vec3 n, inout bool mirrored) {
   if (!Matched) {
     const vec3 outward = dot(n, d) > 0.0 ? n : -n;
     const float cosIn = dot(d, outward);
@@ -472,23 +597,27 @@ bool crossFromInside(inout dvec3 x, inout vec3 d, vec3 n) {
     }
     d = refractDir(d, outward, Eta, refractedCosineFloat(max(cosIn, 0.0), 1.0 / Eta));
   }
-  return reenter(x, d);
+  mirrored = false;
+  return reenter(x, d, mirrored);
 }
 
 // The radiance arriving at x from inside along -d, into gOut by order (ChannelPaths::radiance):
 // true when the path ended (finish() written), false when suspended. `lights`: resumed in the
 // next-event estimation of the collision at x (from light l, candidate k, its g).
-bool walk(dvec3 x, vec3 d, double beta, bool onSurface, bool lights, uint l, uint k, float g) {
+bool walk(dvec3 x, vec3 d, double beta, bool onSurface, bool lights, uint l, uint k, float g,
+          float phasePdf) {
   float t;
   vec3 n;
   uint tri;
+  bool escaped = false, mirrored = false;
   for (;;) {
     if (!lights) {
       WALK_WORK();
       if (gWork > WorkBudget) {
-        suspend(x, d, beta, onSurface, false, 0u, 0u, 0.0);
+        suspend(x, d, beta, onSurface, false, 0u, 0u, 0.0, phasePdf);
         return false;
       }
+      mirrored = false;  // of this flight's crossings
       float albedo = Albedo;
       g = G;
 #ifdef VOLUME
@@ -498,18 +627,23 @@ bool walk(dvec3 x, vec3 d, double beta, bool onSurface, bool lights, uint l, uin
       const bool collided = track(x, d, tc);
       if (bvhIntersect(vec3(x), d, onSurface ? Epsilon : 0.0, collided ? tc : kInf, t, n, tri)) {
         x += double(t) * dvec3(d);
-        if (!crossFromInside(x, d, n)) break;  // escaped
+        if (!crossFromInside(x, d, n, mirrored)) {
+          escaped = true;
+          break;
+        }
         onSurface = true;
         continue;
       }
-      if (!collided) break;  // neither a collision nor the boundary: lost
+      if (!collided) {  // neither a collision nor the boundary: lost, as escaped (the CPU's)
+        escaped = true;
+        break;
+      }
       x += double(tc) * dvec3(d);
       onSurface = false;
       albedo = gLocalSigmaT > 0.0 ? gLocalS[Channel] * CoefficientScale / gLocalSigmaT : 0.0;
       g = gLocalG;
 #else
       float s = -fastLog(unitOpenZeroFromBits(nextWord())) / SigmaT;
-      bool escaped = false;
       for (;;) {
         WALK_WORK();
         if (!bvhIntersect(vec3(x), d, onSurface ? Epsilon : 0.0, s, t, n, tri)) {
@@ -520,7 +654,7 @@ bool walk(dvec3 x, vec3 d, double beta, bool onSurface, bool lights, uint l, uin
         x += double(t) * dvec3(d);
         s = max(0.0, s - t);  // the rest of the free path goes on (memoryless flights)
         onSurface = true;
-        if (!crossFromInside(x, d, n)) {
+        if (!crossFromInside(x, d, n, mirrored)) {
           escaped = true;
           break;
         }
@@ -538,7 +672,7 @@ bool walk(dvec3 x, vec3 d, double beta, bool onSurface, bool lights, uint l, uin
     const bool done = lightLoop(x, d, g, false, d, d, true, l, k, sum, unused);
     gOut[gScatters == 0u ? 1 : 2] += beta * sum;
     if (!done) {
-      suspend(x, d, beta, onSurface, true, l, k, g);
+      suspend(x, d, beta, onSurface, true, l, k, g, phasePdf);
       return false;
     }
     lights = false;
@@ -551,7 +685,17 @@ bool walk(dvec3 x, vec3 d, double beta, bool onSurface, bool lights, uint l, uin
       if (!(double(uniformFloat()) * kRoulette < beta)) break;
       beta = kRoulette;
     }
-    d = scatterDirection(d, sampleHgCosine(g, uniformFloat()), uniformAzimuth(nextWord()));
+    const float mu = sampleHgCosine(g, uniformFloat());
+    d = scatterDirection(d, mu, uniformAzimuth(nextWord()));
+    phasePdf = hgPhase(mu, g);
+  }
+  if (escaped && !mirrored) {
+    // The environment along the escape direction; at η ≠ 1 refracted out (radiance factor η²)
+    // and found by the escaping paths alone. A path mirrored on its way out carries light whose
+    // first meeting with the body was that reflection: not subsurface light (the light method
+    // drops it).
+    const double L = environmentSeen(d, Matched ? phasePdf : 0.0);
+    gOut[min(gScatters, 2u)] += beta * L * (Matched ? 1.0lf : double(Eta * Eta));
   }
   finish();
   return true;
@@ -583,7 +727,7 @@ void main() {
     if (gUsed < 4u)
       gWords = philox4x32_10(uvec4(gSample, gPixel, gCounter - 1u, 32u + 2u * Channel + gPath), Seed);
     walk(dvec3(st.x, st.y, st.z), st.d, st.beta, (st.flags & kOnSurface) != 0u,
-         (st.flags & kLights) != 0u, st.light, st.item, st.g);
+         (st.flags & kLights) != 0u, st.light, st.item, st.g, st.phasePdf);
     atomicMax(control[1], gWork);
     return;
   }
@@ -643,7 +787,7 @@ void main() {
   if (gScale > 0.0lf) {
     // The unscattered part rides in gOut[0] in the path's units (scaled back in finish()).
     gOut[0] = base / gScale;
-    if (!walk(x, dir, 1.0lf, true, false, 0u, 0u, G)) {
+    if (!walk(x, dir, 1.0lf, true, false, 0u, 0u, G, 0.0)) {
       atomicMax(control[1], gWork);
       return;
     }

@@ -186,7 +186,8 @@ uint crossBoundary(inout dvec3 x, inout vec3 d, vec3 n, double w) {
       Matched ? d : refractDir(d, outward, Eta, refractedCosineFloat(max(cosIn, 0.0), etaOut));
   recordExit(x, outward, dOut, w);
   d = dOut;
-  if (reenter(x, d)) return 1u;
+  bool mirrored = false;
+  if (reenter(x, d, mirrored)) return 1u;
   gEscaped = w;
   return 2u;
 }

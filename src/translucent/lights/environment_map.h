@@ -89,6 +89,10 @@ class EnvironmentSampler {
   double pdf(const glm::dvec3& d) const;
   // ∫ w(L(ω)) dω over the sphere [radiance × sr].
   double integral() const { return total_; }
+  // The cumulative sums sample() inverts (for a device copy): over the rows (height + 1), and
+  // over the columns of row y (width + 1), of w × the texel's solid angle.
+  const std::vector<double>& rowSums() const { return rowCdf_; }
+  const std::vector<double>& columnSums(int y) const { return colCdf_[size_t(y)]; }
   // Sample k of the technique's fixed sequence (R2 quasi-random sequence, Roberts 2018,
   // Cranley-Patterson rotated by `seed`): stratified over any prefix, deterministic.
   Sample sequence(uint64_t k, uint64_t seed) const;

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -893,6 +894,8 @@ void CameraPathTracer::combine() {
 }
 
 void CameraPathTracer::init(const geometry::TriangleMesh& mesh) {
+  static std::atomic<uint64_t> tracers{0};
+  id_ = ++tracers;
   options_.validate();
   if (lights_.empty()) throw ParameterError("camera paths: no lights: expected at least one");
   for (size_t i = 0; i < lights_.size(); ++i)
@@ -964,21 +967,6 @@ void CameraPathTracer::sampleRay(int i, int j, uint64_t s, uint32_t shiftX, uint
     weight = cosT * cosT * cosT * camera_.pixelSize() * camera_.pixelSize() /
              camera_.pixelMeasure(i, j);
   }
-}
-
-std::string CameraPathTracer::walkerRefusal() const {
-  for (size_t i = 0; i < lights_.size(); ++i)
-    if (std::holds_alternative<EnvironmentLight>(lights_[i].emitter))
-      return fmt::format("light {} is an environment light: the GPU camera walk has directional, "
-                         "point and beam lights; the CPU's camera method traces it",
-                         i + 1);
-  return {};
-}
-
-void CameraPathTracer::setWalker(std::shared_ptr<CameraWalker> walker) {
-  if (walker)
-    if (const std::string why = walkerRefusal(); !why.empty()) throw ParameterError(why);
-  walker_ = std::move(walker);
 }
 
 const CameraImages& CameraPathTracer::orderImages(ScatteringOrder order) const {
@@ -1228,6 +1216,7 @@ CameraPathStats CameraPathTracer::addPass(uint64_t samples, const ProgressCallba
           setup.volume = volume_ ? &*volume_ : nullptr;
           setup.eta = eta_;
           setup.refracted = refracted_;
+          setup.tracer = id_;
           setup.lights = lights_;
           setup.channel = static_cast<int>(c);
           setup.epsilon = body_.epsilon();

@@ -150,10 +150,9 @@ struct CameraPathStats {
 
 // A device that traces the camera method's paths (reference/gpu/camera_gpu.h: the GL walk of
 // shaders/reference/camera_walk.comp): the paths through a homogeneous medium or a 3D field
-// under delta lights, index-matched or through a refractive boundary (its refracted connections,
-// RefractedLight, on the device; the light-traced complement stays the CPU's);
-// CameraPathTracer::walkerRefusal says why not for the rest. The tracer draws every sample's
-// camera ray (as its own walk does) and scores what comes back.
+// under every kind of light, index-matched or through a refractive boundary (its refracted
+// connections, RefractedLight, on the device; the light-traced complement stays the CPU's). The
+// tracer draws every sample's camera ray (as its own walk does) and scores what comes back.
 struct CameraWalkSample {
   float origin[3];
   float weight;  // the pixel's box filter (camera_paths.cpp)
@@ -187,6 +186,7 @@ struct CameraWalkSetup {
   double eta = 1.0;              // n_inside / n_outside
   // η ≠ 1: per light its refracted connections (null for an environment light).
   std::span<const std::unique_ptr<RefractedLight>> refracted;
+  uint64_t tracer = 0;  // which tracer (> 0, unique per process): the lights' tables change with it
 };
 class CameraWalker {
  public:
@@ -232,12 +232,9 @@ class CameraPathTracer {
   const VolumeMedium* volume() const { return volume_ ? &*volume_ : nullptr; }
   uint64_t majorantViolations() const { return volume_ ? volume_->majorantViolations() : 0; }
 
-  // Trace the paths with `walker` (a device's) rather than on the CPU's threads. ParameterError
-  // with walkerRefusal() where it cannot trace this scene.
-  void setWalker(std::shared_ptr<CameraWalker> walker);
-  // Why a walker cannot trace this scene ("" when it can): an environment light (the GL walk has
-  // delta lights). A device walker may refuse a field it cannot evaluate (device.h: useDevice).
-  std::string walkerRefusal() const;
+  // Trace the paths with `walker` (a device's) rather than on the CPU's threads (a device may
+  // refuse a 3D field it cannot evaluate: device.h, useDevice).
+  void setWalker(std::shared_ptr<CameraWalker> walker) { walker_ = std::move(walker); }
   // What traces the paths: "cpu", or the walker's name.
   std::string device() const { return walker_ ? walker_->name() : "cpu"; }
 
@@ -259,6 +256,7 @@ class CameraPathTracer {
   void sampleRay(int i, int j, uint64_t s, uint32_t shiftX, uint32_t shiftY, glm::dvec3& origin,
                  glm::dvec3& dir, double& weight) const;
   std::shared_ptr<CameraWalker> walker_;
+  uint64_t id_ = 0;  // unique per tracer in this process (CameraWalkSetup::tracer)
   std::vector<ScalarMedium> channels_;
   std::optional<VolumeMedium> volume_;
   std::vector<Light> lights_;

@@ -67,19 +67,20 @@ std::vector<GpuLight> gpuLights(std::span<const Light> lights, int c) {
       g.radius = static_cast<float>(bl->radius);
       g.e = static_cast<float>(bl->power / (std::numbers::pi * bl->radius * bl->radius) * color);
     } else {
-      // CameraPathTracer::walkerRefusal keeps environment lights away from this walker.
-      throw gpu::GlError("GPU camera walk: an environment light (the CPU traces it)");
+      g.type = 3;  // environment: its map and samplers in RefDoubles (packLights)
     }
     out.push_back(g);
   }
   return out;
 }
 
-// camera_walk.comp's RefDoubles and RefUints: every light's refracted connections (the shader's
-// header gives the layout).
-void packRefracted(std::span<const std::unique_ptr<RefractedLight>> refracted,
-                   std::vector<double>& d, std::vector<uint32_t>& u) {
-  const size_t n = refracted.size();
+// camera_walk.comp's RefDoubles and RefUints (the shader's header gives the layout): every
+// environment light's map and per-channel samplers, and at η ≠ 1 every delta light's refracted
+// connections.
+void packLights(std::span<const Light> lights,
+                std::span<const std::unique_ptr<RefractedLight>> refracted, double eta,
+                std::vector<double>& d, std::vector<uint32_t>& u) {
+  const size_t n = lights.size();
   d.assign(16 * n, 0.0);
   u.assign(8 * n, 0);
   auto put3 = [&](size_t at, const glm::dvec3& v) {
@@ -87,15 +88,37 @@ void packRefracted(std::span<const std::unique_ptr<RefractedLight>> refracted,
   };
   auto checked = [](size_t v) {
     if (v > 0xFFFFFFFFu)
-      throw gpu::GlError("GPU camera walk: the refracted connections exceed 2^32 entries");
+      throw gpu::GlError("GPU camera walk: the lights' tables exceed 2^32 entries");
     return static_cast<uint32_t>(v);
   };
   for (size_t l = 0; l < n; ++l) {
-    const RefractedLight* r = refracted[l].get();
-    if (r == nullptr) {
-      u[8 * l + 6] = 3;  // an environment light (walkerRefusal keeps them off the GPU)
+    if (const auto* env = std::get_if<EnvironmentLight>(&lights[l].emitter)) {
+      const lights::EnvironmentMap& map = *env->map;
+      const auto w = static_cast<size_t>(map.width), h = static_cast<size_t>(map.height);
+      u[8 * l] = checked(d.size());
+      u[8 * l + 1] = static_cast<uint32_t>(w);
+      u[8 * l + 2] = static_cast<uint32_t>(h);
+      u[8 * l + 6] = 3;
+      d[16 * l] = env->rotate * std::numbers::pi / 180.0;
+      for (size_t c = 0; c < 3; ++c) {
+        d[16 * l + 1 + c] = env->intensity * lights[l].color[c];
+        const auto& sampler = env->samplers[c];
+        d[16 * l + 4 + c] = sampler ? sampler->integral() : 0.0;
+        for (size_t i = 0; i < w * h; ++i) d.push_back(map.rgb[3 * i + c]);
+        if (sampler) {
+          d.insert(d.end(), sampler->rowSums().begin(), sampler->rowSums().end());
+          for (size_t y = 0; y < h; ++y) {
+            const auto& cols = sampler->columnSums(static_cast<int>(y));
+            d.insert(d.end(), cols.begin(), cols.end());
+          }
+        } else {
+          d.resize(d.size() + (h + 1) + h * (w + 1), 0.0);  // never read: the integral is 0
+        }
+      }
       continue;
     }
+    const RefractedLight* r = l < refracted.size() ? refracted[l].get() : nullptr;
+    if (eta == 1.0 || r == nullptr) continue;  // a delta light at η = 1: straight connections
     put3(16 * l, r->gridLower());
     put3(16 * l + 3, r->gridCell());
     put3(16 * l + 6, r->origin());
@@ -157,7 +180,7 @@ class GpuCameraWalker final : public CameraWalker {
     p.set("Epsilon", static_cast<float>(setup.epsilon));
     p.set("Matched", setup.eta == 1.0);
     p.set("Eta", static_cast<float>(setup.eta));
-    refracted(setup);
+    tables(setup);
     setLongPath(p, setup.long_path_roulette);
     const double theta = setup.cone_half_angle * std::numbers::pi / 180.0;
     const double sin2 = std::sin(theta) * std::sin(theta);
@@ -240,24 +263,21 @@ class GpuCameraWalker final : public CameraWalker {
     return gpu::ShaderProgram::compute("reference/camera_walk.comp",
                                        volume ? gpu::Defines{{"VOLUME", "1"}} : gpu::Defines{});
   }
-  // The refracted connections on the device, uploaded when the lights' change (placeholders at
-  // η = 1: bound, never read).
-  void refracted(const CameraWalkSetup& setup) {
-    std::vector<const RefractedLight*> key;
-    for (const auto& r : setup.refracted) key.push_back(setup.eta == 1.0 ? nullptr : r.get());
-    if (refDoubles_ && key == refractedKey_) return;
+  // The lights' tables on the device (packLights), uploaded once per tracer.
+  void tables(const CameraWalkSetup& setup) {
+    if (refDoubles_ && setup.tracer == tablesOf_) return;
     std::vector<double> d;
     std::vector<uint32_t> u;
-    if (setup.eta != 1.0) packRefracted(setup.refracted, d, u);
+    packLights(setup.lights, setup.refracted, setup.eta, d, u);
     if (d.empty()) d.assign(2, 0.0);
     if (u.empty()) u.assign(4, 0);
     refDoubles_ = gpu::makeStorageBuffer(std::span<const double>(d));
     refUints_ = gpu::makeStorageBuffer(std::span<const uint32_t>(u));
-    refractedKey_ = std::move(key);
+    tablesOf_ = setup.tracer;
   }
   gpu::Context& context_;
   gpu::Buffer refDoubles_, refUints_;
-  std::vector<const RefractedLight*> refractedKey_;
+  uint64_t tablesOf_ = 0;  // the tracer whose tables refDoubles_ and refUints_ hold
   gpu::ShaderProgram program_;                      // homogeneous media
   std::optional<gpu::ShaderProgram> volumeProgram_;  // VOLUME: made on first use
   gpu_field::VolumeBuffers volume_;

@@ -5,10 +5,10 @@
 // paths as its own; only the random numbers differ (Philox4x32-10 per path: the shader's
 // header), so the images are a function of (scene, seed, samples per pixel) on a given device
 // and agree with the CPU's camera method within the standard errors. A homogeneous medium or a 3D
-// field of fields.glsl under directional, point and beam lights, index-matched or through a
-// refractive boundary (the refracted connections of RefractedLight searched on the device, the
-// light-traced complement the CPU's); CameraPathTracer::walkerRefusal and device.h's useDevice
-// say why not for the rest.
+// field of fields.glsl under directional, point, beam and environment lights, index-matched or
+// through a refractive boundary (the refracted connections of RefractedLight searched on the
+// device, the light-traced complement the CPU's); device.h's useDevice refuses a field without
+// a GLSL twin.
 #pragma once
 
 #include <memory>

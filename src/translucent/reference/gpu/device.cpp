@@ -77,9 +77,8 @@ void useDevice(const TraceDevice& device, const std::string& choice, CameraPathT
                const geometry::TriangleMesh& mesh, const std::string& what,
                const std::string& option) {
   if (device.device != Device::Gpu) return;
-  std::string why = tracer.walkerRefusal();
-  if (why.empty() && tracer.volume()) why = gpu_field::refusal(*tracer.volume()->field);
-  if (!why.empty()) {
+  if (const std::string why = tracer.volume() ? gpu_field::refusal(*tracer.volume()->field) : "";
+      !why.empty()) {
     if (choice == "auto") return;
     throw ParameterError(fmt::format("{} gpu: {}", option, why));
   }

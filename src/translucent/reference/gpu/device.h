@@ -43,8 +43,8 @@ void useDevice(const TraceDevice& device, const std::string& choice, MeshPathTra
                const std::string& option = "--device");
 
 // The camera method (camera_paths.h) on the device: the GPU camera walk (camera_gpu.h) where it
-// can trace the scene (CameraPathTracer::walkerRefusal); with "auto" the CPU for the rest, with
-// "gpu" a ParameterError "<option> gpu: <why>".
+// can trace the scene (a 3D field without a GLSL twin it cannot); with "auto" the CPU for the
+// rest, with "gpu" a ParameterError "<option> gpu: <why>".
 void useDevice(const TraceDevice& device, const std::string& choice, CameraPathTracer& tracer,
                const geometry::TriangleMesh& mesh, const std::string& what,
                const std::string& option = "--device");
