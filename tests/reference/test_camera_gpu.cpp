@@ -56,34 +56,14 @@ struct OpaqueField final : material::VolumeField {
 };
 
 Medium medium(const Rgb& sigma_a, const Rgb& sigma_s, double g) {
-  Medium m;
-  m.sigma_a = sigma_a;
-  m.sigma_s = sigma_s;
-  m.g = g;
-  m.eta = 1.0;
-  m.scale = 1.0;
-  return m;
+  return test_support::indexMatched(sigma_a, sigma_s, g);
 }
 
 Camera cameraAt(const glm::dvec3& position, int size) {
-  Camera camera;
-  camera.position = position;
-  camera.look_at = {0.0, 0.0, 0.0};
-  camera.fov = 40.0;
-  camera.width = camera.height = size;
-  return camera;
+  return test_support::pinholeAtOrigin(position, size);
 }
 
-// The closed bunny of glmark2-data, centred and scaled to a bounding radius of 1.
-const geometry::TriangleMesh& bunny() {
-  static const geometry::TriangleMesh mesh = [] {
-    geometry::TriangleMesh m = geometry::loadMesh(TRANSLUCENT_BUNNY_OBJ);
-    const geometry::Bounds b = m.bounds();
-    m.transform(1.0 / b.radius(), -b.center() / b.radius());
-    return m;
-  }();
-  return mesh;
-}
+const geometry::TriangleMesh& bunny() { return test_support::unitBunny(); }
 
 // Mean z² within 6 of its standard deviations sqrt(2/N) of 1 and no value beyond the
 // Bonferroni-corrected 1% threshold, over at least `minValues` pixel values; and per channel the
@@ -140,10 +120,7 @@ void expectGpuMatchesCpu(const geometry::TriangleMesh& mesh, const Medium& m,
 
 TEST_F(CameraGpu, SphereUnderASunAPointLightAndABeamMatchesTheCpu) {
   const auto mesh = geometry::makeIcosphere(3);
-  const std::vector<Light> lights = {
-      Light{DirectionalLight{glm::normalize(glm::dvec3(0.4, 0.3, 1.0)), 1.0}, {1.0, 0.9, 0.8}},
-      Light{PointLight{{1.2, 1.5, 1.4}, 1.5}, {0.8, 0.8, 1.0}},
-      Light{BeamLight{{-0.3, 0.2, 3.0}, {0.0, 0.0, -1.0}, 0.4, 0.4}, {1.0, 1.0, 1.0}}};
+  const std::vector<Light> lights = test_support::threeLightTypes();
   expectGpuMatchesCpu(mesh, medium({0.5, 1.0, 2.0}, {4.0, 4.0, 4.0}, 0.2), lights,
                       cameraAt({0.0, 0.5, 3.5}, 10), {}, 64, 150);
 }
@@ -248,10 +225,7 @@ TEST_F(CameraGpu, RefractiveSphereUnderASunAPointLightAndABeamMatchesTheCpu) {
   const auto mesh = geometry::makeIcosphere(3);
   Medium m = medium({0.5, 1.0, 2.0}, {4.0, 4.0, 4.0}, 0.2);
   m.eta = 1.3;
-  const std::vector<Light> lights = {
-      Light{DirectionalLight{glm::normalize(glm::dvec3(0.4, 0.3, 1.0)), 1.0}, {1.0, 0.9, 0.8}},
-      Light{PointLight{{1.2, 1.5, 1.4}, 1.5}, {0.8, 0.8, 1.0}},
-      Light{BeamLight{{-0.3, 0.2, 3.0}, {0.0, 0.0, -1.0}, 0.4, 0.4}, {1.0, 1.0, 1.0}}};
+  const std::vector<Light> lights = test_support::threeLightTypes();
   CameraPathOptions o;
   o.cone_half_angle = 0.0;
   expectGpuMatchesCpu(mesh, m, lights, cameraAt({0.0, 0.5, 3.5}, 10), o, 96, 150);

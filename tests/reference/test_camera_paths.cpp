@@ -438,22 +438,9 @@ TEST(CameraPaths, PointLightMatchesTheClosedFormsOfUnscatteredAndSingleScattered
 // and so are pixels darker than `darkFraction` times the image mean (see the point-light test).
 // An index-matched medium (η = 1, coefficients per scene unit) and a pinhole camera of 10×10
 // pixels looking at the origin: the sphere scenes below.
-Medium indexMatched(const Rgb& sigma_a, const Rgb& sigma_s, double g) {
-  Medium m;
-  m.sigma_a = sigma_a;
-  m.sigma_s = sigma_s;
-  m.g = g;
-  m.eta = 1.0;
-  m.scale = 1.0;
-  return m;
-}
+using test_support::indexMatched;
 Camera sphereCamera(const glm::dvec3& position) {
-  Camera camera;
-  camera.position = position;
-  camera.look_at = {0.0, 0.0, 0.0};
-  camera.fov = 40.0;
-  camera.width = camera.height = 10;
-  return camera;
+  return test_support::pinholeAtOrigin(position, 10);
 }
 
 void expectMethodsAgree(const CameraImages& cam, const CameraImages& light, int channels,
@@ -807,10 +794,7 @@ TEST(CameraPaths, AgreesWithTheLightMethodThroughARefractiveBoundary) {
   const auto mesh = geometry::makeIcosphere(3);
   Medium m = indexMatched({0.5, 1.0, 2.0}, {4.0, 4.0, 4.0}, 0.2);
   m.eta = 1.3;
-  const std::vector<Light> lights = {
-      Light{DirectionalLight{glm::normalize(glm::dvec3(0.4, 0.3, 1.0)), 1.0}, {1.0, 0.9, 0.8}},
-      Light{PointLight{{1.2, 1.5, 1.4}, 1.5}, {0.8, 0.8, 1.0}},
-      Light{BeamLight{{-0.3, 0.2, 3.0}, {0.0, 0.0, -1.0}, 0.4, 0.4}, {1.0, 1.0, 1.0}}};
+  const std::vector<Light> lights = test_support::threeLightTypes();
   const Camera camera = sphereCamera({0.0, 0.5, 3.5});
   TracerOptions lo;
   lo.seed = 52;

@@ -45,16 +45,7 @@ void useGpu(MeshPathTracer& t, const geometry::TriangleMesh& mesh) {
   t.setWalker(makeGpuMeshWalker(gpu::testing::context(), mesh));
 }
 
-// The closed bunny of glmark2-data, centred and scaled to a bounding radius of 1.
-const geometry::TriangleMesh& bunny() {
-  static const geometry::TriangleMesh mesh = [] {
-    geometry::TriangleMesh m = geometry::loadMesh(TRANSLUCENT_BUNNY_OBJ);
-    const geometry::Bounds b = m.bounds();
-    m.transform(1.0 / b.radius(), -b.center() / b.radius());
-    return m;
-  }();
-  return mesh;
-}
+const geometry::TriangleMesh& bunny() { return test_support::unitBunny(); }
 
 using test_support::bonferroniZ;
 using test_support::ZMap;

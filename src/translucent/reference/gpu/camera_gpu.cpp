@@ -220,29 +220,9 @@ class GpuCameraWalker final : public CameraWalker {
       gpu::bindStorage(6, refUints_);
       gpu::bindStorage(5, lightBuffer);
       gpu::bindStorage(10, states_);
-      gpu::bindStorage(11, control_);
-      uint32_t maxWork = 0;
-      uint64_t walks = n;
-      for (unsigned phase = 0, list = 0;; phase = 1, list ^= 1u) {
-        const uint32_t control[2] = {0, 0};
-        gpu::uploadBytes(control_, 0, sizeof(control), control);
-        gpu::bindStorage(12, lists_[list]);
-        gpu::bindStorage(13, lists_[list ^ 1u]);
-        p.set("Phase", phase);
-        p.set("Count", static_cast<unsigned>(walks));
-        gpu::dispatch1D(p, walks);
-        uint32_t got[2];
-        gpu::downloadBytes(control_, 0, sizeof(got), got);
-        maxWork = std::max(maxWork, got[1]);
-        if (got[0] == 0) break;
-        walks = got[0];
-      }
+      const uint32_t maxWork = dispatchSuspendable(p, n, control_, lists_);
       if (limit_.clear(maxWork)) break;
-      if (budget <= 64)
-        throw gpu::GlError(fmt::format(
-            "GPU camera walk: one free flight took {} loop iterations, more than {} ({}'s limit "
-            "of {} per group of {} invocations allows): trace this scene with --device cpu",
-            maxWork, limit_.iterations / limit_.lanes, name_, limit_.iterations, limit_.lanes));
+      if (budget <= 64) throwLoopLimit("GPU camera walk", maxWork, limit_, name_);
       budget /= 2;
     }
     gpu::downloadBytes(outs_, 0, n * sizeof(CameraWalkScore), out.data());

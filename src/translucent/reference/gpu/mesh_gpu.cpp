@@ -177,29 +177,9 @@ class GpuMeshWalker final : public MeshWalker {
       gpu::bindStorage(6, envDirs_);
       volume_.bind(channel);
       gpu::bindStorage(10, states_);
-      gpu::bindStorage(11, control_);
-      uint32_t maxWork = 0;
-      uint64_t walks = n;  // this dispatch's: the batch, then the walks the last one suspended
-      for (unsigned phase = 0, list = 0;; phase = 1, list ^= 1u) {
-        const uint32_t control[2] = {0, 0};
-        gpu::uploadBytes(control_, 0, sizeof(control), control);
-        gpu::bindStorage(12, lists_[list]);
-        gpu::bindStorage(13, lists_[list ^ 1u]);
-        p.set("Phase", phase);
-        p.set("Count", static_cast<unsigned>(walks));
-        gpu::dispatch1D(p, walks);
-        uint32_t got[2];
-        gpu::downloadBytes(control_, 0, sizeof(got), got);
-        maxWork = std::max(maxWork, got[1]);
-        if (got[0] == 0) break;
-        walks = got[0];
-      }
+      const uint32_t maxWork = dispatchSuspendable(p, n, control_, lists_);
       if (!limit_.clear(maxWork)) {
-        if (budget <= 64)
-          throw gpu::GlError(fmt::format(
-              "GPU mesh walk: one free flight took {} loop iterations, more than {} ({}'s limit "
-              "of {} per group of {} invocations allows): trace this scene with --device cpu",
-              maxWork, limit_.iterations / limit_.lanes, name_, limit_.iterations, limit_.lanes));
+        if (budget <= 64) throwLoopLimit("GPU mesh walk", maxWork, limit_, name_);
         budget /= 2;
         continue;
       }

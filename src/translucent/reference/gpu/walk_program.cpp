@@ -54,4 +54,33 @@ void throwCutWalk(const std::string& walker) {
       walker, reinterpret_cast<const char*>(glGetString(GL_RENDERER)), loopLimit().iterations));
 }
 
+uint32_t dispatchSuspendable(const gpu::ShaderProgram& p, uint64_t count,
+                             const gpu::Buffer& control, const gpu::Buffer (&lists)[2]) {
+  gpu::bindStorage(11, control);
+  uint32_t maxWork = 0;
+  uint64_t walks = count;  // this dispatch's: the batch, then the walks the last one suspended
+  for (unsigned phase = 0, list = 0;; phase = 1, list ^= 1u) {
+    const uint32_t zero[2] = {0, 0};
+    gpu::uploadBytes(control, 0, sizeof(zero), zero);
+    gpu::bindStorage(12, lists[list]);
+    gpu::bindStorage(13, lists[list ^ 1u]);
+    p.set("Phase", phase);
+    p.set("Count", static_cast<unsigned>(walks));
+    gpu::dispatch1D(p, walks);
+    uint32_t got[2];
+    gpu::downloadBytes(control, 0, sizeof(got), got);
+    maxWork = std::max(maxWork, got[1]);
+    if (got[0] == 0) return maxWork;
+    walks = got[0];
+  }
+}
+
+void throwLoopLimit(const std::string& walk, uint32_t maxWork, const LoopLimit& limit,
+                    const std::string& renderer) {
+  throw gpu::GlError(fmt::format(
+      "{}: one free flight took {} loop iterations, more than {} ({}'s limit of {} per group of "
+      "{} invocations allows): trace this scene with --device cpu",
+      walk, maxWork, limit.iterations / limit.lanes, renderer, limit.iterations, limit.lanes));
+}
+
 }  // namespace translucent::reference::gpu_walk

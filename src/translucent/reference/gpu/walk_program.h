@@ -42,4 +42,18 @@ using gpu::loopLimit;
 // renderer and the way out.
 [[noreturn]] void throwCutWalk(const std::string& walker);
 
+// The dispatches of one batch of walks that suspend and resume (mesh_walk.comp,
+// camera_walk.comp, "Suspension"): Phase 0 over `count` walks, then Phase 1 over the walks the
+// last dispatch suspended, until none is left. `control` (binding 11) holds the suspended count
+// and the largest loop count of an invocation, `lists` (bindings 12 and 13, swapped between
+// dispatches) the suspended walks; the other bindings and uniforms are the caller's. Returns the
+// largest loop count any invocation reported.
+uint32_t dispatchSuspendable(const gpu::ShaderProgram& p, uint64_t count,
+                             const gpu::Buffer& control, const gpu::Buffer (&lists)[2]);
+
+// The error for a batch whose single free flight needs more loop iterations than the driver's
+// limit allows (`walk`: "GPU mesh walk", "GPU camera walk"): names the renderer and the way out.
+[[noreturn]] void throwLoopLimit(const std::string& walk, uint32_t maxWork, const LoopLimit& limit,
+                                 const std::string& renderer);
+
 }  // namespace translucent::reference::gpu_walk
