@@ -1164,11 +1164,13 @@ CameraPathStats CameraPathTracer::addPass(uint64_t samples, const ProgressCallba
     tick = [&](uint64_t rows, double seconds) {
       return progress(TraceProgress{rows * perRow, total, seconds});
     };
-  // On a device (walker_): rows in batches of about kDeviceBatch samples, each row's sums as the
-  // CPU's rows give them (the per-sample scores in the same order), merged when all its samples
-  // of every channel are in; a stop between batches keeps the rows merged so far.
+  // On a device (walker_): rows in batches of samples, each row's sums as the CPU's rows give
+  // them (the per-sample scores in the same order), merged when all its samples of every channel
+  // are in; a stop between batches keeps the rows merged so far. A batch starts at 2^12 samples
+  // and doubles to 2^16 while one takes under 0.1 s, so that a slow device (llvmpipe) still
+  // answers a stop within a fraction of a second.
   auto onDevice = [&]() {
-    constexpr uint64_t kDeviceBatch = uint64_t{1} << 16;
+    uint64_t budget = uint64_t{1} << 12;
     detail::BlockRun r;
     r.threads = 1;
     const auto start = std::chrono::steady_clock::now();
@@ -1176,19 +1178,18 @@ CameraPathStats CameraPathTracer::addPass(uint64_t samples, const ProgressCallba
       return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     };
     const uint64_t perRowSamples = static_cast<uint64_t>(w) * samples;
-    const uint64_t rowsPerBatch = std::max<uint64_t>(1, kDeviceBatch / perRowSamples);
-    const uint64_t chunk = std::min<uint64_t>(samples, std::max<uint64_t>(1, kDeviceBatch / static_cast<uint64_t>(w)));
     std::vector<CameraWalkSample> batch;
     std::vector<CameraWalkScore> scores;
-    for (uint64_t j0 = 0; j0 < static_cast<uint64_t>(h) && !r.stopped; j0 += rowsPerBatch) {
-      const uint64_t j1 = std::min<uint64_t>(static_cast<uint64_t>(h), j0 + rowsPerBatch);
+    for (uint64_t j0 = 0, j1 = 0; j0 < static_cast<uint64_t>(h) && !r.stopped; j0 = j1) {
+      j1 = std::min<uint64_t>(static_cast<uint64_t>(h), j0 + std::max<uint64_t>(1, budget / perRowSamples));
       std::vector<Row> rows(j1 - j0);
       for (Row& row : rows) {
         row.s.assign(static_cast<size_t>(w) * nc * 12, 0.0);
         row.s2.assign(row.s.size(), 0.0);
       }
-      for (uint64_t s0 = 0; s0 < samples && !r.stopped; s0 += chunk) {
-        const uint64_t s1 = std::min(samples, s0 + chunk);
+      for (uint64_t s0 = 0, s1 = 0; s0 < samples && !r.stopped; s0 = s1) {
+        s1 = std::min(samples, s0 + std::max<uint64_t>(1, budget / (static_cast<uint64_t>(w) * (j1 - j0))));
+        const double began = seconds();
         batch.clear();
         for (uint64_t j = j0; j < j1; ++j)
           for (int i = 0; i < w; ++i) {
@@ -1256,6 +1257,7 @@ CameraPathStats CameraPathTracer::addPass(uint64_t samples, const ProgressCallba
                                       total, seconds()}))
             r.stopped = true;
         }
+        if (seconds() - began < 0.1 && budget < (uint64_t{1} << 16)) budget *= 2;
       }
       if (r.stopped) break;
       for (uint64_t j = j0; j < j1; ++j) merge(j, rows[j - j0]);
