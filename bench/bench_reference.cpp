@@ -28,7 +28,7 @@
 // included), shadow rays (the connections found) per path, and the tracer's set-up (the BVH, at
 // η = 1.3 the outward normals and the refracted grid) in setup_ms; pixel samples (all three
 // channels) per second. bunny_camera/gpu_*: the same through the GPU camera walk
-// (reference/gpu/camera_gpu.h; the light-traced complement on the CPU).
+// (reference/gpu/camera_gpu.h; the light-traced complement in the light method's GPU walk).
 //
 // Run: build/release/bin/bench_reference [--benchmark_filter=mcml_slab]
 #include <benchmark/benchmark.h>
@@ -309,7 +309,9 @@ void BM_BunnyCamera(benchmark::State& state, double eta, bool point, bool gpu) {
     o.exitance = false;
     const auto t0 = std::chrono::steady_clock::now();
     reference::CameraPathTracer t(mesh, medium, {light}, cam, o);
-    if (gpu) t.setWalker(reference::makeGpuCameraWalker(gpuContext(), mesh));
+    if (gpu)
+      t.setWalker(reference::makeGpuCameraWalker(gpuContext(), mesh),
+                  t.hasComplement() ? reference::makeGpuMeshWalker(gpuContext(), mesh) : nullptr);
     build += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const reference::CameraPathStats st = t.addPass(16);
     seconds += st.seconds;  // the paths and the complement's photons

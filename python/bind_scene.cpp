@@ -335,8 +335,7 @@ Photon tracing in the scene's closed triangle mesh under its lights, seen by its
 scene: a translucent.Scene or a scene file name. method: "light" (photons from the lights,
 `photons` per channel per pass, default 1e6) or "camera" (paths from the camera with next-event
 estimation, `samples` per pixel and channel per pass, default 64: `pathtrace mesh --method
-camera`; its "cone_radiance" is the true radiance, cone half-angle 0; on the GPU its
-light-traced complement at eta != 1 stays on the CPU). passes
+camera`; its "cone_radiance" is the true radiance, cone half-angle 0). passes
 (accumulated), seed, threads (0: all cores): the same seed gives the same images on any thread
 count. time: the deformations' time (the scene's when None). time_limit [s]: stop then,
 "partial": True. device: "cpu", "gpu" (the GL compute-shader walk against a BVH; homogeneous

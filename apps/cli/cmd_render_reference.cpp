@@ -836,7 +836,7 @@ void addRenderReferenceCommands(CLI::App& app) {
     cmd->add_option("--device", *device,
                     "cpu: the CPU tracer (Embree); gpu: the GL compute-shader walk against a BVH "
                     "of the mesh (homogeneous media and 3D fields, deformed or not; with "
-                    "--method camera: the complement at eta != 1 on the CPU; Philox streams: "
+                    "--method camera too; Philox streams: "
                     "agrees with the "
                     "CPU within the standard errors, not bit for bit); "
                     "auto: the GPU on a hardware GPU where it can trace the scene, else the CPU "

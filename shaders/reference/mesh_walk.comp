@@ -91,7 +91,8 @@ struct WalkState {
   uint flags;  // kAlive: suspended, to be resumed; kOnSurface: the next ray starts on the boundary
   uint counter, used, scatters, exits;
 };
-const uint kAlive = 1u, kOnSurface = 2u;
+// kSpecular: the photon met the boundary (reflected or re-entered) before its first scattering.
+const uint kAlive = 1u, kOnSurface = 2u, kSpecular = 4u;
 layout(std430, binding = 10) buffer States { WalkState states[]; };
 // [0]: walks suspended by this dispatch; [1]: the largest gWork of an invocation.
 layout(std430, binding = 11) buffer Control { uint control[]; };
@@ -110,6 +111,9 @@ uniform float InvSigmaT, G, Epsilon;
 uniform uvec2 AbsorbThreshold;  // (high, low): absorbed when a 64-bit word < threshold
 uniform uint LongPath;
 uniform uint Phase;       // 0: emit and walk Count photons; 1: resume the Count of ResumeList
+// TransportOptions::after_specular_only (the camera method's complement): a photon that scatters
+// or leaves before it meets the boundary again is scored nowhere (transport_impl.h: crossCounted).
+uniform bool AfterSpecularOnly;
 uniform uint WorkBudget;  // loop iterations after which a walk suspends at its next free flight
 
 const uint kSurviveThreshold = 429496730u;  // walk.h: keep with probability 1/10 ...
@@ -130,6 +134,7 @@ float uniformFloat() { return unitFromBits(nextWord()); }
 
 double gEntered = 0.0lf, gExited = 0.0lf, gEscaped = 0.0lf;
 uint gScatters = 0u, gExits = 0u;
+bool gSpecular = false;  // kSpecular
 uint gIndex;
 
 void recordExit(dvec3 x, vec3 n, vec3 d, double w) {
@@ -180,14 +185,18 @@ uint crossBoundary(inout dvec3 x, inout vec3 d, vec3 n, double w) {
   const float F = Matched ? 0.0 : fresnelReflectanceFloat(max(cosIn, 0.0), etaOut);
   if (F > 0.0 && uniformFloat() < F) {
     d = normalize(d - 2.0 * cosIn * outward);
+    if (gScatters == 0u) gSpecular = true;
     return 0u;
   }
   const vec3 dOut =
       Matched ? d : refractDir(d, outward, Eta, refractedCosineFloat(max(cosIn, 0.0), etaOut));
-  recordExit(x, outward, dOut, w);
+  if (!(AfterSpecularOnly && gScatters == 0u && !gSpecular)) recordExit(x, outward, dOut, w);
   d = dOut;
   bool mirrored = false;
-  if (reenter(x, d, mirrored)) return 1u;
+  if (reenter(x, d, mirrored)) {
+    if (gScatters == 0u) gSpecular = true;
+    return 1u;
+  }
   gEscaped = w;
   return 2u;
 }
@@ -219,7 +228,7 @@ void suspend(dvec3 x, vec3 d, double w, bool onSurface) {
   st.dx = d.x;
   st.dy = d.y;
   st.dz = d.z;
-  st.flags = kAlive | (onSurface ? kOnSurface : 0u);
+  st.flags = kAlive | (onSurface ? kOnSurface : 0u) | (gSpecular ? kSpecular : 0u);
   st.counter = gCounter;
   st.used = gUsed;
   st.scatters = gScatters;
@@ -247,6 +256,7 @@ bool walk(dvec3 x, vec3 d, double w, bool onSurface) {
       if (!collided) break;  // lost
       x += double(tc) * dvec3(d);
       onSurface = false;
+      if (AfterSpecularOnly && gScatters == 0u && !gSpecular) break;
       // Absorption with the local albedo, at 2^-32 (the local coefficients are floats).
       if (double(nextWord()) * (1.0lf / 4294967296.0lf) * double(gLocalSigmaT) <
           double(gLocalA[Channel] * CoefficientScale))
@@ -287,6 +297,7 @@ bool walk(dvec3 x, vec3 d, double w, bool onSurface) {
       }
     }
     if (escaped) break;
+    if (AfterSpecularOnly && gScatters == 0u && !gSpecular) break;
     // Analog absorption (line 15) to 2^-64, then Henyey-Greenstein scattering (line 16).
     const uint hiWord = nextWord();
     if (hiWord <= AbsorbThreshold.x) {
@@ -317,6 +328,7 @@ void main() {
     gExited = st.exited;
     gEscaped = st.escaped;
     gScatters = st.scatters;
+    gSpecular = (st.flags & kSpecular) != 0u;
     gExits = st.exits;
     gCounter = st.counter;
     gUsed = st.used;

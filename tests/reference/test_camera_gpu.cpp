@@ -27,6 +27,7 @@
 #include "translucent/reference/camera_paths.h"
 #include "translucent/reference/gpu/camera_gpu.h"
 #include "translucent/reference/gpu/device.h"
+#include "translucent/reference/gpu/mesh_gpu.h"
 
 namespace translucent::reference {
 namespace {
@@ -39,6 +40,13 @@ using test_support::zmap;
 using test_support::meanAndError;
 
 class CameraGpu : public GpuTest {};
+
+// The GPU camera walk on `t`, and at η ≠ 1 its light-traced complement in the light method's GPU
+// walk (as useDevice does).
+void useGpu(CameraPathTracer& t, const geometry::TriangleMesh& mesh) {
+  t.setWalker(makeGpuCameraWalker(gpu::testing::context(), mesh),
+              t.hasComplement() ? makeGpuMeshWalker(gpu::testing::context(), mesh) : nullptr);
+}
 
 material::Material volume(std::shared_ptr<const material::VolumeField> field) {
   material::Material m;
@@ -109,7 +117,7 @@ void expectGpuMatchesCpu(const geometry::TriangleMesh& mesh, const Medium& m,
   cpu.addPass(samples);
   o.seed = 4;
   CameraPathTracer gpu(mesh, m, lights, camera, o);
-  gpu.setWalker(makeGpuCameraWalker(gpu::testing::context(), mesh));
+  useGpu(gpu, mesh);
   EXPECT_NE(gpu.device().find("gpu ("), std::string::npos) << gpu.device();
   gpu.addPass(samples);
   EXPECT_EQ(gpu.stats().samples, samples);
@@ -152,7 +160,7 @@ TEST_F(CameraGpu, LongPathsAreSuspendedAndResumedNotCutShort) {
   CameraPathTracer cpu(cube, m, lights, camera, o);
   o.seed = 6;
   CameraPathTracer gpu(cube, m, lights, camera, o);
-  gpu.setWalker(makeGpuCameraWalker(gpu::testing::context(), cube));
+  useGpu(gpu, cube);
   std::vector<double> g, c;
   for (int p = 0; p < 8; ++p) {
     const CameraPathStats a = gpu.addPass(4), b = cpu.addPass(4);
@@ -209,7 +217,7 @@ TEST_F(CameraGpu, HeterogeneousSphereMatchesTheCpu) {
     cpu.addPass(samples);
     o.seed = 9;
     CameraPathTracer gpu(mesh, mat, lights, camera, o);
-    gpu.setWalker(makeGpuCameraWalker(gpu::testing::context(), mesh));
+    useGpu(gpu, mesh);
     gpu.addPass(samples);
     expectImagesAgree(gpu, cpu, 100);
     EXPECT_EQ(gpu.majorantViolations(), 0u);
@@ -219,8 +227,8 @@ TEST_F(CameraGpu, HeterogeneousSphereMatchesTheCpu) {
 // Through a refractive boundary (η = 1.3): the camera rays refracted in with Ft / η², Fresnel
 // reflection or refraction wherever a path meets the boundary, the refracted connections of every
 // facet to every light searched on the device (a sun, a point light by the Fermat solve, a beam),
-// the unscattered light refracted out at the visible point; the CPU's light-traced complement
-// added to both.
+// the unscattered light refracted out at the visible point; the light-traced complement in the
+// light method's GPU walk (TracerOptions::after_specular_only) against the CPU's.
 TEST_F(CameraGpu, RefractiveSphereUnderASunAPointLightAndABeamMatchesTheCpu) {
   const auto mesh = geometry::makeIcosphere(3);
   Medium m = medium({0.5, 1.0, 2.0}, {4.0, 4.0, 4.0}, 0.2);
@@ -262,7 +270,7 @@ TEST_F(CameraGpu, PointLightThroughAThinRefractivePlateMatchesTheCpuPerOrder) {
   cpu.addPass(128);
   o.seed = 22;
   CameraPathTracer gpu(plate, m, lights, camera, o);
-  gpu.setWalker(makeGpuCameraWalker(gpu::testing::context(), plate));
+  useGpu(gpu, plate);
   gpu.addPass(128);
   for (const ScatteringOrder k : {ScatteringOrder::Unscattered, ScatteringOrder::Single}) {
     const std::string name = k == ScatteringOrder::Single ? "single-scattered" : "unscattered";
@@ -307,7 +315,7 @@ TEST_F(CameraGpu, SunOnARefractiveHalfSpaceGivesTheClosedFormSingleScattering) {
   o.exitance = false;
   o.complement_photons = 0;  // a flat top: no light meets the boundary again before it scatters
   CameraPathTracer t(box, m, {Light{DirectionalLight{sun, 1.5}, {1.0, 1.0, 1.0}}}, camera, o);
-  t.setWalker(makeGpuCameraWalker(gpu::testing::context(), box));
+  useGpu(t, box);
   t.addPass(512);
   const McImage& single = t.orderImages(ScatteringOrder::Single).cone_radiance;
   const double bound = bonferroniZ(64, 0.01);
@@ -338,7 +346,7 @@ TEST_F(CameraGpu, SameSeedSameImagesWhateverThePassSplit) {
     CameraPathOptions o;
     o.seed = 17;
     CameraPathTracer t(cube, m, lights, camera, o);
-    t.setWalker(makeGpuCameraWalker(gpu::testing::context(), cube));
+    useGpu(t, cube);
     if (run < 2) {
       t.addPass(16);
     } else {

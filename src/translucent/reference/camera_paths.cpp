@@ -969,6 +969,12 @@ void CameraPathTracer::sampleRay(int i, int j, uint64_t s, uint32_t shiftX, uint
   }
 }
 
+void CameraPathTracer::setWalker(std::shared_ptr<CameraWalker> walker,
+                                 std::shared_ptr<MeshWalker> complement) {
+  walker_ = std::move(walker);
+  if (complement_) complement_->setWalker(std::move(complement));
+}
+
 const CameraImages& CameraPathTracer::orderImages(ScatteringOrder order) const {
   if (!orders_) throw std::logic_error("camera paths: the images are not split by order");
   return complement_ ? combinedOrders_[static_cast<size_t>(order)] : (*orders_)[static_cast<size_t>(order)];

@@ -151,7 +151,8 @@ struct CameraPathStats {
 // A device that traces the camera method's paths (reference/gpu/camera_gpu.h: the GL walk of
 // shaders/reference/camera_walk.comp): the paths through a homogeneous medium or a 3D field
 // under every kind of light, index-matched or through a refractive boundary (its refracted
-// connections, RefractedLight, on the device; the light-traced complement stays the CPU's). The
+// connections, RefractedLight, on the device; the light-traced complement in the light method's
+// walker given with it). The
 // tracer draws every sample's camera ray (as its own walk does) and scores what comes back.
 struct CameraWalkSample {
   float origin[3];
@@ -232,9 +233,12 @@ class CameraPathTracer {
   const VolumeMedium* volume() const { return volume_ ? &*volume_ : nullptr; }
   uint64_t majorantViolations() const { return volume_ ? volume_->majorantViolations() : 0; }
 
-  // Trace the paths with `walker` (a device's) rather than on the CPU's threads (a device may
-  // refuse a 3D field it cannot evaluate: device.h, useDevice).
-  void setWalker(std::shared_ptr<CameraWalker> walker) { walker_ = std::move(walker); }
+  // Trace the paths with `walker` (a device's) rather than on the CPU's threads, and at η ≠ 1 the
+  // light-traced complement's photons with `complement` (the light method's walker; null: on the
+  // CPU). A device may refuse a 3D field it cannot evaluate (device.h, useDevice).
+  void setWalker(std::shared_ptr<CameraWalker> walker,
+                 std::shared_ptr<MeshWalker> complement = nullptr);
+  bool hasComplement() const { return complement_ != nullptr; }
   // What traces the paths: "cpu", or the walker's name.
   std::string device() const { return walker_ ? walker_->name() : "cpu"; }
 

@@ -145,22 +145,6 @@ TransportStats MeshPathTracer::addBlocks(uint64_t first, uint64_t blocks,
   return pass;
 }
 
-std::string MeshPathTracer::walkerRefusal() const {
-  // Everything the tracer holds can be walked on the GPU (deformed fields too: common/deform.glsl
-  // undoes the deformation); which fields the GPU evaluates is the GPU layer's to say
-  // (reference/gpu/device.h: meshGpuRefusal).
-  if (options_.after_specular_only)
-    return "the walk that scores only light met by the boundary before its first scattering "
-           "(the camera method's complement) is traced on the CPU";
-  return "";
-}
-
-void MeshPathTracer::setWalker(std::shared_ptr<MeshWalker> walker) {
-  if (const std::string why = walkerRefusal(); walker && !why.empty())
-    throw ParameterError("--device gpu: " + why);
-  walker_ = std::move(walker);
-}
-
 MeshWalkSetup MeshPathTracer::walkSetup() const {
   MeshWalkSetup s;
   s.lights = lights_;
@@ -170,6 +154,7 @@ MeshWalkSetup MeshPathTracer::walkSetup() const {
   s.seed = options_.seed;
   s.long_path_roulette = options_.long_path_roulette;
   s.volume = volume_ ? &*volume_ : nullptr;
+  s.after_specular_only = options_.after_specular_only;
   return s;
 }
 

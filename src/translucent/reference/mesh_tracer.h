@@ -79,6 +79,7 @@ struct MeshWalkSetup {
   uint64_t long_path_roulette = 0;  // 0: off
   // A heterogeneous medium filling the body (the tracer's; it outlives the setup), else null.
   const VolumeMedium* volume = nullptr;
+  bool after_specular_only = false;  // TransportOptions::after_specular_only
 };
 
 using MeshWalker = PhotonWalker<MeshWalkSetup>;
@@ -124,12 +125,10 @@ class MeshPathTracer {
     return mergedMajorantViolations_ + (volume_ ? volume_->majorantViolations() : 0);
   }
   const CameraModel& camera() const { return tally_->camera(); }
-  // From now on, trace with `walker` (made for this tracer's mesh; null: the CPU again).
-  // ParameterError when the walker cannot trace this run (walkerRefusal; which 3D fields the GPU
-  // evaluates, reference/gpu/device.h says).
-  void setWalker(std::shared_ptr<MeshWalker> walker);
-  // Why a walker cannot trace this run ("" when it can), as setWalker's message says it.
-  std::string walkerRefusal() const;
+  // From now on, trace with `walker` (made for this tracer's mesh; null: the CPU again). Every run
+  // the tracer holds can be walked on the GPU; which 3D fields the GPU evaluates,
+  // reference/gpu/device.h says (meshGpuRefusal).
+  void setWalker(std::shared_ptr<MeshWalker> walker) { walker_ = std::move(walker); }
   std::string device() const { return walker_ ? walker_->name() : "cpu"; }
   MeshWalkSetup walkSetup() const;
 

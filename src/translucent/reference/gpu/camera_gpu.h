@@ -7,7 +7,8 @@
 // and agree with the CPU's camera method within the standard errors. A homogeneous medium or a 3D
 // field of fields.glsl under directional, point, beam and environment lights, index-matched or
 // through a refractive boundary (the refracted connections of RefractedLight searched on the
-// device, the light-traced complement the CPU's); device.h's useDevice refuses a field without
+// device; device.h's useDevice gives the light-traced complement the light method's GPU walker);
+// useDevice refuses a field without
 // a GLSL twin.
 #pragma once
 

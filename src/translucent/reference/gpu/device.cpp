@@ -56,7 +56,6 @@ void useDevice(const TraceDevice& device, SpherePathTracer& tracer) {
 }
 
 std::string meshGpuRefusal(const MeshPathTracer& tracer) {
-  if (std::string why = tracer.walkerRefusal(); !why.empty()) return why;
   const VolumeMedium* v = tracer.volume();
   if (!v) return "";
   return gpu_field::refusal(*v->field);
@@ -82,7 +81,9 @@ void useDevice(const TraceDevice& device, const std::string& choice, CameraPathT
     if (choice == "auto") return;
     throw ParameterError(fmt::format("{} gpu: {}", option, why));
   }
-  tracer.setWalker(makeGpuCameraWalker(*device.context, mesh, what));
+  // The light-traced complement at η ≠ 1 in the light method's GPU walk too.
+  tracer.setWalker(makeGpuCameraWalker(*device.context, mesh, what),
+                   tracer.hasComplement() ? makeGpuMeshWalker(*device.context, mesh, what) : nullptr);
 }
 
 SlabResult traceSlab(const TraceDevice& device, const SlabSetup& setup, const TraceOptions& options,

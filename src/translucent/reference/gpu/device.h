@@ -32,11 +32,10 @@ TraceDevice openTraceDevice(const std::string& choice, const std::string& option
 // The device's walker on a tracer (nothing on the CPU): what every front end (CLI, Python,
 // compare, the explorer) calls after opening the device and before tracing. The context must
 // outlive the tracer. A mesh: with `choice` "auto" only where the GPU walk can trace the run
-// (MeshPathTracer::walkerRefusal), so auto keeps the CPU for the rest; with "gpu" a run it
-// cannot trace is a ParameterError "<option> gpu: <why>".
+// (meshGpuRefusal), so auto keeps the CPU for the rest; with "gpu" a run it cannot trace is a
+// ParameterError "<option> gpu: <why>".
 void useDevice(const TraceDevice& device, SpherePathTracer& tracer);
-// Why the GPU walk cannot trace this mesh run ("" when it can): the tracer's own refusal
-// (MeshPathTracer::walkerRefusal: lights, deformation) or a 3D field fields.glsl lacks.
+// Why the GPU walk cannot trace this mesh run ("" when it can): a 3D field fields.glsl lacks.
 std::string meshGpuRefusal(const MeshPathTracer& tracer);
 void useDevice(const TraceDevice& device, const std::string& choice, MeshPathTracer& tracer,
                const geometry::TriangleMesh& mesh, const std::string& what,

@@ -140,6 +140,7 @@ class GpuMeshWalker final : public MeshWalker {
     p.set("LightCount", static_cast<unsigned>(lights.size()));
     setDouble(p, "Flux", ch.flux);
     p.set("Matched", ch.eta == 1.0);
+    p.set("AfterSpecularOnly", setup.after_specular_only);
     p.set("Eta", static_cast<float>(ch.eta));
     p.set("Epsilon", static_cast<float>(setup.epsilon));
     volume_.set(p, setup.volume, channel);
