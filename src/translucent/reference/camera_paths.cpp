@@ -896,6 +896,7 @@ void CameraPathTracer::combine() {
 void CameraPathTracer::init(const geometry::TriangleMesh& mesh) {
   static std::atomic<uint64_t> tracers{0};
   id_ = ++tracers;
+  forward_ = glm::normalize(camera_.camera().look_at - camera_.camera().position);
   options_.validate();
   if (lights_.empty()) throw ParameterError("camera paths: no lights: expected at least one");
   for (size_t i = 0; i < lights_.size(); ++i)
@@ -954,18 +955,33 @@ void CameraPathTracer::init(const geometry::TriangleMesh& mesh) {
   rowSamples_.assign(static_cast<size_t>(cam.height), 0);
 }
 
-void CameraPathTracer::sampleRay(int i, int j, uint64_t s, uint32_t shiftX, uint32_t shiftY,
-                                 glm::dvec3& origin, glm::dvec3& dir, double& weight) const {
+CameraPathTracer::PixelSequence CameraPathTracer::pixelSequence(int i, int j,
+                                                               uint64_t seedKey) const {
+  const Camera& cam = camera_.camera();
+  PixelSequence p;
+  p.i = i;
+  p.j = j;
+  const uint64_t pixel = static_cast<uint64_t>(j) * static_cast<uint64_t>(cam.width) + static_cast<uint64_t>(i);
+  Rng shiftRng(seedKey, (uint64_t{1} << 63) | pixel);
+  p.shiftX = shiftRng.next();
+  p.shiftY = shiftRng.next();
+  if (cam.projection == Camera::Projection::Pinhole)
+    p.filter = camera_.pixelSize() * camera_.pixelSize() / camera_.pixelMeasure(i, j);
+  return p;
+}
+
+void CameraPathTracer::sampleRay(const PixelSequence& p, uint64_t s, glm::dvec3& origin,
+                                 glm::dvec3& dir, double& weight) const {
   const Camera& cam = camera_.camera();
   const auto si = static_cast<uint32_t>(s);
-  camera_.ray(i + shifted(vanDerCorput(si), shiftX),
-              static_cast<double>(j) + shifted(sobolSecond(si), shiftY), origin, dir);
-  // The box filter over the pixel's solid angle (pinhole) or area (orthographic).
+  camera_.ray(p.i + shifted(vanDerCorput(si), p.shiftX),
+              static_cast<double>(p.j) + shifted(sobolSecond(si), p.shiftY), origin, dir);
+  // The box filter over the pixel's solid angle (pinhole: dΩ = cos³θ dA on the plane at
+  // distance 1) or area (orthographic).
   weight = 1.0;
   if (cam.projection == Camera::Projection::Pinhole) {
-    const double cosT = glm::dot(dir, glm::normalize(cam.look_at - cam.position));
-    weight = cosT * cosT * cosT * camera_.pixelSize() * camera_.pixelSize() /
-             camera_.pixelMeasure(i, j);
+    const double cosT = glm::dot(dir, forward_);
+    weight = cosT * cosT * cosT * p.filter;
   }
 }
 
@@ -1023,8 +1039,7 @@ CameraPathStats CameraPathTracer::addPass(uint64_t samples, const ProgressCallba
     for (int i = 0; i < w; ++i) {
       if (stop.load(std::memory_order_relaxed)) return false;
       const uint64_t pixel = j * static_cast<uint64_t>(w) + static_cast<uint64_t>(i);
-      Rng shiftRng(seedKey, (uint64_t{1} << 63) | pixel);
-      const uint32_t sx = shiftRng.next(), sy = shiftRng.next();
+      const PixelSequence seq = pixelSequence(i, static_cast<int>(j), seedKey);
       // Separate: one walk per channel (its own random stream); joint: one walk for all three
       // (RgbPaths), on the stream of channel 0.
       const size_t groups = joint ? 1 : nc;
@@ -1034,7 +1049,7 @@ CameraPathStats CameraPathTracer::addPass(uint64_t samples, const ProgressCallba
           Rng rng(seedKey, ((pixel * nc + gi) << 32) + s);
           glm::dvec3 o, d;
           double wPix = 1.0;
-          sampleRay(i, static_cast<int>(j), s, sx, sy, o, d, wPix);
+          sampleRay(seq, s, o, d, wPix);
           std::array<Scores, 3> sc{};  // per channel
           SurfaceHit hit;
           if (body_.intersect(o, d, 0.0, kInf, hit)) {
@@ -1200,12 +1215,11 @@ CameraPathStats CameraPathTracer::addPass(uint64_t samples, const ProgressCallba
         for (uint64_t j = j0; j < j1; ++j)
           for (int i = 0; i < w; ++i) {
             const uint64_t pixel = j * static_cast<uint64_t>(w) + static_cast<uint64_t>(i);
-            Rng shiftRng(seedKey, (uint64_t{1} << 63) | pixel);
-            const uint32_t sx = shiftRng.next(), sy = shiftRng.next();
+            const PixelSequence seq = pixelSequence(i, static_cast<int>(j), seedKey);
             for (uint64_t s = rowSamples_[j] + s0; s < rowSamples_[j] + s1; ++s) {
               glm::dvec3 o, d;
               double wPix = 1.0;
-              sampleRay(i, static_cast<int>(j), s, sx, sy, o, d, wPix);
+              sampleRay(seq, s, o, d, wPix);
               CameraWalkSample smp{};
               for (int a = 0; a < 3; ++a) {
                 smp.origin[a] = static_cast<float>(o[a]);

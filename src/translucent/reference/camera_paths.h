@@ -256,11 +256,21 @@ class CameraPathTracer {
   template <class M>
   void initComplement(const geometry::TriangleMesh& mesh, const M& medium, glm::ivec3 cells = {});
   void combine();  // combined_ from images_ and the complement's
-  // The camera ray of sample s of pixel (i, j) and its box-filter weight (addPass).
-  void sampleRay(int i, int j, uint64_t s, uint32_t shiftX, uint32_t shiftY, glm::dvec3& origin,
-                 glm::dvec3& dir, double& weight) const;
+  // A pixel's sample sequence (addPass): its toroidal shift, drawn from the pixel's own stream,
+  // and its box filter's scale (pinhole: plane area / solid angle of the pixel; orthographic: 1),
+  // once per pixel rather than per sample.
+  struct PixelSequence {
+    int i = 0, j = 0;
+    uint32_t shiftX = 0, shiftY = 0;
+    double filter = 1.0;
+  };
+  PixelSequence pixelSequence(int i, int j, uint64_t seedKey) const;
+  // The camera ray of sample s of the pixel and its box-filter weight.
+  void sampleRay(const PixelSequence& p, uint64_t s, glm::dvec3& origin, glm::dvec3& dir,
+                 double& weight) const;
   std::shared_ptr<CameraWalker> walker_;
   uint64_t id_ = 0;  // unique per tracer in this process (CameraWalkSetup::tracer)
+  glm::dvec3 forward_{0.0, 0.0, -1.0};  // the camera's unit viewing direction
   std::vector<ScalarMedium> channels_;
   std::optional<VolumeMedium> volume_;
   std::vector<Light> lights_;
