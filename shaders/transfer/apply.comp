@@ -4,10 +4,17 @@
 //     B_i = Σ_j K⁰_c[i][j] E_j + K^u_c[i][j] E^u_j + K^v_c[i][j] E^v_j     per channel c,
 // K the path-traced transfer matrices (node areas folded in), E_j the irradiance transmitted into
 // the medium over node j's cell, E^u, E^v its first-order inputs (cells.comp; E^u, E^v only with
-// TX_FIRST_ORDER). One invocation per node.
+// TX_FIRST_ORDER). With TX_SECANT the matrices are the beams' own (K⁰, K(+u), K(-u), K(+v),
+// K(-v)) and each column j is interpolated towards the beam on the side of its light's tilt
+// t = (E^u, E^v) / (E τ0): K⁰ (1 - |t_u| - |t_v|) + K(±u) |t_u| + K(±v) |t_v| (transfer_operator.h,
+// "secant"). One invocation per node.
 layout(local_size_x = 64) in;
 layout(std430, binding = 29) readonly buffer TxNodeIrradiance { vec4 txNodeIrradiance[]; };
-#ifdef TX_FIRST_ORDER
+#ifdef TX_SECANT
+layout(std430, binding = 28) readonly buffer TxTilted { vec4 txTilted[]; };  // E^u, E^v per node
+const uint TX_MATRICES = 5u;
+const float TX_TILT = 0.5;  // transfer::kTilt
+#elif defined(TX_FIRST_ORDER)
 layout(std430, binding = 28) readonly buffer TxTilted { vec4 txTilted[]; };  // E^u, E^v per node
 const uint TX_MATRICES = 3u;
 #else
@@ -24,6 +31,21 @@ void main() {
   uint i = gl_GlobalInvocationID.x;
   if (i >= Nodes) return;
   vec3 sum = vec3(0.0);
+#ifdef TX_SECANT
+  uint N2 = Nodes * Nodes;
+  for (uint j = 0u; j < Nodes; ++j) {
+    vec3 e = txNodeIrradiance[j].xyz;
+    vec3 eu = txTilted[2u * j].xyz, ev = txTilted[2u * j + 1u].xyz;
+    uint mu = (eu.x + eu.y + eu.z) >= 0.0 ? 1u : 2u;
+    uint mv = (ev.x + ev.y + ev.z) >= 0.0 ? 3u : 4u;
+    vec3 wu = abs(eu) / TX_TILT, wv = abs(ev) / TX_TILT;
+    vec3 w0 = e - wu - wv;
+    uint r0 = i * Nodes + j, ru = mu * N2 + r0, rv = mv * N2 + r0;
+    sum += vec3(txMatrixR[r0], txMatrixG[r0], txMatrixB[r0]) * w0 +
+           vec3(txMatrixR[ru], txMatrixG[ru], txMatrixB[ru]) * wu +
+           vec3(txMatrixR[rv], txMatrixG[rv], txMatrixB[rv]) * wv;
+  }
+#else
   for (uint m = 0u; m < TX_MATRICES; ++m) {
     uint row = (m * Nodes + i) * Nodes;
     for (uint j = 0u; j < Nodes; ++j) {
@@ -36,5 +58,6 @@ void main() {
       sum += vec3(txMatrixR[row + j] * e.x, txMatrixG[row + j] * e.y, txMatrixB[row + j] * e.z);
     }
   }
+#endif
   txNodeExitance[i] = vec4(sum, 1.0);
 }

@@ -135,23 +135,6 @@ TEST(Registry, PointCloudListsAndChecksTheRadianceConvention) {
   for (const auto& p : empirical->parameters()) EXPECT_NE(p.name, "radiance_convention");
 }
 
-// The transfer technique's exitance is path-traced, not a half-space model's, and its default
-// convention is the one measured closer to the camera path tracer's true radiance on the compare
-// suite (docs/guide/techniques.md): jensen, unlike the point cloud's; both stay selectable.
-TEST(Registry, TransferDefaultsToTheJensenConvention) {
-  auto t = make("transfer");
-  const ParameterInfo* info = nullptr;
-  for (const auto& p : t->parameters())
-    if (p.name == "radiance_convention") info = &p;
-  ASSERT_NE(info, nullptr);
-  EXPECT_EQ(info->choices, bssrdf::exitConventionNames());
-  EXPECT_EQ(std::get<std::string>(info->value), "jensen");
-  EXPECT_NE(info->help.find("compare suite"), std::string::npos) << info->help;
-  EXPECT_EQ(t->parameter("radiance_convention"), ParameterValue(std::string("jensen")));
-  t->setParameter("radiance_convention", std::string("normalized"));
-  EXPECT_EQ(t->parameter("radiance_convention"), ParameterValue(std::string("normalized")));
-}
-
 TEST(Registry, SceneSettingsApplyWithTheKeyInErrors) {
   auto t = make("pointcloud");
   scene::Scene s;

@@ -161,6 +161,9 @@ struct ExitRecord {
   int channel = 0;
   // How often the photon scattered before this exit (the seed's S(0), S(1), S_d; slab.h).
   ScatteringOrder order = ScatteringOrder::Unscattered;
+  // Whether the photon was reflected back inside at the boundary (Fresnel or total internal
+  // reflection) between its entry and this exit; a flight in air and re-entry does not count.
+  bool reflected = false;
 };
 
 // Where exiting photons go. Each block of photons is recorded into its own Block by one worker

@@ -228,7 +228,8 @@ template <class BodyT>
 AtBoundary crossBoundary(const BodyT& body, const ChannelWalk& W, double eps, int c, double w,
                          const glm::dvec3& normal, glm::dvec3& x, glm::dvec3& d, Rng& rng,
                          ExitTally::Block& tally, uint64_t scatters, double& exitedSum,
-                         std::array<double, kScatteringOrders>& exitedByOrder, bool score = true) {
+                         std::array<double, kScatteringOrders>& exitedByOrder, bool score = true,
+                         bool reflected = false) {
   const glm::dvec3 outward = glm::dot(normal, d) > 0.0 ? normal : -normal;
   const double cosIn = glm::dot(d, outward);
   const double F = W.matched ? 0.0 : fresnelReflectance(cosIn, 1.0 / W.eta);
@@ -243,6 +244,7 @@ AtBoundary crossBoundary(const BodyT& body, const ChannelWalk& W, double eps, in
   e.weight = w;
   e.channel = c;
   e.order = scatteringOrder(scatters);
+  e.reflected = reflected;
   if (score) {
     tally.record(e);
     exitedSum += w;
@@ -257,16 +259,20 @@ AtBoundary crossBoundary(const BodyT& body, const ChannelWalk& W, double eps, in
 
 // crossBoundary with TransportOptions::after_specular_only's bookkeeping: the exit is scored
 // unless the photon has neither scattered nor met the boundary since its entry, and a reflection
-// or re-entry before its first scattering counts in `specular`.
+// or re-entry before its first scattering counts in `specular`; `reflected` records whether the
+// photon has been reflected inside since its entry (ExitRecord::reflected).
 template <class BodyT>
 AtBoundary crossCounted(const BodyT& body, const ChannelWalk& W, double eps, int c, double w,
                         const glm::dvec3& normal, glm::dvec3& x, glm::dvec3& d, Rng& rng,
                         ExitTally::Block& tally, uint64_t scatters, double& exitedSum,
-                        std::array<double, kScatteringOrders>& exitedByOrder, uint64_t& specular) {
+                        std::array<double, kScatteringOrders>& exitedByOrder, uint64_t& specular,
+                        bool& reflected) {
   const AtBoundary b =
       crossBoundary(body, W, eps, c, w, normal, x, d, rng, tally, scatters, exitedSum,
-                    exitedByOrder, !(W.afterSpecularOnly && scatters == 0 && specular == 0));
+                    exitedByOrder, !(W.afterSpecularOnly && scatters == 0 && specular == 0),
+                    reflected);
   if (b != AtBoundary::Escaped && scatters == 0) ++specular;
+  if (b == AtBoundary::Reflected) reflected = true;
   return b;
 }
 
@@ -308,6 +314,7 @@ void tracePhoton(const BodyT& body, const BoundingSphere& bounds, std::span<cons
   // Boundary events (reflections, re-entries) between the entry and the first scattering: with
   // after_specular_only, the light of a photon that scatters (or leaves) before any is not scored.
   uint64_t specular = 0;
+  bool reflected = false;  // reflected inside since the entry (ExitRecord::reflected)
 
   for (;;) {
     // Free flight (line 3), then advance or meet the boundary (lines 4-14).
@@ -325,7 +332,7 @@ void tracePhoton(const BodyT& body, const BoundingSphere& bounds, std::span<cons
       // The rest of the free path s goes on after a reflection or from the re-entry point
       // (memoryless flights, transport.h).
       const AtBoundary b = crossCounted(body, W, eps, c, w, hit.normal, x, d, rng, tally,
-                                        scatters, exitedSum, exitedByOrder, specular);
+                                        scatters, exitedSum, exitedByOrder, specular, reflected);
       if (b != AtBoundary::Escaped) continue;
       escaped = true;
       escapedWeight = w;
@@ -379,6 +386,7 @@ bool traceVolumePhoton(const BodyT& body, const BoundingSphere& bounds,
   material::LocalMedium local;  // the medium at the last tentative collision
   double localSigmaT = 0.0;     // its σt in channel c [1/scene unit]
   uint64_t specular = 0;        // as tracePhoton
+  bool reflected = false;       // as tracePhoton
 
   for (uint64_t step = 1;; ++step) {
     if (step % kStopCheckSteps == 0 && stop.load(std::memory_order_relaxed)) return false;
@@ -413,7 +421,7 @@ bool traceVolumePhoton(const BodyT& body, const BoundingSphere& bounds,
     x = o + hit.t * d;
     onSurface = true;
     const AtBoundary b = crossCounted(body, W, eps, c, w, hit.normal, x, d, rng, tally, scatters,
-                                      exitedSum, exitedByOrder, specular);
+                                      exitedSum, exitedByOrder, specular, reflected);
     if (b != AtBoundary::Escaped) continue;
     escapedWeight = w;
     break;

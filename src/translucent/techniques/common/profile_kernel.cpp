@@ -18,16 +18,11 @@ ParameterInfo tableSizeParameter(std::string help) {
 }
 
 ParameterInfo radianceConventionParameter() {
-  return radianceConventionParameter(kDefaultRadianceConvention, "");
-}
-
-ParameterInfo radianceConventionParameter(const char* defaultConvention, std::string why) {
-  std::string help =
-      "radiance from the exitance B (Bitterli 2013, Eq. 2.16): jensen Ft B/π, or normalized Ft "
-      "B/(π 4Cφ(1/η)), which carries out exactly B; see docs/radiance-convention.md";
-  if (!why.empty()) help += "; " + why;
-  return ParameterInfo::enumeration("radiance_convention", defaultConvention,
-                                    bssrdf::exitConventionNames(), std::move(help));
+  return ParameterInfo::enumeration("radiance_convention", kDefaultRadianceConvention,
+                                    bssrdf::exitConventionNames(),
+                                    "radiance from the exitance B (Bitterli 2013, Eq. 2.16): jensen Ft B/π, or "
+                                    "normalized Ft B/(π 4Cφ(1/η)), which carries out exactly B; see "
+                                    "docs/radiance-convention.md");
 }
 
 RgbProfileTable tabulateRgbProfile(const scene::Scene& s, size_t n, gpu::BssrdfEvaluator* evaluator) {

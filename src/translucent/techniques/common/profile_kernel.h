@@ -27,8 +27,6 @@ inline constexpr const char* kDefaultRadianceConvention = "normalized";
 ParameterInfo tableSizeParameter(std::string help = "entries of the tabulated profile (uniform in r up "
                                                     "to the radius holding 99.9% of Rd)");
 ParameterInfo radianceConventionParameter();
-// The same with another default and a note on why (appended to the help).
-ParameterInfo radianceConventionParameter(const char* defaultConvention, std::string why);
 
 // Fraction of Rd inside the tabulated radius (bssrdf::tabulate's default).
 inline constexpr double kProfileTableFraction = 0.999;

@@ -54,22 +54,39 @@ std::vector<glm::vec3> TransferOperator::exitance(const std::vector<glm::vec3>& 
                                                   const std::vector<glm::vec3>& Eu,
                                                   const std::vector<glm::vec3>& Ev) const {
   const bool tilted = !Eu.empty() || !Ev.empty();
-  if (E.size() != nodes || (tilted && (matrices != 3 || Eu.size() != nodes || Ev.size() != nodes)))
+  if (E.size() != nodes || (tilted && (matrices < 3 || Eu.size() != nodes || Ev.size() != nodes)))
     throw ParameterError(fmt::format("transfer: {} irradiance values ({} and {} tilted) for {} "
                                      "nodes and {} matrices", E.size(), Eu.size(), Ev.size(),
                                      nodes, matrices));
   std::vector<glm::vec3> B(nodes, glm::vec3(0.0f));
-  const std::vector<glm::vec3>* inputs[3] = {&E, &Eu, &Ev};
+  const auto K = [&](size_t c, size_t m, size_t i) {
+    return &matrix[((c * matrices + m) * nodes + i) * nodes];
+  };
   tbb::parallel_for(tbb::blocked_range<size_t>(0, nodes), [&](const auto& r) {
     for (size_t i = r.begin(); i != r.end(); ++i)
       for (size_t c = 0; c < 3; ++c) {
+        const int ch = int(c);
         double s = 0.0;
-        for (size_t m = 0; m < (tilted ? 3u : 1u); ++m) {
-          const float* row = &matrix[((c * matrices + m) * nodes + i) * nodes];
-          const std::vector<glm::vec3>& in = *inputs[m];
-          for (size_t j = 0; j < nodes; ++j) s += double(row[j]) * double(in[j][int(c)]);
+        if (tilted && matrices == 5) {
+          // One-sided: the beam tilted towards the light's side, weighted by the tilt over kTilt
+          // (the sign of the channels' sum, as apply.comp).
+          for (size_t j = 0; j < nodes; ++j) {
+            const size_t mu = Eu[j].x + Eu[j].y + Eu[j].z >= 0.0f ? 1 : 2;
+            const size_t mv = Ev[j].x + Ev[j].y + Ev[j].z >= 0.0f ? 3 : 4;
+            const double wu = std::abs(double(Eu[j][ch])) / kTilt;
+            const double wv = std::abs(double(Ev[j][ch])) / kTilt;
+            s += double(K(c, 0, i)[j]) * (double(E[j][ch]) - wu - wv) +
+                 double(K(c, mu, i)[j]) * wu + double(K(c, mv, i)[j]) * wv;
+          }
+        } else {
+          const std::vector<glm::vec3>* inputs[3] = {&E, &Eu, &Ev};
+          for (size_t m = 0; m < (tilted ? 3u : 1u); ++m) {
+            const float* row = K(c, m, i);
+            const std::vector<glm::vec3>& in = *inputs[m];
+            for (size_t j = 0; j < nodes; ++j) s += double(row[j]) * double(in[j][ch]);
+          }
         }
-        B[i][int(c)] = float(s);
+        B[i][ch] = float(s);
       }
   });
   return B;
@@ -171,7 +188,7 @@ TransferOperator buildTransferOperator(const geometry::TriangleMesh& mesh,
   // The beams: per node the normal one and, with first_order, four tilted ones (+u, -u, +v, -v)
   // on the same random numbers (stream j). Entry e = j · beams + b.
   const size_t beams = options.first_order ? 5 : 1;
-  op.matrices = options.first_order ? 3 : 1;
+  op.matrices = options.first_order ? (options.secant ? 5 : 3) : 1;
   op.tangents.resize(N);
   std::vector<reference::SurfaceEntry> entries(N * beams);
   for (size_t j = 0; j < N; ++j) {
@@ -202,7 +219,10 @@ TransferOperator buildTransferOperator(const geometry::TriangleMesh& mesh,
   // thread tracing it): X[(e · 3 + c) · N + i].
   std::vector<float> X(entries.size() * 3 * N, 0.0f);
   const reference::SurfaceExitScore score = [&](size_t e, const reference::ExitRecord& x) {
-    if (options.exclude_single && x.order == reference::ScatteringOrder::Single) return;
+    // The per-pixel term follows the light straight to the scattering point and on to the
+    // view ray's exit: single scattering with an internal reflection stays in the operator.
+    if (options.exclude_single && x.order == reference::ScatteringOrder::Single && !x.reflected)
+      return;
     const auto near = grid.nearest(glm::vec3(x.position), kExitCandidates);
     const uint32_t i = sameSideNearest(near, cloud.normals, x.normal);
     X[(e * 3 + size_t(x.channel)) * N + i] += float(x.weight);
@@ -231,6 +251,11 @@ TransferOperator buildTransferOperator(const geometry::TriangleMesh& mesh,
         const size_t e = j * beams;
         op.matrix[((c * op.matrices) * N + i) * N + j] = float(column(e, c, i));
         if (beams == 1) continue;
+        if (op.matrices == 5) {
+          for (size_t b = 1; b < 5; ++b)
+            op.matrix[((c * op.matrices + b) * N + i) * N + j] = float(column(e + b, c, i));
+          continue;
+        }
         op.matrix[((c * op.matrices + 1) * N + i) * N + j] =
             float((column(e + 1, c, i) - column(e + 2, c, i)) / (2.0 * kTilt));
         op.matrix[((c * op.matrices + 2) * N + i) * N + j] =
@@ -367,7 +392,7 @@ TransferOperator readTransferOperator(const std::filesystem::path& path, const s
   if (op.nodes == 0 || op.nodes > (1u << 16))
     throw std::runtime_error(fmt::format("{}: {} nodes", path.string(), op.nodes));
   op.matrices = r.get<uint64_t>();
-  if (op.matrices != 1 && op.matrices != 3)
+  if (op.matrices != 1 && op.matrices != 3 && op.matrices != 5)
     throw std::runtime_error(fmt::format("{}: {} matrices", path.string(), op.matrices));
   op.seconds = r.get<double>();
   op.photons = r.get<uint64_t>();

@@ -61,21 +61,20 @@ std::vector<ParameterInfo> parameterInfos() {
                              "path-traced photons per node and colour channel in the "
                              "preprocessing (its noise falls as 1/sqrt(photons))"),
       ParameterInfo::integer("seed", 1, 0, 1000000000, "seed of the nodes and of the photons"),
-      ParameterInfo::enumeration("incidence", "normal", {"normal", "first-order"},
+      ParameterInfo::enumeration("incidence", "secant", {"normal", "first-order", "secant"},
                                  "how the transfer depends on the light's incident direction: not "
-                                 "at all (normal incidence, one matrix) or to first order (five "
-                                 "beams per node in the preprocessing, three matrices)"),
+                                 "at all (normal incidence, one matrix), to first order (five "
+                                 "beams per node in the preprocessing, three matrices of central "
+                                 "differences) or secant (the same five beams kept as five "
+                                 "matrices, each node interpolated towards the beam on its "
+                                 "light's side)"),
       ParameterInfo::enumeration(
           "scattering", "auto", {"auto", "split", "operator", "single"},
           "which light the image holds and how: split, single scattering per pixel along the "
           "view ray (traced through the mesh) and the other orders through the transfer "
           "operator; operator, every order through the operator; single, single scattering "
           "alone; auto, split where every light is directional, point or beam, else operator"),
-      // Measured: against the camera path tracer's true radiance on the compare suite, jensen
-      // 7.96% mean / 6.78% median rel. RMSE, normalized 10.64% / 9.37% (docs/guide/techniques.md).
-      techniques::radianceConventionParameter(
-          "jensen", "jensen by default here: the closer to the path tracer's true radiance on "
-                    "the compare suite"),
+      techniques::radianceConventionParameter(),
   };
   for (ParameterInfo& p : techniques::singleScatteringParameters()) infos.push_back(std::move(p));
   for (ParameterInfo& p : techniques::specularParameters()) infos.push_back(std::move(p));
@@ -96,9 +95,10 @@ std::string operatorKey(const scene::Scene& s, const TransferOptions& o) {
   k.exposure = 0.0;
   k.gamma = 2.2;
   k.cone_angle = 5.0;
-  return fmt::format("transfer v3|{}|{}|nodes={}|photons={}|seed={}|first_order={}{}",
+  return fmt::format("transfer v4|{}|{}|nodes={}|photons={}|seed={}|first_order={}{}{}",
                      scene::meshKey(s), scene::toJson(k), o.nodes, o.photons, o.seed,
-                     o.first_order, o.exclude_single ? "|single=excluded" : "");
+                     o.first_order, o.secant ? "|secant" : "",
+                     o.exclude_single ? "|single=excluded" : "");
 }
 
 }  // namespace
@@ -114,7 +114,7 @@ struct TransferTechnique::Impl : techniques::ClosedMeshState {
   gpu::Buffer points, frames, nodeIrradiance, tilted, nodeExitance, vertexNodes, vertexWeights, vertexExitance,
       meshVertices, meshTriangles, radianceOut, exitanceOut;
   size_t outPixels = 0;
-  std::optional<gpu::ShaderProgram> gbufferProgram, applyNormal, applyFirstOrder, cellsNormal,
+  std::optional<gpu::ShaderProgram> gbufferProgram, applyNormal, applyFirstOrder, applySecant, cellsNormal,
       cellsFirstOrder, vertexProgram, radianceProgram;
   techniques::GBuffer gbuffer;
   std::array<gpu::Buffer, 3> matrix;  // K per channel
@@ -137,7 +137,8 @@ struct TransferTechnique::Impl : techniques::ClosedMeshState {
     o.nodes = params.getInt("nodes");
     o.photons = static_cast<uint64_t>(params.getInt("photons"));
     o.seed = static_cast<uint64_t>(params.getInt("seed"));
-    o.first_order = params.getEnum("incidence") == "first-order";
+    o.first_order = params.getEnum("incidence") != "normal";
+    o.secant = params.getEnum("incidence") == "secant";
     o.exclude_single = scattering() == "split";
     return o;
   }
@@ -148,8 +149,10 @@ struct TransferTechnique::Impl : techniques::ClosedMeshState {
     gbufferProgram.emplace(
         gpu::ShaderProgram::graphics("pointcloud/gbuffer.vert", "pointcloud/gbuffer.frag", hetero));
     const gpu::Defines firstOrder{{"TX_FIRST_ORDER", "1"}};
+    const gpu::Defines secant{{"TX_FIRST_ORDER", "1"}, {"TX_SECANT", "1"}};
     applyNormal.emplace(gpu::ShaderProgram::compute("transfer/apply.comp"));
     applyFirstOrder.emplace(gpu::ShaderProgram::compute("transfer/apply.comp", firstOrder));
+    applySecant.emplace(gpu::ShaderProgram::compute("transfer/apply.comp", secant));
     cellsNormal.emplace(gpu::ShaderProgram::compute("transfer/cells.comp"));
     cellsFirstOrder.emplace(gpu::ShaderProgram::compute("transfer/cells.comp", firstOrder));
     vertexProgram.emplace(gpu::ShaderProgram::compute("transfer/vertex.comp"));
@@ -208,7 +211,7 @@ struct TransferTechnique::Impl : techniques::ClosedMeshState {
     GLint64 maxBlock = 0;
     glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &maxBlock);
     const uint64_t matrixBytes =
-        (o.first_order ? 3u : 1u) * uint64_t(o.nodes) * uint64_t(o.nodes) * sizeof(float);
+        (o.first_order ? (o.secant ? 5u : 3u) : 1u) * uint64_t(o.nodes) * uint64_t(o.nodes) * sizeof(float);
     if (maxBlock > 0 && matrixBytes > uint64_t(maxBlock))
       throw ParameterError(fmt::format(
           "transfer: nodes {} needs a {:.0f} MiB matrix per channel; the GL driver's storage "
@@ -303,7 +306,7 @@ struct TransferTechnique::Impl : techniques::ClosedMeshState {
                                      techniques::environmentBudget(params, request.converge),
                                      &*timer, reuse);
     if (lighting.hasOccludedEnvironment()) frame.converged = lit;
-    const bool firstOrder = op.matrices == 3;
+    const bool firstOrder = op.matrices >= 3;
     {
       auto t = timer->scope("cells");
       const gpu::ShaderProgram& cells = firstOrder ? *cellsFirstOrder : *cellsNormal;
@@ -318,7 +321,8 @@ struct TransferTechnique::Impl : techniques::ClosedMeshState {
     }
     {
       auto t = timer->scope("transfer");
-      const gpu::ShaderProgram& apply = firstOrder ? *applyFirstOrder : *applyNormal;
+      const gpu::ShaderProgram& apply =
+          op.matrices == 5 ? *applySecant : firstOrder ? *applyFirstOrder : *applyNormal;
       gpu::bindStorage(kNodeIrradiance, nodeIrradiance);
       if (firstOrder) gpu::bindStorage(kTilted, tilted);
       gpu::bindStorage(kMatrixR, matrix[0]);
@@ -462,7 +466,7 @@ std::vector<glm::vec3> TransferTechnique::gpuIrradiance() const {
 }
 std::array<std::vector<glm::vec3>, 2> TransferTechnique::gpuTiltedIrradiance() const {
   std::array<std::vector<glm::vec3>, 2> out;
-  if (impl_->op.matrices != 3) return out;
+  if (impl_->op.matrices < 3) return out;
   const auto v = gpu::download<glm::vec4>(impl_->tilted, 2 * impl_->op.nodes);
   for (size_t i = 0; i < impl_->op.nodes; ++i) {
     out[0].emplace_back(v[2 * i]);
