@@ -6,8 +6,8 @@
 // the medium over node j's cell, E^u, E^v its first-order inputs (cells.comp; E^u, E^v only with
 // TX_FIRST_ORDER). With TX_SECANT the matrices are the beams' own (K⁰, K(+u), K(-u), K(+v),
 // K(-v)) and each column j is interpolated towards the beam on the side of its light's tilt
-// t = (E^u, E^v) / (E τ0): K⁰ (1 - |t_u| - |t_v|) + K(±u) |t_u| + K(±v) |t_v| (transfer_operator.h,
-// "secant"). One invocation per node.
+// t = (E^u, E^v) / (E τ0): K⁰ (1 - |t_u| - |t_v|) + K(±u) |t_u| + K(±v) |t_v|, t scaled down to
+// |t_u| + |t_v| = 1 where it exceeds it (transfer_operator.h, "secant"). One invocation per node.
 layout(local_size_x = 64) in;
 layout(std430, binding = 29) readonly buffer TxNodeIrradiance { vec4 txNodeIrradiance[]; };
 #ifdef TX_SECANT
@@ -35,10 +35,20 @@ void main() {
   uint N2 = Nodes * Nodes;
   for (uint j = 0u; j < Nodes; ++j) {
     vec3 e = txNodeIrradiance[j].xyz;
+    // An unlit node (in the body's shadow) adds nothing: skip its column (every invocation
+    // takes the same branch, so the whole group skips it).
+    if (e == vec3(0.0)) continue;
     vec3 eu = txTilted[2u * j].xyz, ev = txTilted[2u * j + 1u].xyz;
     uint mu = (eu.x + eu.y + eu.z) >= 0.0 ? 1u : 2u;
     uint mv = (ev.x + ev.y + ev.z) >= 0.0 ? 3u : 4u;
     vec3 wu = abs(eu) / TX_TILT, wv = abs(ev) / TX_TILT;
+    // Beyond the tilted beams (|t_u| + |t_v| > 1, light steeper than they came in) the tilt is
+    // clamped to them rather than extrapolated: the weights stay convex.
+    float t = (wu.x + wu.y + wu.z + wv.x + wv.y + wv.z) / (e.x + e.y + e.z);
+    if (t > 1.0) {
+      wu /= t;
+      wv /= t;
+    }
     vec3 w0 = e - wu - wv;
     uint r0 = i * Nodes + j, ru = mu * N2 + r0, rv = mv * N2 + r0;
     sum += vec3(txMatrixR[r0], txMatrixG[r0], txMatrixB[r0]) * w0 +
@@ -49,6 +59,7 @@ void main() {
   for (uint m = 0u; m < TX_MATRICES; ++m) {
     uint row = (m * Nodes + i) * Nodes;
     for (uint j = 0u; j < Nodes; ++j) {
+      if (txNodeIrradiance[j].xyz == vec3(0.0)) continue;  // unlit: adds nothing
       vec3 e = m == 0u ? txNodeIrradiance[j].xyz :
 #ifdef TX_FIRST_ORDER
                          txTilted[2u * j + m - 1u].xyz;

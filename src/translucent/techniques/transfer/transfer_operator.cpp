@@ -71,10 +71,16 @@ std::vector<glm::vec3> TransferOperator::exitance(const std::vector<glm::vec3>& 
           // One-sided: the beam tilted towards the light's side, weighted by the tilt over kTilt
           // (the sign of the channels' sum, as apply.comp).
           for (size_t j = 0; j < nodes; ++j) {
+            const double e = double(E[j].x) + double(E[j].y) + double(E[j].z);
+            if (e == 0.0) continue;
             const size_t mu = Eu[j].x + Eu[j].y + Eu[j].z >= 0.0f ? 1 : 2;
             const size_t mv = Ev[j].x + Ev[j].y + Ev[j].z >= 0.0f ? 3 : 4;
-            const double wu = std::abs(double(Eu[j][ch])) / kTilt;
-            const double wv = std::abs(double(Ev[j][ch])) / kTilt;
+            // The tilt clamped to the tilted beams' (|t_u| + |t_v| <= 1), as apply.comp.
+            double t = 0.0;
+            for (int k = 0; k < 3; ++k) t += std::abs(double(Eu[j][k])) + std::abs(double(Ev[j][k]));
+            const double clamp = std::max(1.0, t / (kTilt * e));
+            const double wu = std::abs(double(Eu[j][ch])) / kTilt / clamp;
+            const double wv = std::abs(double(Ev[j][ch])) / kTilt / clamp;
             s += double(K(c, 0, i)[j]) * (double(E[j][ch]) - wu - wv) +
                  double(K(c, mu, i)[j]) * wu + double(K(c, mv, i)[j]) * wv;
           }

@@ -42,7 +42,9 @@
 //              towards the beam on its light's side, linearly in the tilt:
 //                  B_i = Σ_j K⁰[i][j] (1 - |t_u| - |t_v|) E_j + K(s_u u)[i][j] |t_u| E_j
 //                        + K(s_v v)[i][j] |t_v| E_j,   t = (τ_j · u_j, τ_j · v_j) / τ0,
-//              s the signs of t (beyond τ0 the line is extended). Unlike the central differences
+//              s the signs of t, t scaled down to |t_u| + |t_v| = 1 where it exceeds it (light
+//              steeper than the tilted beams: the weights stay convex; extending the line
+//              overshot on the backlit bunny, +16% against +12% bias). Unlike the central differences
 //              this keeps the part of the response that is even in the tilt: light entering
 //              obliquely stays nearer the surface and travels along its own direction, not along
 //              -n_j towards the body's inside. On a sphere of radius 10 mm in Skin1 lit and seen
