@@ -172,6 +172,20 @@ TransferOperator sphereOperator(const geometry::TriangleMesh& mesh, const Medium
   return buildTransferOperator(mesh, techniques::vertexNormals(mesh), mat, o);
 }
 
+// Band fluxes of the operator under the sun (with the tilted inputs and at normal incidence
+// alone), the normal part's variance, and the path tracer's.
+struct SphereBands {
+  Bands tilted, normal, variance;
+  std::array<std::array<reference::Estimate, kBands>, 3> traced;
+};
+SphereBands sphereBands(const geometry::TriangleMesh& mesh, const Medium& medium,
+                        const TransferOperator& op) {
+  const double E0 = 2.0;
+  const SunInputs in = sunInputs(op, medium, E0);
+  return {operatorBands(op, op.exitance(in.E, in.Eu, in.Ev)), operatorBands(op, op.exitance(in.E)),
+          operatorBandVariance(op, in.E, 256), pathTracedBands(op, mesh, medium, E0)};
+}
+
 TEST(TransferOperator, MatchesThePathTracerOnALitSphere) {
   // The operator's exitance under the sun against the path tracer's photons from that sun, as
   // flux per band of the exit normal. What may differ beyond noise: the entries at normal
@@ -185,12 +199,9 @@ TEST(TransferOperator, MatchesThePathTracerOnALitSphere) {
   EXPECT_EQ(op.missedEntries, 0u);
   EXPECT_EQ(op.photons, 512u * 5u * 256u * 3u);  // five beams per node
   ASSERT_EQ(op.matrices, 3u);
-  const double E0 = 2.0;
-  const SunInputs in = sunInputs(op, medium, E0);
-  const Bands F = operatorBands(op, op.exitance(in.E, in.Eu, in.Ev));
-  const Bands F0 = operatorBands(op, op.exitance(in.E));
-  const Bands var = operatorBandVariance(op, in.E, 256);
-  const auto pts = pathTracedBands(op, mesh, medium, E0);
+  const SphereBands r = sphereBands(mesh, medium, op);
+  const Bands &F = r.tilted, &F0 = r.normal, &var = r.variance;
+  const auto& pts = r.traced;
   // Per channel: the total exiting flux, and per band of the node normal (cos θ = n · z).
   // Normal incidence (K⁰ alone, F0): the bands lit at μ >= 0.5 (6, 7) and the total within 3%
   // for the discretisation and 4 combined standard errors. In the bands lit at grazing incidence
@@ -249,12 +260,9 @@ TEST(TransferOperator, SecantFollowsTheIncidenceOnATranslucentSphere) {
   const Medium medium = Medium::fromReduced({0.05, 0.125, 0.25}, {10.0, 10.0, 10.0}, 0.0, 1.3, 1.0);
   const TransferOperator op = sphereOperator(mesh, medium, true);
   ASSERT_EQ(op.matrices, 5u);
-  const double E0 = 2.0;
-  const SunInputs in = sunInputs(op, medium, E0);
-  const Bands F = operatorBands(op, op.exitance(in.E, in.Eu, in.Ev));
-  const Bands F0 = operatorBands(op, op.exitance(in.E));
-  const Bands var = operatorBandVariance(op, in.E, 256);
-  const auto pts = pathTracedBands(op, mesh, medium, E0);
+  const SphereBands r = sphereBands(mesh, medium, op);
+  const Bands &F = r.tilted, &F0 = r.normal, &var = r.variance;
+  const auto& pts = r.traced;
   double errSecant = 0.0, errNormal = 0.0;
   for (size_t c = 0; c < 3; ++c)
     for (size_t b = kBands / 2; b < kBands; ++b) {
