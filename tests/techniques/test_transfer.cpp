@@ -475,5 +475,28 @@ TEST_F(TransferGpu, RefusesWhatItCannotRender) {
   EXPECT_THROW(t->setParameter("nodes", 8), ParameterError);
 }
 
+// η above 1/kTilt (1.98): no light from outside refracts as steeply as the tilted beams, so the
+// default incidence (secant) traces normal beams instead, with a note, rather than refusing.
+TEST_F(TransferGpu, FallsBackToNormalBeamsWhereNoLightRefractsThatSteeply) {
+  pointcloud::testing::useTestCache();
+  TempDir dir;
+  scene::Scene s = pointcloud::testing::testScene(writeObj(unitSphere(), dir.path() / "sphere.obj"), 16);
+  s.medium = sphereMedium();
+  s.medium.eta = 2.2;
+  auto t = techniques::make("transfer");
+  t->setParameter("nodes", 64);
+  t->setParameter("photons", 16);
+  t->prepare(s, gpu::testing::context());
+  const techniques::Frame f = t->render({});
+  EXPECT_EQ(dynamic_cast<TransferTechnique&>(*t).transferOperator().matrices, 1u);
+  bool noted = false;
+  for (const std::string& n : f.notes) noted = noted || n.find("normal incidence used") != std::string::npos;
+  EXPECT_TRUE(noted);
+  s.medium.eta = 1.3;  // and the secant where it can
+  t->prepare(s, gpu::testing::context());
+  (void)t->render({});
+  EXPECT_EQ(dynamic_cast<TransferTechnique&>(*t).transferOperator().matrices, 5u);
+}
+
 }  // namespace
 }  // namespace translucent::transfer

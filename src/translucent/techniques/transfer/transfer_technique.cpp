@@ -132,13 +132,18 @@ struct TransferTechnique::Impl : techniques::ClosedMeshState {
     return scene && !techniques::singleScatteringRefusal(*scene).empty() ? "operator" : "split";
   }
 
+  bool tiltReachable() const { return !scene || kTilt * scene->medium.eta <= 0.99; }
+
   TransferOptions options() const {
     TransferOptions o;
     o.nodes = params.getInt("nodes");
     o.photons = static_cast<uint64_t>(params.getInt("photons"));
     o.seed = static_cast<uint64_t>(params.getInt("seed"));
-    o.first_order = params.getEnum("incidence") != "normal";
-    o.secant = params.getEnum("incidence") == "secant";
+    // The tilted beams lean by kTilt inside, which light from outside reaches only where
+    // kTilt · η < 1: above that (η > 1.98) every mode traces normal beams (a note says so).
+    const bool tiltedBeams = params.getEnum("incidence") != "normal" && tiltReachable();
+    o.first_order = tiltedBeams;
+    o.secant = tiltedBeams && params.getEnum("incidence") == "secant";
     o.exclude_single = scattering() == "split";
     return o;
   }
@@ -217,6 +222,11 @@ struct TransferTechnique::Impl : techniques::ClosedMeshState {
           "transfer: nodes {} needs a {:.0f} MiB matrix per channel; the GL driver's storage "
           "buffers hold at most {:.0f} MiB: use fewer nodes", o.nodes,
           double(matrixBytes) / 1048576.0, double(maxBlock) / 1048576.0));
+    if (params.getEnum("incidence") != "normal" && !tiltReachable())
+      notes.push_back(fmt::format("transfer: incidence {}: η = {} refracts no outside light {}° "
+                                  "from the normal (the tilted beams'); normal incidence used",
+                                  params.getEnum("incidence"), s.medium.eta,
+                                  std::lround(std::asin(kTilt) * 180.0 / 3.141592653589793)));
     refineCoarseMesh(o.nodes);
     const material::Material mat = scene::sceneMaterial(s, mesh);
     CachedTransfer cached = loadOrBuildTransferOperator(mesh, techniques::vertexNormals(mesh), mat,
