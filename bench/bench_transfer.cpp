@@ -33,8 +33,7 @@ void BM_Preprocess(benchmark::State& state, bool secant) {
   const std::vector<glm::dvec3> normals = techniques::vertexNormals(mesh);
   transfer::TransferOptions o;
   o.nodes = static_cast<int>(state.range(0));
-  o.first_order = secant;
-  o.secant = secant;
+  o.incidence = secant ? transfer::Incidence::Secant : transfer::Incidence::Normal;
   uint64_t photons = 0;
   double cpu = 0.0, bytes = 0.0;
   for (auto _ : state) {

@@ -13,7 +13,7 @@ layout(std430, binding = 29) readonly buffer TxNodeIrradiance { vec4 txNodeIrrad
 #ifdef TX_SECANT
 layout(std430, binding = 28) readonly buffer TxTilted { vec4 txTilted[]; };  // E^u, E^v per node
 const uint TX_MATRICES = 5u;
-const float TX_TILT = 0.5;  // transfer::kTilt
+uniform float Tilt;  // transfer::kTilt, τ0
 #elif defined(TX_FIRST_ORDER)
 layout(std430, binding = 28) readonly buffer TxTilted { vec4 txTilted[]; };  // E^u, E^v per node
 const uint TX_MATRICES = 3u;
@@ -41,7 +41,7 @@ void main() {
     vec3 eu = txTilted[2u * j].xyz, ev = txTilted[2u * j + 1u].xyz;
     uint mu = (eu.x + eu.y + eu.z) >= 0.0 ? 1u : 2u;
     uint mv = (ev.x + ev.y + ev.z) >= 0.0 ? 3u : 4u;
-    vec3 wu = abs(eu) / TX_TILT, wv = abs(ev) / TX_TILT;
+    vec3 wu = abs(eu) / Tilt, wv = abs(ev) / Tilt;
     // Beyond the tilted beams (|t_u| + |t_v| > 1, light steeper than they came in) the tilt is
     // clamped to them rather than extrapolated: the weights stay convex.
     float t = (wu.x + wu.y + wu.z + wv.x + wv.y + wv.z) / (e.x + e.y + e.z);

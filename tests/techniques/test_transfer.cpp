@@ -167,8 +167,7 @@ TransferOperator sphereOperator(const geometry::TriangleMesh& mesh, const Medium
   o.photons = 256;
   o.seed = 7;
   o.threads = 2;
-  o.first_order = true;
-  o.secant = secant;
+  o.incidence = secant ? Incidence::Secant : Incidence::FirstOrder;
   return buildTransferOperator(mesh, techniques::vertexNormals(mesh), mat, o);
 }
 

@@ -67,7 +67,7 @@ std::vector<glm::vec3> TransferOperator::exitance(const std::vector<glm::vec3>& 
       for (size_t c = 0; c < 3; ++c) {
         const int ch = int(c);
         double s = 0.0;
-        if (tilted && matrices == 5) {
+        if (tilted && matrices == incidenceMatrices(Incidence::Secant)) {
           // One-sided: the beam tilted towards the light's side, weighted by the tilt over kTilt
           // (the sign of the channels' sum, as apply.comp).
           for (size_t j = 0; j < nodes; ++j) {
@@ -191,10 +191,10 @@ TransferOperator buildTransferOperator(const geometry::TriangleMesh& mesh,
       }
   }
 
-  // The beams: per node the normal one and, with first_order, four tilted ones (+u, -u, +v, -v)
-  // on the same random numbers (stream j). Entry e = j · beams + b.
-  const size_t beams = options.first_order ? 5 : 1;
-  op.matrices = options.first_order ? (options.secant ? 5 : 3) : 1;
+  // The beams: per node the normal one and, with the tilted modes, four tilted ones (+u, -u, +v,
+  // -v) on the same random numbers (stream j). Entry e = j · beams + b.
+  const size_t beams = incidenceBeams(options.incidence);
+  op.matrices = incidenceMatrices(options.incidence);
   op.tangents.resize(N);
   std::vector<reference::SurfaceEntry> entries(N * beams);
   for (size_t j = 0; j < N; ++j) {
@@ -216,10 +216,10 @@ TransferOperator buildTransferOperator(const geometry::TriangleMesh& mesh,
       e.direction = glm::normalize(sinOut * lean - std::sqrt(1.0 - sinOut * sinOut) * n);
     }
   }
-  if (options.first_order && kTilt * material.medium.eta > 0.99)
-    throw ParameterError(fmt::format("transfer: first_order with η = {}: a refracted direction "
+  if (beams > 1 && kTilt * material.medium.eta > 0.99)
+    throw ParameterError(fmt::format("transfer: tilted beams with η = {}: a refracted direction "
                                      "leaning by {} cannot be reached from outside; use "
-                                     "first_order false", material.medium.eta, kTilt));
+                                     "incidence normal", material.medium.eta, kTilt));
 
   // Exiting flux per entry, column-major while tracing (entry e's column is written only by the
   // thread tracing it): X[(e · 3 + c) · N + i].
@@ -257,7 +257,7 @@ TransferOperator buildTransferOperator(const geometry::TriangleMesh& mesh,
         const size_t e = j * beams;
         op.matrix[((c * op.matrices) * N + i) * N + j] = float(column(e, c, i));
         if (beams == 1) continue;
-        if (op.matrices == 5) {
+        if (options.incidence == Incidence::Secant) {
           for (size_t b = 1; b < 5; ++b)
             op.matrix[((c * op.matrices + b) * N + i) * N + j] = float(column(e + b, c, i));
           continue;

@@ -37,22 +37,22 @@
 //              deep and displaced towards where it travels: on a lit sphere the normal beams
 //              alone leave 5-17% too little light in the bands lit at grazing incidence
 //              (test_transfer);
-//   secant     with first_order and secant, the four tilted beams' matrices are kept as they are
+//   secant     with Incidence::Secant, the four tilted beams' matrices are kept as they are
 //              (K(±u), K(±v): five matrices) and per frame each node's column is interpolated
 //              towards the beam on its light's side, linearly in the tilt:
 //                  B_i = Σ_j K⁰[i][j] (1 - |t_u| - |t_v|) E_j + K(s_u u)[i][j] |t_u| E_j
 //                        + K(s_v v)[i][j] |t_v| E_j,   t = (τ_j · u_j, τ_j · v_j) / τ0,
 //              s the signs of t, t scaled down to |t_u| + |t_v| = 1 where it exceeds it (light
 //              steeper than the tilted beams: the weights stay convex; extending the line
-//              overshot on the backlit bunny, +16% against +12% bias). Unlike the central differences
-//              this keeps the part of the response that is even in the tilt: light entering
-//              obliquely stays nearer the surface and travels along its own direction, not along
-//              -n_j towards the body's inside. On a sphere of radius 10 mm in Skin1 lit and seen
-//              along one axis, the normal beams alone put 8-15% too much exitance in the image's
-//              centre and the central differences 2-7% too little; the secant is within 2% in
-//              every ring but the centre's blue (4.7%), and on the 10 mm head and the bunny in
-//              skin the multiply scattered exitance is within 0.3-1.3% of the path tracer's
-//              (7-11% too high with the normal beams);
+//              overshot on the backlit bunny, +16% against +12% bias). Unlike the central
+//              differences this keeps the part of the response that is even in the tilt: light
+//              entering obliquely stays nearer the surface and travels along its own direction,
+//              not along -n_j towards the body's inside. On a sphere of radius 10 mm in Skin1 lit
+//              and seen along one axis, the exitance by image ring is 1.08-1.15x the path
+//              tracer's in the centre with the normal beams, 0.93-0.98x with the central
+//              differences, 0.98-1.05x with the secant; on the 10 mm skin head the total
+//              exitance is 0.99-1.01x (normal beams 1.00-1.05x, their multiply scattered part
+//              1.07-1.11x);
 //   vertices   B at each vertex from its kVertexNodes nearest nodes, weighted by a Gaussian of
 //              the node spacing h = sqrt(A / N) and by max(n_v · n_i, 0)² (the same thin-part
 //              rule), normalised: a partition of unity, so a constant B is kept exactly.
@@ -86,14 +86,20 @@ inline constexpr double kTilt = 0.5;
 // whole cell in the light or in the shadow where a shadow edge or terminator crosses it).
 inline constexpr uint32_t kCellSamples = 16;
 
+// How the operator follows the light's incident direction (the `incidence` parameter): normal
+// beams only (one matrix), or the four tilted beams too, as central differences (first-order,
+// three matrices) or as they are (secant, five).
+enum class Incidence { Normal, FirstOrder, Secant };
+inline constexpr size_t incidenceBeams(Incidence m) { return m == Incidence::Normal ? 1 : 5; }
+inline constexpr size_t incidenceMatrices(Incidence m) {
+  return m == Incidence::Normal ? 1 : m == Incidence::FirstOrder ? 3 : 5;
+}
+
 struct TransferOptions {
   int nodes = 2048;        // N
   uint64_t photons = 512;  // per node and channel
   uint64_t seed = 1;       // of the node sampling and of the photons
-  bool first_order = false;  // also the derivatives in the incident direction (K^u, K^v)
-  // With first_order: keep the four tilted beams' matrices themselves (five matrices: K⁰, K(+u),
-  // K(-u), K(+v), K(-v)) for a one-sided interpolation towards the light's side.
-  bool secant = false;
+  Incidence incidence = Incidence::Normal;
   // Leave single scattering out (exits after exactly one scattering event, ScatteringOrder::
   // Single): the technique renders it per pixel (techniques/common/single_scattering.h).
   bool exclude_single = false;

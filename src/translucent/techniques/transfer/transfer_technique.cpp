@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <numbers>
 #include <optional>
 
 #include <glm/geometric.hpp>
@@ -95,10 +96,9 @@ std::string operatorKey(const scene::Scene& s, const TransferOptions& o) {
   k.exposure = 0.0;
   k.gamma = 2.2;
   k.cone_angle = 5.0;
-  return fmt::format("transfer v4|{}|{}|nodes={}|photons={}|seed={}|first_order={}{}{}",
+  return fmt::format("transfer v5|{}|{}|nodes={}|photons={}|seed={}|incidence={}{}",
                      scene::meshKey(s), scene::toJson(k), o.nodes, o.photons, o.seed,
-                     o.first_order, o.secant ? "|secant" : "",
-                     o.exclude_single ? "|single=excluded" : "");
+                     static_cast<int>(o.incidence), o.exclude_single ? "|single=excluded" : "");
 }
 
 }  // namespace
@@ -141,9 +141,10 @@ struct TransferTechnique::Impl : techniques::ClosedMeshState {
     o.seed = static_cast<uint64_t>(params.getInt("seed"));
     // The tilted beams lean by kTilt inside, which light from outside reaches only where
     // kTilt · η < 1: above that (η > 1.98) every mode traces normal beams (a note says so).
-    const bool tiltedBeams = params.getEnum("incidence") != "normal" && tiltReachable();
-    o.first_order = tiltedBeams;
-    o.secant = tiltedBeams && params.getEnum("incidence") == "secant";
+    const std::string& mode = params.getEnum("incidence");
+    o.incidence = mode == "normal" || !tiltReachable() ? Incidence::Normal
+                  : mode == "first-order"               ? Incidence::FirstOrder
+                                                        : Incidence::Secant;
     o.exclude_single = scattering() == "split";
     return o;
   }
@@ -216,7 +217,7 @@ struct TransferTechnique::Impl : techniques::ClosedMeshState {
     GLint64 maxBlock = 0;
     glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &maxBlock);
     const uint64_t matrixBytes =
-        (o.first_order ? (o.secant ? 5u : 3u) : 1u) * uint64_t(o.nodes) * uint64_t(o.nodes) * sizeof(float);
+        incidenceMatrices(o.incidence) * uint64_t(o.nodes) * uint64_t(o.nodes) * sizeof(float);
     if (maxBlock > 0 && matrixBytes > uint64_t(maxBlock))
       throw ParameterError(fmt::format(
           "transfer: nodes {} needs a {:.0f} MiB matrix per channel; the GL driver's storage "
@@ -226,7 +227,7 @@ struct TransferTechnique::Impl : techniques::ClosedMeshState {
       notes.push_back(fmt::format("transfer: incidence {}: η = {} refracts no outside light {}° "
                                   "from the normal (the tilted beams'); normal incidence used",
                                   params.getEnum("incidence"), s.medium.eta,
-                                  std::lround(std::asin(kTilt) * 180.0 / 3.141592653589793)));
+                                  std::lround(std::asin(kTilt) * 180.0 / std::numbers::pi)));
     refineCoarseMesh(o.nodes);
     const material::Material mat = scene::sceneMaterial(s, mesh);
     CachedTransfer cached = loadOrBuildTransferOperator(mesh, techniques::vertexNormals(mesh), mat,
@@ -332,9 +333,12 @@ struct TransferTechnique::Impl : techniques::ClosedMeshState {
     {
       auto t = timer->scope("transfer");
       const gpu::ShaderProgram& apply =
-          op.matrices == 5 ? *applySecant : firstOrder ? *applyFirstOrder : *applyNormal;
+          op.matrices == incidenceMatrices(Incidence::Secant) ? *applySecant
+          : firstOrder                                        ? *applyFirstOrder
+                                                              : *applyNormal;
       gpu::bindStorage(kNodeIrradiance, nodeIrradiance);
       if (firstOrder) gpu::bindStorage(kTilted, tilted);
+      if (op.matrices == incidenceMatrices(Incidence::Secant)) apply.set("Tilt", float(kTilt));
       gpu::bindStorage(kMatrixR, matrix[0]);
       gpu::bindStorage(kMatrixG, matrix[1]);
       gpu::bindStorage(kMatrixB, matrix[2]);
